@@ -1,0 +1,87 @@
+// Body topology of an arbitrary humanoid rig without using joint names (METHOD.md B1), made
+// robust for real rigs: zero-length helper joints, twist and "share" bones, hubs in hands, feet
+// and face, an extra root above the hips, a rest pose that is not standing, a Z-up hierarchy.
+//
+// How it works (the seed's hub rule fails on real rigs, see DESIGN notes in the .cc):
+//  1. Bone lengths from the clip's own frames (position channels honoured). Joints whose bone is
+//     shorter than 2% of the largest root-to-leaf path are merged into their parent; leaf chains
+//     that lie along a sibling bone in the clip's frames (twist bones) are ignored.
+//  2. The five limb ends are picked by farthest-point sampling over the remaining leaves with the
+//     tree metric (path length along bones): hands, feet and head are the leaves farthest apart.
+//  3. The head is the limb end with the shortest chain from where it branches off; the other four
+//     pair up by deepest common ancestor; the pair that branches off closest to the head are arms.
+//  4. World up = signed world axis nearest the mean pelvis->head direction over the frames; forward
+//     = mean ground direction ankle->toe; left = up x forward decides left and right.
+//  5. Landmarks: pelvis = common ancestor of legs and head; wrist/ankle = distal end of the more
+//     distal of the two longest bones on the limb chain; head = the branching joint of the head
+//     chain (or its end).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "absl/status/statusor.h"
+#include "motion/core/units.h"
+#include "motion/skeleton/local_motion.h"
+#include "motion/skeleton/skeleton.h"
+
+namespace mocap {
+
+enum class BodyGroup : int { kSpine = 0, kHead, kLeftArm, kRightArm, kLeftLeg, kRightLeg };
+inline constexpr int kNumBodyGroups = 6;
+std::string_view BodyGroupName(BodyGroup group);  // "spine", "head", "left_arm", ...
+
+struct BodyLandmarks {
+  int pelvis = -1;
+  int head = -1;
+  int left_wrist = -1;
+  int right_wrist = -1;
+  int left_ankle = -1;
+  int right_ankle = -1;
+};
+
+struct BodyTopology {
+  std::vector<BodyGroup> group_of_joint;  // one per joint
+  // Per group: the group's top joint (spine: the skeleton root) and its limb-end leaf.
+  std::array<int, kNumBodyGroups> group_top{};
+  std::array<int, kNumBodyGroups> group_end{};
+  BodyLandmarks landmarks;
+  // World axes in the clip's coordinates (unit vectors). up_axis is 0/1/2 for X/Y/Z and
+  // up_sign +1/-1; up_alignment is the cosine between the measured body axis and that axis.
+  int up_axis = 1;
+  int up_sign = 1;
+  float up_alignment = 0.0f;
+  Eigen::Vector3f forward = Eigen::Vector3f::UnitZ();  // ground-plane facing direction
+  // Up axis of the zero-rotation pose, which often differs (Z-up hierarchies).
+  int rest_up_axis = 1;
+  int rest_up_sign = 1;
+  // Sizes in the file's length unit.
+  float leg_length = 0.0f;           // hip joint -> ankle along bones, mean of both legs
+  float standing_pelvis_height = 0.0f;  // median over frames of pelvis height above the lowest joint
+  float floor_height = 0.0f;         // lowest joint height over the clip, along up
+  LengthUnit unit = LengthUnit::kCentimetre;
+  bool unit_detected = true;         // false when given by the caller
+
+  Eigen::Vector3f up() const {
+    Eigen::Vector3f v = Eigen::Vector3f::Zero();
+    v[up_axis] = static_cast<float>(up_sign);
+    return v;
+  }
+  int group_size(BodyGroup group) const;
+};
+
+struct BodyTopologyOptions {
+  std::optional<LengthUnit> unit;  // override unit detection
+};
+
+// Analyses `skeleton` using the clip's local motion (any number of frames; with one frame of the
+// rest pose, geometry-dependent answers come from the rest pose). FailedPrecondition when the rig
+// is not a recognisable humanoid (fewer than five limb ends, no way to tell left from right).
+absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMotion& motion,
+                                         const BodyTopologyOptions& options = {});
+
+}  // namespace mocap

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# One setup step for every place that builds the project: README quick start, CI and docker/Dockerfile.
+# Installs the Debian packages (when missing), then configures and builds with CMake + Ninja + ccache.
+# Idempotent: a second run only checks packages and lets Ninja rebuild what changed.
+#   usage: scripts/setup.sh [--no-build] [--build-dir DIR] [--build-type TYPE] [-- extra cmake args]
+set -euo pipefail
+repo=$(cd "$(dirname "$0")/.." && pwd)
+build_dir="$repo/build"
+build_type=RelWithDebInfo
+do_build=1
+extra=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --no-build) do_build=0 ;;
+    --build-dir) build_dir=$2; shift ;;
+    --build-type) build_type=$2; shift ;;
+    --) shift; extra=("$@"); break ;;
+    *) echo "setup.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+packages=(build-essential cmake ninja-build ccache pkg-config git xz-utils
+  libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
+  libsqlite3-dev libsqlitecpp-dev libeigen3-dev libflann-dev liblz4-dev libspdlog-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libxxhash-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup.sh: installing ${missing[*]}"
+  sudo_cmd=(); [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -q
+  "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+[ $do_build -eq 1 ] || exit 0
+jobs=$(nproc)
+cmake -S "$repo" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" \
+  -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "${extra[@]}" >/dev/null
+cmake --build "$build_dir" -j "$jobs"

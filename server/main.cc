@@ -1,0 +1,19 @@
+// mocapd: the mocap server and its local admin commands.
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "server/cli_commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"mocapd — whole-body motion from wrist trajectories: server and local admin commands"};
+  app.require_subcommand(1);
+  mocap::RegisterCommands(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+  return mocap::RunSelectedCommand(app);
+}

@@ -1,0 +1,61 @@
+#include "server/inspect_command.h"
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/shared_data.h"
+
+namespace mocap {
+namespace {
+
+// Every file of the three shared sets: the landmarks the importer finds agree with the joint
+// names, which the analysis never looks at.
+struct ExpectedNames {
+  const char* set;
+  const char* pelvis;
+  const char* left_wrist;
+  const char* right_wrist;
+  const char* left_ankle;
+  const char* right_ankle;
+  const char* head;
+};
+
+class InspectSharedDataTest : public ::testing::TestWithParam<ExpectedNames> {};
+
+TEST_P(InspectSharedDataTest, FindsLandmarksInEveryFile) {
+  const ExpectedNames& expected = GetParam();
+  MOCAP_REQUIRE_SHARED_DATA(folder, expected.set);
+  int checked = 0;
+  for (const auto& file : testing::BvhFilesIn(folder)) {
+    auto report = InspectBvhFile(file.string(), {});
+    ASSERT_TRUE(report.ok()) << report.status();
+    const auto& landmarks = (*report)["landmarks"];
+    EXPECT_EQ(landmarks["pelvis"], expected.pelvis) << file;
+    EXPECT_EQ(landmarks["left_wrist"], expected.left_wrist) << file;
+    EXPECT_EQ(landmarks["right_wrist"], expected.right_wrist) << file;
+    EXPECT_EQ(landmarks["left_ankle"], expected.left_ankle) << file;
+    EXPECT_EQ(landmarks["right_ankle"], expected.right_ankle) << file;
+    EXPECT_EQ(landmarks["head"], expected.head) << file;
+    EXPECT_EQ((*report)["up_axis"], "+Y") << file;
+    EXPECT_EQ((*report)["units"]["unit"], "cm") << file;
+    ++checked;
+  }
+  EXPECT_GT(checked, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllSets, InspectSharedDataTest,
+    ::testing::Values(
+        ExpectedNames{"bandai-namco-1", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head"},
+        ExpectedNames{"bandai-namco-2", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head"},
+        ExpectedNames{"cmu-cc", "CC_Base_Hip", "CC_Base_L_Hand", "CC_Base_R_Hand", "CC_Base_L_Foot",
+                      "CC_Base_R_Foot", "CC_Base_Head"}),
+    [](const auto& info) {
+      std::string name = info.param.set;
+      for (char& c : name) if (c == '-') c = '_';
+      return name;
+    });
+
+}  // namespace
+}  // namespace mocap
