@@ -1,1 +1,153 @@
-// placeholder, being written
+#include "motion/preprocess/clip_preprocessor.h"
+
+#include <cmath>
+
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+#include "motion/skeleton/forward_kinematics.h"
+
+namespace mocap {
+namespace {
+
+LocalMotion ToDatabaseWorld(const BvhClip& clip, const RigModel& rig, const PreprocessOptions& options) {
+  LocalMotion motion = MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time);
+  ScaleTranslations(motion, static_cast<float>(MetresPerUnit(rig.unit)));
+  RotateWorld(motion, rig.to_y_up);
+  const double target = 1.0 / options.frame_rate;
+  if (std::abs(clip.frame_time - target) > 1e-6 * target) motion = Resample(motion, target);
+  motion.frame_time = target;
+  return motion;
+}
+
+Eigen::Vector3f RotationVector(const Eigen::Quaternionf& q_in) {
+  Eigen::Quaternionf q = q_in.normalized();
+  if (q.w() < 0) q.coeffs() *= -1.0f;
+  const Eigen::Vector3f v = q.vec();
+  const float s = v.norm();
+  if (s < 1e-7f) return 2.0f * v;
+  return v * (2.0f * std::atan2(s, q.w()) / s);
+}
+
+Eigen::Quaternionf FromRotationVector(const Eigen::Vector3f& v) {
+  const float angle = v.norm();
+  if (angle < 1e-7f) return Eigen::Quaternionf(1.0f, 0.5f * v.x(), 0.5f * v.y(), 0.5f * v.z()).normalized();
+  return Eigen::Quaternionf(Eigen::AngleAxisf(angle, v / angle));
+}
+
+}  // namespace
+
+absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const PreprocessOptions& options) {
+  MOCAP_RETURN_IF_ERROR(first_clip.skeleton.Validate());
+  RigModel rig;
+  rig.skeleton = first_clip.skeleton;
+  const LocalMotion file_motion = MotionFromChannels(first_clip.skeleton, first_clip.channels, first_clip.frame_time);
+  MOCAP_ASSIGN_OR_RETURN(rig.topology, AnalyseBody(first_clip.skeleton, file_motion, BodyTopologyOptions{.unit = options.unit}));
+  rig.unit = rig.topology.unit;
+  rig.to_y_up = Eigen::Quaternionf::FromTwoVectors(rig.topology.up(), Eigen::Vector3f::UnitY());
+
+  const LocalMotion motion = ToDatabaseWorld(first_clip, rig, options);
+  const int joints = motion.num_joints();
+  rig.reference_rotations.resize(joints);
+  for (int j = 0; j < joints; ++j) {
+    const Eigen::Quaternionf first = motion.rotation(0, j);
+    Eigen::Vector4f sum = Eigen::Vector4f::Zero();
+    for (int f = 0; f < motion.num_frames(); ++f) {
+      Eigen::Quaternionf q = motion.rotation(f, j);
+      if (q.dot(first) < 0) q.coeffs() *= -1.0f;
+      sum += q.coeffs();
+    }
+    rig.reference_rotations[j] = Eigen::Quaternionf(sum.normalized());
+  }
+  // The pelvis-local direction that points up on average over the clip.
+  const GlobalPoses poses = ForwardKinematics(first_clip.skeleton, motion);
+  Eigen::Vector3f up_local = Eigen::Vector3f::Zero();
+  for (int f = 0; f < poses.num_frames(); ++f) {
+    up_local += poses.rotation(f, rig.topology.landmarks.pelvis).normalized().conjugate() * Eigen::Vector3f::UnitY();
+  }
+  rig.pelvis_up_local = up_local.norm() > 0 ? up_local.normalized() : Eigen::Vector3f::UnitY();
+  return rig;
+}
+
+absl::StatusOr<PreparedClip> PrepareClip(const BvhClip& clip, const RigModel& rig, const PreprocessOptions& options) {
+  if (!clip.skeleton.SameRigAs(rig.skeleton)) {
+    const Skeleton& a = clip.skeleton;
+    const Skeleton& b = rig.skeleton;
+    if (a.num_joints() != b.num_joints()) {
+      return absl::FailedPreconditionError(StrCat("rig differs from the database's: ", a.num_joints(),
+                                                  " joints where the database has ", b.num_joints()));
+    }
+    for (int j = 0; j < a.num_joints(); ++j) {
+      if (a.joint(j).name != b.joint(j).name || a.parent(j) != b.parent(j)) {
+        return absl::FailedPreconditionError(StrCat("rig differs from the database's: joint ", j, " is '",
+                                                    a.joint(j).name, "' where the database has '", b.joint(j).name,
+                                                    "' (or a different parent)"));
+      }
+    }
+  }
+  PreparedClip prepared;
+  prepared.source_frame_rate = clip.frame_rate();
+  prepared.source_frames = clip.num_frames();
+  prepared.motion = ToDatabaseWorld(clip, rig, options);
+  if (prepared.motion.num_frames() < 2) {
+    return absl::InvalidArgumentError("clip is shorter than two frames at the database rate");
+  }
+  // This performer's offsets: the local translations (constant unless animated), in metres.
+  std::vector<Joint> joints = clip.skeleton.joints();
+  const float metres = static_cast<float>(MetresPerUnit(rig.unit));
+  for (int j = 0; j < static_cast<int>(joints.size()); ++j) {
+    if (j == 0) {
+      joints[j].offset *= metres;
+      continue;
+    }
+    joints[j].offset = prepared.motion.translation(0, j);
+    for (Eigen::ArrayXXf* t : {&prepared.motion.tx, &prepared.motion.ty, &prepared.motion.tz}) {
+      if (t->col(j).maxCoeff() - t->col(j).minCoeff() > 1e-4f) prepared.animated_translations = true;
+    }
+    if (joints[j].end_site) *joints[j].end_site *= metres;
+  }
+  prepared.skeleton = Skeleton(std::move(joints));
+  const GlobalPoses poses = ForwardKinematics(prepared.skeleton, prepared.motion);
+  prepared.features = ComputeFrameFeatures(poses, rig.topology.landmarks, rig.pelvis_up_local, prepared.motion.frame_time);
+  return prepared;
+}
+
+std::vector<float> EncodePoses(const LocalMotion& motion, const RigModel& rig) {
+  const int joints = motion.num_joints();
+  const int stride = EncodedPoseFloats(joints);
+  std::vector<float> out(static_cast<size_t>(motion.num_frames()) * stride);
+  for (int f = 0; f < motion.num_frames(); ++f) {
+    float* row = out.data() + static_cast<size_t>(f) * stride;
+    const Eigen::Vector3f root = motion.translation(f, 0);
+    row[0] = root.x();
+    row[1] = root.y();
+    row[2] = root.z();
+    for (int j = 0; j < joints; ++j) {
+      const Eigen::Vector3f v = RotationVector(rig.reference_rotations[j].conjugate() * motion.rotation(f, j));
+      row[3 + 3 * j] = v.x();
+      row[4 + 3 * j] = v.y();
+      row[5 + 3 * j] = v.z();
+    }
+  }
+  return out;
+}
+
+LocalMotion DecodePoses(const std::vector<float>& encoded, const Skeleton& skeleton, const RigModel& rig,
+                        double frame_time) {
+  const int joints = skeleton.num_joints();
+  const int stride = EncodedPoseFloats(joints);
+  const int frames = static_cast<int>(encoded.size() / stride);
+  LocalMotion motion;
+  motion.frame_time = frame_time;
+  motion.Resize(frames, joints);
+  for (int f = 0; f < frames; ++f) {
+    const float* row = encoded.data() + static_cast<size_t>(f) * stride;
+    for (int j = 0; j < joints; ++j) {
+      const Eigen::Vector3f v(row[3 + 3 * j], row[4 + 3 * j], row[5 + 3 * j]);
+      motion.SetRotation(f, j, rig.reference_rotations[j] * FromRotationVector(v));
+      motion.SetTranslation(f, j, j == 0 ? Eigen::Vector3f(row[0], row[1], row[2]) : skeleton.joint(j).offset);
+    }
+  }
+  return motion;
+}
+
+}  // namespace mocap

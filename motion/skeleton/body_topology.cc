@@ -376,9 +376,17 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
   topology.leg_length = leg_sum / 2;
   std::vector<float> pelvis_heights;
   float floor = std::numeric_limits<float>::infinity();
+  // Lowest point per frame over the leg groups (a static node above the hips, as Bandai's
+  // joint_Root at the origin, must not count as the floor).
+  std::vector<int> leg_joints;
+  for (int j = 0; j < joints; ++j) {
+    if (topology.group_of_joint[j] == BodyGroup::kLeftLeg || topology.group_of_joint[j] == BodyGroup::kRightLeg) {
+      leg_joints.push_back(j);
+    }
+  }
   for (int f = 0; f < motion.num_frames(); ++f) {
     float lowest = std::numeric_limits<float>::infinity();
-    for (int j = 0; j < joints; ++j) lowest = std::min(lowest, height(f, j));
+    for (int j : leg_joints) lowest = std::min(lowest, height(f, j));
     floor = std::min(floor, lowest);
     pelvis_heights.push_back(height(f, pelvis) - lowest);
   }

@@ -1,0 +1,63 @@
+// Turns parsed BVH clips into database-ready clips (METHOD.md A1): unit conversion to metres,
+// world turned Y-up, resampling to the database rate, per-frame features, compact pose encoding.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "absl/status/statusor.h"
+#include "motion/bvh/bvh_clip.h"
+#include "motion/core/units.h"
+#include "motion/preprocess/frame_features.h"
+#include "motion/skeleton/body_topology.h"
+#include "motion/skeleton/local_motion.h"
+
+namespace mocap {
+
+struct PreprocessOptions {
+  double frame_rate = 30.0;         // database rate, frames per second (METHOD.md A8: 30 fps)
+  std::optional<LengthUnit> unit;   // override unit detection
+};
+
+// What a motion database knows about its rig, fixed when the database is created from its first
+// clip. Every later clip must have the same joint names and hierarchy.
+struct RigModel {
+  Skeleton skeleton;            // the first clip's hierarchy (file units, file channels)
+  BodyTopology topology;        // groups and landmarks (B1)
+  LengthUnit unit = LengthUnit::kCentimetre;
+  Eigen::Quaternionf to_y_up = Eigen::Quaternionf::Identity();  // world rotation making up = +Y
+  // Per-joint rotation the pose encoding is relative to (mean over the first clip), so encoded
+  // rotations stay small and away from the exp-map singularity.
+  std::vector<Eigen::Quaternionf> reference_rotations;
+  Eigen::Vector3f pelvis_up_local = Eigen::Vector3f::UnitY();  // pelvis-local "up" (for θ)
+};
+
+absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const PreprocessOptions& options);
+
+struct PreparedClip {
+  Skeleton skeleton;   // this clip's own offsets in metres (performers differ in bone lengths)
+  LocalMotion motion;  // database rate, metres, world Y up
+  std::vector<FrameFeatures> features;
+  // True when some non-root joint's translation changes within the clip (then the store keeps
+  // per-frame translations; otherwise the clip's offsets carry them).
+  bool animated_translations = false;
+  double source_frame_rate = 0.0;
+  int source_frames = 0;
+  int num_frames() const { return motion.num_frames(); }
+};
+
+// FailedPrecondition when the clip's rig differs from `rig`.
+absl::StatusOr<PreparedClip> PrepareClip(const BvhClip& clip, const RigModel& rig, const PreprocessOptions& options);
+
+// Compact pose encoding: per frame, the root translation (3 floats, metres) then every joint's
+// rotation as the rotation vector (exp map, 3 floats) of reference⁻¹ · rotation.
+inline int EncodedPoseFloats(int num_joints) { return 3 + 3 * num_joints; }
+std::vector<float> EncodePoses(const LocalMotion& motion, const RigModel& rig);
+// Inverse of EncodePoses; non-root translations come from `skeleton` offsets.
+LocalMotion DecodePoses(const std::vector<float>& encoded, const Skeleton& skeleton, const RigModel& rig,
+                        double frame_time);
+
+}  // namespace mocap

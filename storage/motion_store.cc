@@ -1,0 +1,348 @@
+#include "storage/motion_store.h"
+
+#include <cstring>
+
+#include <sqlite3.h>
+#include <SQLiteCpp/Database.h>
+#include <SQLiteCpp/Statement.h>
+#include <SQLiteCpp/Transaction.h>
+
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+#include "storage/rig_codec.h"
+#include "storage/schema.h"
+
+namespace mocap {
+namespace {
+
+// SQLiteCpp throws SQLite::Exception; every public method converts it here.
+absl::Status FromException(const std::exception& error, std::string_view what) {
+  const auto* sqlite_error = dynamic_cast<const SQLite::Exception*>(&error);
+  const std::string message = StrCat(what, ": ", error.what());
+  if (sqlite_error != nullptr) {
+    const int code = sqlite_error->getErrorCode();
+    if (code == SQLITE_BUSY || code == SQLITE_LOCKED) return absl::UnavailableError(message);
+    if (code == SQLITE_CORRUPT || code == SQLITE_NOTADB) return absl::DataLossError(message);
+    if (code == SQLITE_READONLY || code == SQLITE_CANTOPEN || code == SQLITE_PERM) {
+      return absl::PermissionDeniedError(message);
+    }
+    if (code == SQLITE_FULL) return absl::ResourceExhaustedError(message);
+  }
+  return absl::InternalError(message);
+}
+
+template <typename T>
+void BindFloats(SQLite::Statement& statement, int index, const std::vector<T>& values) {
+  statement.bind(index, static_cast<const void*>(values.data()), static_cast<int>(values.size() * sizeof(T)));
+}
+
+template <typename T>
+absl::Status ReadFloats(const SQLite::Column& column, size_t expected_count, std::vector<T>& out, std::string_view what) {
+  const size_t bytes = static_cast<size_t>(column.getBytes());
+  if (bytes != expected_count * sizeof(T)) {
+    return absl::DataLossError(StrCat("clip ", what, " blob has ", bytes, " bytes; expected ", expected_count * sizeof(T)));
+  }
+  out.resize(expected_count);
+  if (bytes > 0) std::memcpy(out.data(), column.getBlob(), bytes);
+  return absl::OkStatus();
+}
+
+constexpr const char* kSummarySelect = R"sql(
+  SELECT d.id, d.name, d.frame_rate, d.unit, d.rig,
+         (SELECT COUNT(*) FROM clips c WHERE c.database_id = d.id),
+         (SELECT COALESCE(SUM(num_frames), 0) FROM clips c WHERE c.database_id = d.id)
+  FROM databases d)sql";
+
+absl::StatusOr<DatabaseSummary> SummaryFromRow(SQLite::Statement& query) {
+  DatabaseSummary summary;
+  summary.id = query.getColumn(0).getInt64();
+  summary.name = query.getColumn(1).getString();
+  summary.frame_rate = query.getColumn(2).getDouble();
+  auto unit = ParseUnit(query.getColumn(3).getString());
+  if (!unit) return absl::DataLossError("database has an unknown unit");
+  summary.unit = *unit;
+  MOCAP_ASSIGN_OR_RETURN(RigModel rig, storage::DecodeRig(query.getColumn(4).getString()));
+  summary.num_joints = rig.skeleton.num_joints();
+  summary.root_joint = rig.skeleton.joint(0).name;
+  summary.num_clips = query.getColumn(5).getInt64();
+  summary.num_frames = query.getColumn(6).getInt64();
+  return summary;
+}
+
+}  // namespace
+
+MotionStore::MotionStore(std::filesystem::path path, std::unique_ptr<SQLite::Database> db)
+    : path_(std::move(path)), db_(std::move(db)) {}
+MotionStore::~MotionStore() = default;
+
+absl::StatusOr<std::unique_ptr<MotionStore>> MotionStore::Open(const std::filesystem::path& path,
+                                                              const StoreOpenOptions& options) {
+  try {
+    if (!options.read_only && options.create_if_missing && path.has_parent_path()) {
+      std::error_code error;
+      std::filesystem::create_directories(path.parent_path(), error);
+    }
+    if (!options.create_if_missing && !std::filesystem::exists(path)) {
+      return absl::NotFoundError(StrCat("no motion store at ", path.string()));
+    }
+    int flags = options.read_only ? SQLite::OPEN_READONLY : SQLite::OPEN_READWRITE;
+    if (options.create_if_missing && !options.read_only) flags |= SQLite::OPEN_CREATE;
+    auto db = std::make_unique<SQLite::Database>(path.string(), flags, /*busy_timeout_ms=*/10000);
+    db->exec("PRAGMA foreign_keys = ON");
+    if (!options.read_only) {
+      db->exec("PRAGMA journal_mode = WAL");
+      db->exec("PRAGMA synchronous = NORMAL");  // WAL + NORMAL: durable across process crashes
+      MOCAP_RETURN_IF_ERROR(storage::MigrateSchema(*db));
+    } else if (storage::SchemaVersion(*db) != storage::kSchemaVersion) {
+      return absl::FailedPreconditionError(StrCat(path.string(), ": store schema version ", storage::SchemaVersion(*db),
+                                                  " (this build reads ", storage::kSchemaVersion, ")"));
+    }
+    return std::unique_ptr<MotionStore>(new MotionStore(path, std::move(db)));
+  } catch (const std::exception& error) {
+    return FromException(error, StrCat("opening motion store ", path.string()));
+  }
+}
+
+MotionStore::WriteBatch::WriteBatch(std::unique_ptr<SQLite::Transaction> transaction)
+    : transaction_(std::move(transaction)) {}
+MotionStore::WriteBatch::~WriteBatch() = default;
+
+absl::Status MotionStore::WriteBatch::Commit() {
+  try {
+    transaction_->commit();
+    return absl::OkStatus();
+  } catch (const std::exception& error) {
+    return FromException(error, "committing import");
+  }
+}
+
+absl::StatusOr<std::unique_ptr<MotionStore::WriteBatch>> MotionStore::BeginWrite() {
+  try {
+    auto transaction = std::make_unique<SQLite::Transaction>(*db_, SQLite::TransactionBehavior::IMMEDIATE);
+    return std::unique_ptr<WriteBatch>(new WriteBatch(std::move(transaction)));
+  } catch (const std::exception& error) {
+    return FromException(error, "starting a write");
+  }
+}
+
+absl::StatusOr<DatabaseSummary> MotionStore::FindDatabase(const std::string& name) {
+  try {
+    SQLite::Statement query(*db_, StrCat(kSummarySelect, " WHERE d.name = ?"));
+    query.bind(1, name);
+    if (!query.executeStep()) return absl::NotFoundError(StrCat("no motion database named '", name, "'"));
+    return SummaryFromRow(query);
+  } catch (const std::exception& error) {
+    return FromException(error, "finding database");
+  }
+}
+
+absl::StatusOr<std::vector<DatabaseSummary>> MotionStore::ListDatabases() {
+  try {
+    SQLite::Statement query(*db_, StrCat(kSummarySelect, " ORDER BY d.name"));
+    std::vector<DatabaseSummary> out;
+    while (query.executeStep()) {
+      MOCAP_ASSIGN_OR_RETURN(DatabaseSummary summary, SummaryFromRow(query));
+      out.push_back(std::move(summary));
+    }
+    return out;
+  } catch (const std::exception& error) {
+    return FromException(error, "listing databases");
+  }
+}
+
+absl::StatusOr<DatabaseSummary> MotionStore::CreateDatabase(const std::string& name, const RigModel& rig,
+                                                            double frame_rate) {
+  if (name.empty() || name.size() > 128) {
+    return absl::InvalidArgumentError("database name must have 1 to 128 characters");
+  }
+  if (!(frame_rate > 0 && frame_rate <= 1000)) {
+    return absl::InvalidArgumentError(StrCat("database frame rate ", frame_rate, " is outside (0, 1000]"));
+  }
+  try {
+    SQLite::Statement exists(*db_, "SELECT 1 FROM databases WHERE name = ?");
+    exists.bind(1, name);
+    if (exists.executeStep()) return absl::AlreadyExistsError(StrCat("motion database '", name, "' already exists"));
+    SQLite::Statement insert(*db_, "INSERT INTO databases (name, frame_rate, unit, rig) VALUES (?, ?, ?, ?)");
+    insert.bind(1, name);
+    insert.bind(2, frame_rate);
+    insert.bind(3, std::string(UnitName(rig.unit)));
+    insert.bind(4, storage::EncodeRig(rig));
+    insert.exec();
+  } catch (const std::exception& error) {
+    return FromException(error, "creating database");
+  }
+  return FindDatabase(name);
+}
+
+absl::StatusOr<RigModel> MotionStore::LoadRig(std::int64_t database_id) {
+  try {
+    SQLite::Statement query(*db_, "SELECT rig FROM databases WHERE id = ?");
+    query.bind(1, database_id);
+    if (!query.executeStep()) return absl::NotFoundError(StrCat("no motion database with id ", database_id));
+    return storage::DecodeRig(query.getColumn(0).getString());
+  } catch (const std::exception& error) {
+    return FromException(error, "loading rig");
+  }
+}
+
+absl::Status MotionStore::DeleteDatabase(std::int64_t database_id) {
+  try {
+    SQLite::Statement remove(*db_, "DELETE FROM databases WHERE id = ?");
+    remove.bind(1, database_id);
+    if (remove.exec() == 0) return absl::NotFoundError(StrCat("no motion database with id ", database_id));
+    return absl::OkStatus();
+  } catch (const std::exception& error) {
+    return FromException(error, "deleting database");
+  }
+}
+
+absl::StatusOr<std::optional<std::int64_t>> MotionStore::FindClipByHash(std::int64_t database_id,
+                                                                       const std::string& content_hash) {
+  try {
+    SQLite::Statement query(*db_, "SELECT id FROM clips WHERE database_id = ? AND content_hash = ?");
+    query.bind(1, database_id);
+    query.bind(2, content_hash);
+    if (!query.executeStep()) return std::optional<std::int64_t>();
+    return std::optional<std::int64_t>(query.getColumn(0).getInt64());
+  } catch (const std::exception& error) {
+    return FromException(error, "looking up clip");
+  }
+}
+
+absl::StatusOr<std::int64_t> MotionStore::InsertClip(std::int64_t database_id, const std::string& source_name,
+                                                     const std::string& content_hash, const ClipLabels& labels,
+                                                     const PreparedClip& clip, const RigModel& rig) {
+  const int joints = clip.skeleton.num_joints();
+  std::vector<float> offsets(static_cast<size_t>(joints) * 3);
+  for (int j = 0; j < joints; ++j) {
+    for (int axis = 0; axis < 3; ++axis) offsets[3 * j + axis] = clip.skeleton.joint(j).offset[axis];
+  }
+  const std::vector<float> poses = EncodePoses(clip.motion, rig);
+  std::vector<float> translations;
+  if (clip.animated_translations) {
+    translations.resize(static_cast<size_t>(clip.num_frames()) * joints * 3);
+    for (int f = 0; f < clip.num_frames(); ++f) {
+      for (int j = 0; j < joints; ++j) {
+        const Eigen::Vector3f t = clip.motion.translation(f, j);
+        for (int axis = 0; axis < 3; ++axis) translations[(static_cast<size_t>(f) * joints + j) * 3 + axis] = t[axis];
+      }
+    }
+  }
+  try {
+    SQLite::Statement insert(*db_, R"sql(
+      INSERT INTO clips (database_id, source_name, content_hash, source_frame_rate, source_frames, num_frames,
+                         offsets, poses, translations, features)
+      VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?))sql");
+    insert.bind(1, database_id);
+    insert.bind(2, source_name);
+    insert.bind(3, content_hash);
+    insert.bind(4, clip.source_frame_rate);
+    insert.bind(5, clip.source_frames);
+    insert.bind(6, clip.num_frames());
+    BindFloats(insert, 7, offsets);
+    BindFloats(insert, 8, poses);
+    if (clip.animated_translations) {
+      BindFloats(insert, 9, translations);
+    } else {
+      insert.bind(9);
+    }
+    BindFloats(insert, 10, clip.features);
+    insert.exec();
+    const std::int64_t clip_id = db_->getLastInsertRowid();
+    SQLite::Statement label(*db_, "INSERT OR REPLACE INTO clip_labels (clip_id, key, value) VALUES (?, ?, ?)");
+    for (const auto& [key, value] : labels) {
+      label.bind(1, clip_id);
+      label.bind(2, key);
+      label.bind(3, value);
+      label.exec();
+      label.reset();
+    }
+    return clip_id;
+  } catch (const std::exception& error) {
+    return FromException(error, StrCat("storing clip ", source_name));
+  }
+}
+
+absl::StatusOr<std::vector<ClipSummary>> MotionStore::ListClips(std::int64_t database_id) {
+  try {
+    std::vector<ClipSummary> clips;
+    SQLite::Statement query(*db_, R"sql(
+      SELECT id, source_name, content_hash, num_frames, source_frame_rate, source_frames
+      FROM clips WHERE database_id = ? ORDER BY id)sql");
+    query.bind(1, database_id);
+    while (query.executeStep()) {
+      ClipSummary clip;
+      clip.id = query.getColumn(0).getInt64();
+      clip.source_name = query.getColumn(1).getString();
+      clip.content_hash = query.getColumn(2).getString();
+      clip.num_frames = query.getColumn(3).getInt();
+      clip.source_frame_rate = query.getColumn(4).getDouble();
+      clip.source_frames = query.getColumn(5).getInt();
+      clips.push_back(std::move(clip));
+    }
+    SQLite::Statement labels(*db_, R"sql(
+      SELECT l.clip_id, l.key, l.value FROM clip_labels l JOIN clips c ON c.id = l.clip_id
+      WHERE c.database_id = ? ORDER BY l.clip_id, l.key)sql");
+    labels.bind(1, database_id);
+    size_t cursor = 0;
+    while (labels.executeStep()) {
+      const std::int64_t clip_id = labels.getColumn(0).getInt64();
+      while (cursor < clips.size() && clips[cursor].id < clip_id) ++cursor;
+      if (cursor < clips.size() && clips[cursor].id == clip_id) {
+        clips[cursor].labels.emplace_back(labels.getColumn(1).getString(), labels.getColumn(2).getString());
+      }
+    }
+    return clips;
+  } catch (const std::exception& error) {
+    return FromException(error, "listing clips");
+  }
+}
+
+absl::StatusOr<StoredClip> MotionStore::LoadClip(std::int64_t clip_id, const RigModel& rig) {
+  try {
+    SQLite::Statement query(*db_, R"sql(
+      SELECT c.source_name, c.content_hash, c.num_frames, c.source_frame_rate, c.source_frames,
+             c.offsets, c.poses, c.translations, c.features, d.frame_rate
+      FROM clips c JOIN databases d ON d.id = c.database_id WHERE c.id = ?)sql");
+    query.bind(1, clip_id);
+    if (!query.executeStep()) return absl::NotFoundError(StrCat("no clip with id ", clip_id));
+    StoredClip out;
+    out.summary.id = clip_id;
+    out.summary.source_name = query.getColumn(0).getString();
+    out.summary.content_hash = query.getColumn(1).getString();
+    out.summary.num_frames = query.getColumn(2).getInt();
+    out.summary.source_frame_rate = query.getColumn(3).getDouble();
+    out.summary.source_frames = query.getColumn(4).getInt();
+    const int frames = out.summary.num_frames;
+    const int joints = rig.skeleton.num_joints();
+    std::vector<float> offsets, poses, translations;
+    MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(5), static_cast<size_t>(joints) * 3, offsets, "offsets"));
+    MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(6), static_cast<size_t>(frames) * EncodedPoseFloats(joints), poses, "poses"));
+    const bool animated = !query.getColumn(7).isNull();
+    if (animated) {
+      MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(7), static_cast<size_t>(frames) * joints * 3, translations, "translations"));
+    }
+    MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(8), static_cast<size_t>(frames), out.features, "features"));
+    const double frame_time = 1.0 / query.getColumn(9).getDouble();
+    std::vector<Joint> skeleton_joints = rig.skeleton.joints();
+    for (int j = 0; j < joints; ++j) skeleton_joints[j].offset = Eigen::Vector3f(offsets[3 * j], offsets[3 * j + 1], offsets[3 * j + 2]);
+    out.skeleton = Skeleton(std::move(skeleton_joints));
+    out.motion = DecodePoses(poses, out.skeleton, rig, frame_time);
+    if (animated) {
+      for (int f = 0; f < frames; ++f) {
+        for (int j = 1; j < joints; ++j) {
+          const float* t = translations.data() + (static_cast<size_t>(f) * joints + j) * 3;
+          out.motion.SetTranslation(f, j, Eigen::Vector3f(t[0], t[1], t[2]));
+        }
+      }
+    }
+    SQLite::Statement labels(*db_, "SELECT key, value FROM clip_labels WHERE clip_id = ? ORDER BY key");
+    labels.bind(1, clip_id);
+    while (labels.executeStep()) out.summary.labels.emplace_back(labels.getColumn(0).getString(), labels.getColumn(1).getString());
+    return out;
+  } catch (const std::exception& error) {
+    return FromException(error, StrCat("loading clip ", clip_id));
+  }
+}
+
+}  // namespace mocap

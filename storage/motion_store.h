@@ -1,0 +1,111 @@
+// MotionStore: one SQLite file holding many motion databases (one rig each) and their clips.
+//
+// Thread safety: a MotionStore is one connection; use it from one thread at a time. Several
+// processes may open the same file (WAL mode); writers are serialised by SQLite.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "motion/preprocess/clip_labels.h"
+#include "motion/preprocess/clip_preprocessor.h"
+
+namespace SQLite {
+class Database;
+class Transaction;
+}  // namespace SQLite
+
+namespace mocap {
+
+struct DatabaseSummary {
+  std::int64_t id = 0;
+  std::string name;
+  double frame_rate = 0.0;
+  LengthUnit unit = LengthUnit::kCentimetre;
+  int num_joints = 0;
+  std::string root_joint;
+  std::int64_t num_clips = 0;
+  std::int64_t num_frames = 0;
+  double seconds() const { return frame_rate > 0 ? static_cast<double>(num_frames) / frame_rate : 0.0; }
+};
+
+struct ClipSummary {
+  std::int64_t id = 0;
+  std::string source_name;
+  std::string content_hash;
+  int num_frames = 0;
+  double source_frame_rate = 0.0;
+  int source_frames = 0;
+  ClipLabels labels;
+};
+
+// A clip as stored: labels, this performer's skeleton (metres) and the decoded motion and
+// features at the database rate.
+struct StoredClip {
+  ClipSummary summary;
+  Skeleton skeleton;
+  LocalMotion motion;
+  std::vector<FrameFeatures> features;
+};
+
+struct StoreOpenOptions {
+  bool create_if_missing = true;
+  bool read_only = false;
+};
+
+class MotionStore {
+ public:
+  // Opens (or creates, with its parent folder) the store file and migrates its schema.
+  static absl::StatusOr<std::unique_ptr<MotionStore>> Open(const std::filesystem::path& path,
+                                                           const StoreOpenOptions& options = {});
+  ~MotionStore();
+  MotionStore(const MotionStore&) = delete;
+  MotionStore& operator=(const MotionStore&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+
+  // All-or-nothing writes: everything between BeginWrite and Commit lands together or not at
+  // all (also across a crash or kill -9). Destroying an uncommitted WriteBatch rolls it back.
+  class WriteBatch {
+   public:
+    ~WriteBatch();
+    absl::Status Commit();
+
+   private:
+    friend class MotionStore;
+    explicit WriteBatch(std::unique_ptr<SQLite::Transaction> transaction);
+    std::unique_ptr<SQLite::Transaction> transaction_;
+  };
+  absl::StatusOr<std::unique_ptr<WriteBatch>> BeginWrite();
+
+  // NotFound when there is no database called `name`.
+  absl::StatusOr<DatabaseSummary> FindDatabase(const std::string& name);
+  absl::StatusOr<std::vector<DatabaseSummary>> ListDatabases();
+  // AlreadyExists when the name is taken; InvalidArgument for an empty or over-long name.
+  absl::StatusOr<DatabaseSummary> CreateDatabase(const std::string& name, const RigModel& rig, double frame_rate);
+  absl::StatusOr<RigModel> LoadRig(std::int64_t database_id);
+  absl::Status DeleteDatabase(std::int64_t database_id);
+
+  // Id of the clip with this content hash in the database, if any.
+  absl::StatusOr<std::optional<std::int64_t>> FindClipByHash(std::int64_t database_id, const std::string& content_hash);
+  // Inserts one clip (with its labels); returns its id.
+  absl::StatusOr<std::int64_t> InsertClip(std::int64_t database_id, const std::string& source_name,
+                                          const std::string& content_hash, const ClipLabels& labels,
+                                          const PreparedClip& clip, const RigModel& rig);
+  absl::StatusOr<std::vector<ClipSummary>> ListClips(std::int64_t database_id);
+  // DataLoss when a blob does not have the size its row declares.
+  absl::StatusOr<StoredClip> LoadClip(std::int64_t clip_id, const RigModel& rig);
+
+ private:
+  MotionStore(std::filesystem::path path, std::unique_ptr<SQLite::Database> db);
+  std::filesystem::path path_;
+  std::unique_ptr<SQLite::Database> db_;
+};
+
+}  // namespace mocap

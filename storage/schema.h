@@ -1,0 +1,18 @@
+// Schema of the motion store and its migrations (PRAGMA user_version holds the version).
+#pragma once
+
+#include <SQLiteCpp/Database.h>
+
+#include "absl/status/status.h"
+
+namespace mocap::storage {
+
+inline constexpr int kSchemaVersion = 1;
+
+// Brings the schema up to kSchemaVersion, one migration per transaction. FailedPrecondition when
+// the file was written by a newer build (its version is higher than ours).
+absl::Status MigrateSchema(SQLite::Database& db);
+
+int SchemaVersion(SQLite::Database& db);
+
+}  // namespace mocap::storage
