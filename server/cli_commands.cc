@@ -1,5 +1,6 @@
 #include "server/cli_commands.h"
 
+#include <chrono>
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -7,7 +8,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include "motion/core/str_cat.h"
+#include "server/import_command.h"
 #include "server/inspect_command.h"
+#include "server/progress_bar.h"
+#include "storage/motion_store.h"
 
 namespace mocap {
 namespace {
@@ -65,10 +70,112 @@ void RegisterInspect(CLI::App& app) {
   }});
 }
 
+std::string Thousands(double value) {
+  std::string digits = std::to_string(static_cast<long long>(value + 0.5));
+  for (int i = static_cast<int>(digits.size()) - 3; i > 0; i -= 3) digits.insert(i, ",");
+  return digits;
+}
+
+void RegisterImport(CLI::App& app) {
+  struct Options {
+    ImportOptions import;
+    std::string store;
+    std::string unit;
+    bool json = false;
+    bool quiet = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* command = app.add_subcommand("import", "Import BVH files into a motion database (created from the first "
+                                                   "file's rig when missing); atomic per batch");
+  command->add_option("--store", options->store, "Motion store file (created when missing)")->required();
+  command->add_option("--database", options->import.database, "Motion database name")->required();
+  command->add_option("inputs", options->import.inputs, "BVH files or folders (searched recursively)")->required();
+  command->add_option("--frame-rate", options->import.frame_rate, "Database frame rate when creating it (fps)")
+      ->check(CLI::Range(1.0, 1000.0));
+  command->add_option("--units", options->unit, "Length unit of the files, overriding detection")
+      ->check(CLI::IsMember({"m", "cm", "mm", "in"}));
+  command->add_option("--batch-size", options->import.batch_size, "Files per atomic batch (0: all in one)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag("--keep-going", options->import.keep_going, "Skip bad files (listed) instead of rolling back");
+  command->add_option("--threads", options->import.threads, "Worker threads (0: one per core)")->check(CLI::NonNegativeNumber);
+  command->add_flag("--json", options->json, "Print the summary as JSON");
+  command->add_flag("--quiet", options->quiet, "No progress bar");
+  Commands().push_back({command, [options] {
+    options->import.store = options->store;
+    options->import.unit = ParseUnitOption(options->unit);
+    std::optional<ProgressBar> bar;
+    const auto start = std::chrono::steady_clock::now();
+    auto summary = RunImport(options->import, [&](int done, int total, const ImportSummary& so_far) {
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (!bar) bar.emplace("importing", total, !options->quiet && !options->json);
+      bar->Update(done, StrCat("files, ", Thousands(so_far.source_frames / std::max(seconds, 1e-3)), " frames/s"));
+    });
+    if (bar) bar->Finish();
+    if (!summary.ok()) return ReportError(summary.status());
+    if (options->json) {
+      nlohmann::json out = {{"database", summary->database}, {"created_database", summary->created_database},
+                            {"files", summary->files}, {"imported", summary->imported},
+                            {"duplicates", summary->duplicates}, {"failed", summary->failed},
+                            {"frames", summary->frames}, {"source_frames", summary->source_frames},
+                            {"motion_seconds", summary->motion_seconds}, {"wall_seconds", summary->wall_seconds},
+                            {"source_frames_per_second", summary->frames_per_second()},
+                            {"problems", summary->problems}};
+      std::cout << out.dump(2) << "\n";
+    } else {
+      for (const std::string& problem : summary->problems) std::cerr << "  " << problem << "\n";
+      std::cout << "database '" << summary->database << "'" << (summary->created_database ? " (created)" : "") << ": "
+                << summary->imported << " clips imported, " << summary->duplicates << " duplicates skipped"
+                << (summary->failed ? StrCat(", ", summary->failed, " bad files skipped") : std::string()) << "\n"
+                << "  " << Thousands(summary->frames) << " frames at the database rate ("
+                << Thousands(summary->source_frames) << " in the files), " << summary->motion_seconds / 60.0
+                << " min of motion\n"
+                << "  " << summary->wall_seconds << " s wall, " << Thousands(summary->frames_per_second())
+                << " frames/s (file frames)\n";
+    }
+    return 0;
+  }});
+}
+
+void RegisterDatabases(CLI::App& app) {
+  struct Options {
+    std::string store;
+    bool json = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* command = app.add_subcommand("databases", "List the motion databases of a store");
+  command->add_option("--store", options->store, "Motion store file")->required();
+  command->add_flag("--json", options->json, "Print JSON");
+  Commands().push_back({command, [options] {
+    auto store = MotionStore::Open(options->store, StoreOpenOptions{.create_if_missing = false, .read_only = true});
+    if (!store.ok()) return ReportError(store.status());
+    auto databases = (*store)->ListDatabases();
+    if (!databases.ok()) return ReportError(databases.status());
+    if (options->json) {
+      nlohmann::json out = nlohmann::json::array();
+      for (const DatabaseSummary& d : *databases) {
+        out.push_back({{"name", d.name}, {"clips", d.num_clips}, {"frames", d.num_frames}, {"seconds", d.seconds()},
+                       {"frame_rate", d.frame_rate}, {"unit", std::string(UnitName(d.unit))},
+                       {"joints", d.num_joints}, {"root_joint", d.root_joint}});
+      }
+      std::cout << out.dump(2) << "\n";
+      return 0;
+    }
+    if (databases->empty()) std::cout << "no motion databases in " << options->store << "\n";
+    for (const DatabaseSummary& d : *databases) {
+      std::cout << d.name << ": " << d.num_clips << " clips, " << Thousands(d.num_frames) << " frames ("
+                << d.seconds() / 60.0 << " min) at " << d.frame_rate << " fps; rig of " << d.num_joints
+                << " joints rooted at " << d.root_joint << ", imported from " << UnitName(d.unit) << "\n";
+    }
+    return 0;
+  }});
+}
+
 }  // namespace
 
 void RegisterCommands(CLI::App& app) {
   RegisterInspect(app);
+  RegisterImport(app);
+  RegisterDatabases(app);
 }
 
 int RunSelectedCommand(CLI::App& app) {

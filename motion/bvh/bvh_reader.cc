@@ -1,7 +1,9 @@
 #include "motion/bvh/bvh_reader.h"
 
 #include <charconv>
+#include <cstdlib>
 #include <cstring>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -81,9 +83,22 @@ std::string Quote(std::string_view token) {
 // Parses one float, accepting a leading '+' and rejecting NaN/inf. Returns the end pointer or
 // nullptr on failure.
 const char* ParseFloat(const char* begin, const char* end, float& value) {
-  if (begin < end && *begin == '+') ++begin;
+  if (begin < end && *begin == '+') {
+    ++begin;
+    if (begin < end && (*begin == '+' || *begin == '-')) return nullptr;
+  }
   auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (ec == std::errc::result_out_of_range) return nullptr;
+  if (ec == std::errc::result_out_of_range) {
+    // Underflow (e.g. 1e-50) reads as zero; overflow stays an error.
+    char buffer[64];
+    const size_t length = std::min<size_t>(static_cast<size_t>(ptr - begin), sizeof(buffer) - 1);
+    std::memcpy(buffer, begin, length);
+    buffer[length] = '\0';
+    const double wide = std::strtod(buffer, nullptr);
+    if (!(std::abs(wide) < 1.0)) return nullptr;
+    value = 0.0f;
+    return ptr;
+  }
   if (ec != std::errc() || !std::isfinite(value)) return nullptr;
   return ptr;
 }

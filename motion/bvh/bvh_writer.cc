@@ -61,11 +61,22 @@ std::string FormatBvh(const BvhClip& clip) {
   out += StrCat("MOTION\nFrames: ", clip.num_frames(), "\nFrame Time: ");
   AppendFloat(out, clip.frame_time);
   out += '\n';
+  // Values follow the hierarchy as written (depth first), whatever the skeleton's own order.
+  std::vector<int> columns;
+  std::vector<int> stack = {0};
+  while (!stack.empty() && clip.skeleton.num_joints() > 0) {
+    const int joint = stack.back();
+    stack.pop_back();
+    const int start = clip.skeleton.channel_start(joint);
+    for (size_t c = 0; c < clip.skeleton.joint(joint).channels.size(); ++c) columns.push_back(start + static_cast<int>(c));
+    const std::vector<int> children = clip.skeleton.Children(joint);
+    stack.insert(stack.end(), children.rbegin(), children.rend());
+  }
   out.reserve(out.size() + static_cast<size_t>(clip.channels.size()) * 12);
   for (int frame = 0; frame < clip.num_frames(); ++frame) {
-    for (int c = 0; c < clip.channels.cols(); ++c) {
-      if (c > 0) out += ' ';
-      AppendFloat(out, clip.channels(frame, c));
+    for (size_t i = 0; i < columns.size(); ++i) {
+      if (i > 0) out += ' ';
+      AppendFloat(out, clip.channels(frame, columns[i]));
     }
     out += '\n';
   }

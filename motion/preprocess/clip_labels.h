@@ -20,3 +20,17 @@ ClipLabels ParseClipLabels(std::string_view file_name);
 std::string LabelValue(const ClipLabels& labels, std::string_view key);
 
 }  // namespace mocap
+
+#include <filesystem>
+#include <map>
+
+namespace mocap {
+
+// Reads a CMU-style description table ("Subject","Trial #","Motion Description",...) into
+// "subject_trial" (as numbers, e.g. "1_1") -> description. Empty map when unreadable.
+std::map<std::string, std::string> ReadTrialDescriptions(const std::filesystem::path& csv_path);
+
+// Key into ReadTrialDescriptions' map for a clip's labels ("" when the clip has no subject/trial).
+std::string TrialKey(const ClipLabels& labels);
+
+}  // namespace mocap

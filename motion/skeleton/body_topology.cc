@@ -165,7 +165,9 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
           float mean_distance = 0.0f;
           for (int f : frames) {
             float along;
-            const Eigen::Vector3f a = position(f, v), b = position(f, sibling);
+            // From the sibling's real parent: the virtual node may stand for a collapsed joint
+            // elsewhere (e.g. a static root above moving hips).
+            const Eigen::Vector3f a = position(f, skeleton.parent(sibling)), b = position(f, sibling);
             sibling_length = std::max(sibling_length, (b - a).norm());
             mean_distance += PointSegmentDistance(position(f, joint), a, b, &along);
             if (along < -0.1f || along > 1.1f) inside = false;

@@ -117,6 +117,15 @@ ChannelMatrix ChannelsFromMotion(const Skeleton& skeleton, const LocalMotion& mo
       Eigen::Vector3f angles = Eigen::Vector3f::Zero();
       if (rotation_channels > 0) {
         angles = EulerAngles(motion.rotation(f, j).normalized().toRotationMatrix(), order[0], order[1], order[2]);
+        if (rotation_channels < 3) {
+          // The other Euler solution (a+pi, pi-b, c+pi) may be the one whose dropped angles are
+          // zero; keep whichever drops less.
+          const float pi = static_cast<float>(M_PI);
+          auto wrap = [pi](float a) { return a > pi ? a - 2 * pi : (a < -pi ? a + 2 * pi : a); };
+          const Eigen::Vector3f other(wrap(angles[0] + pi), wrap(pi - angles[1]), wrap(angles[2] + pi));
+          auto dropped = [&](const Eigen::Vector3f& a) { return a.tail(3 - rotation_channels).cwiseAbs().sum(); };
+          if (dropped(other) < dropped(angles)) angles = other;
+        }
       }
       int r = 0;
       for (size_t c = 0; c < joint.channels.size(); ++c) {
@@ -137,6 +146,12 @@ ChannelMatrix ChannelsFromMotion(const Skeleton& skeleton, const LocalMotion& mo
 
 LocalMotion Resample(const LocalMotion& motion, double target_frame_time) {
   const int source_frames = motion.num_frames();
+  if (source_frames < 1) {
+    LocalMotion empty;
+    empty.frame_time = target_frame_time;
+    empty.Resize(0, motion.num_joints());
+    return empty;
+  }
   const double duration = (source_frames - 1) * motion.frame_time;
   const int frames = static_cast<int>(std::floor(duration / target_frame_time + 1e-6)) + 1;
   LocalMotion out;

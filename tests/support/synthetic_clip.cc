@@ -159,8 +159,9 @@ LegPose LegAt(double t, int side) {
     return SolveLeg(kHalfStep * (1 - 2 * u) + yaw_shift, 5 + 10 * std::sin(M_PI * u));
   }
   const double u = (p - 0.5) / 0.5;
+  // The knee bends most early in the swing (u = 1/4) and straightens before heel strike.
   return SolveLeg(stance_end + (kHalfStep - stance_end) * 0.5 * (1 - std::cos(M_PI * u)),
-                  5 + 55 * std::sin(M_PI * u));
+                  5 + 55 * std::sin(M_PI * std::sqrt(u)));
 }
 
 // Local rotations (Y-up axes) and the Hips world position (cm) at time t.
@@ -199,8 +200,7 @@ void PoseAt(const Body& body, double t, std::vector<Quaterniond>& local, Vector3
 
 // Intrinsic Euler angles in degrees: R = R_axes[0](e0) R_axes[1](e1) R_axes[2](e2), middle angle in
 // [-90, 90].
-Vector3d EulerDegrees(const Quaterniond& q, const std::array<int, 3>& axes) {
-  const Eigen::Matrix3d m = q.normalized().toRotationMatrix();
+Vector3d EulerDegrees(const Eigen::Matrix3d& m, const std::array<int, 3>& axes) {
   const int i = axes[0], j = axes[1], k = axes[2];
   const double sign = j == (i + 1) % 3 ? 1.0 : -1.0;
   Vector3d e;
@@ -213,7 +213,11 @@ Vector3d EulerDegrees(const Quaterniond& q, const std::array<int, 3>& axes) {
     e[0] = std::atan2(sign * m(k, j), m(j, j));
     e[2] = 0;
   }
-  return e / kDegree;
+  e /= kDegree;
+  for (int r = 0; r < 3; ++r) {
+    if (std::abs(e[r]) < 1e-9) e[r] = 0;  // no 1e-17 noise in the file
+  }
+  return e;
 }
 
 std::array<int, 3> ParseOrder(const std::string& order) {
@@ -237,9 +241,10 @@ BvhClip MakeWalkingClip(const SyntheticRigOptions& options, int frames, double f
   const std::array<int, 3> axes = ParseOrder(options.rotation_order);
   const Body body = BuildBody(options);
   const double scale = options.length_scale;
-  // Z-up authoring: a vector v (Y-up) is stored as C v; RL_BoneRoot's rotation is C^-1.
-  const Quaterniond to_authored = options.z_up ? Rotation(0, 90) : Quaterniond::Identity();
-  const Eigen::Matrix3d c = to_authored.toRotationMatrix();
+  // Z-up authoring: a vector v (Y-up) is stored as C v, C = +90 deg about X (exactly); a local
+  // rotation R as C R C^-1; RL_BoneRoot's rotation is C^-1.
+  Eigen::Matrix3d c = Eigen::Matrix3d::Identity();
+  if (options.z_up) c << 1, 0, 0, 0, 0, -1, 0, 1, 0;
 
   const std::vector<ChannelType> positions = {ChannelType::kXposition, ChannelType::kYposition,
                                               ChannelType::kZposition};
@@ -313,7 +318,7 @@ BvhClip MakeWalkingClip(const SyntheticRigOptions& options, int frames, double f
             translation = c * hips_world;  // replaces the OFFSET
           }
         }
-        angles = EulerDegrees(to_authored * local[body_index] * to_authored.conjugate(), axes);
+        angles = EulerDegrees(c * local[body_index].normalized().toRotationMatrix() * c.transpose(), axes);
       }
       int r = 0;
       for (size_t k = 0; k < joint.channels.size(); ++k) {

@@ -31,12 +31,14 @@
 // above the floor, arms straight along +-X at shoulder height.
 //
 // Motion: a walk with gait cycle kSyntheticGaitCycle seconds (left heel strike at t = 0, right at
-// half a cycle). Each stance foot is flat and planted (it does not slide, up to a small hip-yaw
-// effect of < 1 cm) with the ankle exactly at kSyntheticAnkleHeight; the hips rise and fall by ~6 cm
-// (highest at mid-stance); hip flexion stays within about -21..+26 deg; knees bend ~5-15 deg in
-// stance and up to 60 deg in swing; the arms hang (lowered 75 deg from the T-pose) and swing
-// +-18 deg opposite to the legs with the elbows bent 20-30 deg; the pelvis yaws +-4 deg and the
-// chest counter-rotates so the head keeps facing +Z.
+// half a cycle; 60 cm steps). Each stance foot is flat and planted (it does not slide) with the
+// ankle exactly at kSyntheticAnkleHeight and the toe base at kSyntheticToeHeight (the landing foot
+// touches down from < 0.5 cm above); at every instant one foot is down. The hips rise and fall by ~5 cm (highest at mid-stance, ~92 cm on average);
+// hip flexion (thigh angle from vertical, forward positive) stays within about -18..+29 deg; knees
+// bend 5-15 deg in stance and up to 60 deg early in swing, the swing foot clearing the floor; the
+// arms hang (lowered 75 deg from the T-pose) and swing +-18 deg opposite to the legs with the
+// elbows bent 20-30 deg; the pelvis yaws +-4 deg and the spine counter-rotates so that the head
+// keeps facing +Z exactly. Twist joints roll +-3 deg about their bone.
 //
 // Channel values follow the BVH semantics of MotionFromChannels (motion/skeleton/local_motion.h):
 // root translation = OFFSET + position channels; a position channel on any other joint replaces
@@ -54,7 +56,7 @@
 namespace mocap::testing {
 
 inline constexpr double kSyntheticWalkSpeed = 120.0;     // cm/s along +Z
-inline constexpr double kSyntheticGaitCycle = 1.1;       // seconds per two steps
+inline constexpr double kSyntheticGaitCycle = 1.0;       // seconds per two steps
 inline constexpr double kSyntheticAnkleHeight = 5.0;     // cm, ankle of a planted foot
 inline constexpr double kSyntheticToeHeight = 0.5;       // cm, toe base of a planted foot
 inline constexpr double kSyntheticRestHipsHeight = 96.0; // cm, Hips OFFSET
