@@ -253,7 +253,7 @@ absl::StatusOr<ImportSummary> RunImport(const ImportOptions& options, const Impo
         ++summary.imported;
         summary.frames += prepared.clip.num_frames();
         summary.source_frames += prepared.clip.source_frames;
-        summary.motion_seconds += (prepared.clip.num_frames() - 1) / preprocess.frame_rate;
+        summary.motion_seconds += prepared.clip.num_frames() / preprocess.frame_rate;
       }
     } else if (options.keep_going) {
       ++summary.failed;

@@ -1,5 +1,6 @@
 #include "storage/motion_store.h"
 
+#include <cstdlib>
 #include <cstring>
 
 #include <sqlite3.h>
@@ -218,21 +219,21 @@ absl::StatusOr<std::int64_t> MotionStore::InsertClip(std::int64_t database_id, c
     for (int axis = 0; axis < 3; ++axis) offsets[3 * j + axis] = clip.skeleton.joint(j).offset[axis];
   }
   const std::vector<float> poses = EncodePoses(clip.motion, rig);
-  std::vector<float> translations;
-  if (clip.animated_translations) {
-    translations.resize(static_cast<size_t>(clip.num_frames()) * joints * 3);
+  const size_t animated = clip.animated_joints.size();
+  std::vector<float> translations(static_cast<size_t>(clip.num_frames()) * animated * 3);
+  std::string animated_list;
+  for (size_t k = 0; k < animated; ++k) {
+    animated_list += (k ? "," : "") + std::to_string(clip.animated_joints[k]);
     for (int f = 0; f < clip.num_frames(); ++f) {
-      for (int j = 0; j < joints; ++j) {
-        const Eigen::Vector3f t = clip.motion.translation(f, j);
-        for (int axis = 0; axis < 3; ++axis) translations[(static_cast<size_t>(f) * joints + j) * 3 + axis] = t[axis];
-      }
+      const Eigen::Vector3f t = clip.motion.translation(f, clip.animated_joints[k]);
+      for (int axis = 0; axis < 3; ++axis) translations[(static_cast<size_t>(f) * animated + k) * 3 + axis] = t[axis];
     }
   }
   try {
     SQLite::Statement insert(*db_, R"sql(
       INSERT INTO clips (database_id, source_name, content_hash, source_frame_rate, source_frames, num_frames,
-                         offsets, poses, translations, features)
-      VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?))sql");
+                         offsets, poses, animated_joints, translations, features)
+      VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?))sql");
     insert.bind(1, database_id);
     insert.bind(2, source_name);
     insert.bind(3, content_hash);
@@ -241,12 +242,13 @@ absl::StatusOr<std::int64_t> MotionStore::InsertClip(std::int64_t database_id, c
     insert.bind(6, clip.num_frames());
     BindFloats(insert, 7, offsets);
     BindFloats(insert, 8, poses);
-    if (clip.animated_translations) {
-      BindFloats(insert, 9, translations);
+    insert.bind(9, animated_list);
+    if (animated > 0) {
+      BindFloats(insert, 10, translations);
     } else {
-      insert.bind(9);
+      insert.bind(10);
     }
-    BindFloats(insert, 10, clip.features);
+    BindFloats(insert, 11, clip.features);
     insert.exec();
     const std::int64_t clip_id = db_->getLastInsertRowid();
     SQLite::Statement label(*db_, "INSERT OR REPLACE INTO clip_labels (clip_id, key, value) VALUES (?, ?, ?)");
@@ -302,7 +304,7 @@ absl::StatusOr<StoredClip> MotionStore::LoadClip(std::int64_t clip_id, const Rig
   try {
     SQLite::Statement query(*db_, R"sql(
       SELECT c.source_name, c.content_hash, c.num_frames, c.source_frame_rate, c.source_frames,
-             c.offsets, c.poses, c.translations, c.features, d.frame_rate
+             c.offsets, c.poses, c.translations, c.features, d.frame_rate, c.animated_joints
       FROM clips c JOIN databases d ON d.id = c.database_id WHERE c.id = ?)sql");
     query.bind(1, clip_id);
     if (!query.executeStep()) return absl::NotFoundError(StrCat("no clip with id ", clip_id));
@@ -318,9 +320,22 @@ absl::StatusOr<StoredClip> MotionStore::LoadClip(std::int64_t clip_id, const Rig
     std::vector<float> offsets, poses, translations;
     MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(5), static_cast<size_t>(joints) * 3, offsets, "offsets"));
     MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(6), static_cast<size_t>(frames) * EncodedPoseFloats(joints), poses, "poses"));
-    const bool animated = !query.getColumn(7).isNull();
-    if (animated) {
-      MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(7), static_cast<size_t>(frames) * joints * 3, translations, "translations"));
+    std::vector<int> animated_joints;
+    {
+      const std::string list = query.getColumn(10).getString();
+      size_t start = 0;
+      while (start < list.size()) {
+        size_t end = list.find(',', start);
+        if (end == std::string::npos) end = list.size();
+        const int joint = std::atoi(list.substr(start, end - start).c_str());
+        if (joint <= 0 || joint >= joints) return absl::DataLossError(StrCat("clip ", clip_id, " has a bad animated joint list"));
+        animated_joints.push_back(joint);
+        start = end + 1;
+      }
+    }
+    const size_t animated = animated_joints.size();
+    if (animated > 0) {
+      MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(7), static_cast<size_t>(frames) * animated * 3, translations, "translations"));
     }
     MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(8), static_cast<size_t>(frames), out.features, "features"));
     const double frame_time = 1.0 / query.getColumn(9).getDouble();
@@ -328,12 +343,10 @@ absl::StatusOr<StoredClip> MotionStore::LoadClip(std::int64_t clip_id, const Rig
     for (int j = 0; j < joints; ++j) skeleton_joints[j].offset = Eigen::Vector3f(offsets[3 * j], offsets[3 * j + 1], offsets[3 * j + 2]);
     out.skeleton = Skeleton(std::move(skeleton_joints));
     out.motion = DecodePoses(poses, out.skeleton, rig, frame_time);
-    if (animated) {
-      for (int f = 0; f < frames; ++f) {
-        for (int j = 1; j < joints; ++j) {
-          const float* t = translations.data() + (static_cast<size_t>(f) * joints + j) * 3;
-          out.motion.SetTranslation(f, j, Eigen::Vector3f(t[0], t[1], t[2]));
-        }
+    for (int f = 0; f < frames; ++f) {
+      for (size_t k = 0; k < animated; ++k) {
+        const float* t = translations.data() + (static_cast<size_t>(f) * animated + k) * 3;
+        out.motion.SetTranslation(f, animated_joints[k], Eigen::Vector3f(t[0], t[1], t[2]));
       }
     }
     SQLite::Statement labels(*db_, "SELECT key, value FROM clip_labels WHERE clip_id = ? ORDER BY key");

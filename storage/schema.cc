@@ -29,7 +29,8 @@ CREATE TABLE clips (
   num_frames        INTEGER NOT NULL CHECK (num_frames > 0),
   offsets           BLOB NOT NULL,        -- float32[joints][3], metres: this performer's bones
   poses             BLOB NOT NULL,        -- float32[frames][3 + 3 * joints]: root position, rotation vectors
-  translations      BLOB,                 -- float32[frames][joints][3] when non-root translations move
+  animated_joints   TEXT NOT NULL DEFAULT '',  -- comma-separated non-root joints whose translation moves
+  translations      BLOB,                 -- float32[frames][animated joints][3], metres
   features          BLOB NOT NULL,        -- float32[frames][36]: FrameFeatures (METHOD.md A1)
   imported_at       TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now')),
   UNIQUE (database_id, content_hash)

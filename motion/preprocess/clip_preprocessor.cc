@@ -100,9 +100,11 @@ absl::StatusOr<PreparedClip> PrepareClip(const BvhClip& clip, const RigModel& ri
       continue;
     }
     joints[j].offset = prepared.motion.translation(0, j);
+    bool animated = false;
     for (Eigen::ArrayXXf* t : {&prepared.motion.tx, &prepared.motion.ty, &prepared.motion.tz}) {
-      if (t->col(j).maxCoeff() - t->col(j).minCoeff() > 1e-4f) prepared.animated_translations = true;
+      if (t->col(j).maxCoeff() - t->col(j).minCoeff() > 1e-5f) animated = true;
     }
+    if (animated) prepared.animated_joints.push_back(j);
     if (joints[j].end_site) *joints[j].end_site *= metres;
   }
   prepared.skeleton = Skeleton(std::move(joints));

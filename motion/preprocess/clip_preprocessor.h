@@ -41,9 +41,9 @@ struct PreparedClip {
   Skeleton skeleton;   // this clip's own offsets in metres (performers differ in bone lengths)
   LocalMotion motion;  // database rate, metres, world Y up
   std::vector<FrameFeatures> features;
-  // True when some non-root joint's translation changes within the clip (then the store keeps
-  // per-frame translations; otherwise the clip's offsets carry them).
-  bool animated_translations = false;
+  // Non-root joints whose translation changes within the clip (as Bandai's Hips under a static
+  // joint_Root): the store keeps their per-frame translations; the offsets carry all others.
+  std::vector<int> animated_joints;
   double source_frame_rate = 0.0;
   int source_frames = 0;
   int num_frames() const { return motion.num_frames(); }

@@ -304,13 +304,22 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
 
   // Forward: ankle -> next joint toward the toes, on the ground plane; else the travel direction.
   auto horizontal = [&](const Eigen::Vector3f& v) -> Eigen::Vector3f { return v - up * v.dot(up); };
+  // Only frames where the toe is near its lowest (stance): a foot kicked back in a run points its
+  // toes backwards.
   Eigen::Vector3f forward = Eigen::Vector3f::Zero();
+  float foot_length = 0.0f;
   for (int i = 0; i < 2; ++i) {
     if (ankles[i] == leg_tips[i]) continue;
     const int toe = metric.ChildToward(ankles[i], leg_tips[i]);
-    for (int f : frames) forward += horizontal(position(f, toe) - position(f, ankles[i])).normalized();
+    float lowest_toe = std::numeric_limits<float>::infinity();
+    for (int f : frames) lowest_toe = std::min(lowest_toe, height(f, toe));
+    for (int f : frames) {
+      const Eigen::Vector3f foot = position(f, toe) - position(f, ankles[i]);
+      foot_length = std::max(foot_length, foot.norm());
+      if (height(f, toe) < lowest_toe + 0.05f * body_size) forward += horizontal(foot);
+    }
   }
-  if (forward.norm() < 0.1f * frames.size()) {
+  if (forward.norm() < 0.1f * foot_length) {
     forward = horizontal(position(motion.num_frames() - 1, pelvis) - position(0, pelvis));
     if (forward.norm() < 0.05f * body_size) {
       return absl::FailedPreconditionError(
