@@ -283,7 +283,7 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
   auto attach_of = [&](int tip) { return attach[std::find(tips.begin(), tips.end(), tip) - tips.begin()]; };
 
   // 5. Landmarks on limb chains: the distal end of the more distal of the two longest bones.
-  auto limb_joint = [&](int tip, int* joint_out) -> absl::Status {
+  auto limb_joint = [&](int tip, int* joint_out, int* middle_out) -> absl::Status {
     const int top = metric.ChildToward(attach_of(tip), tip);
     const std::vector<int> path = metric.Path(top, tip);
     if (path.size() < 3) {
@@ -294,19 +294,31 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
     std::iota(order.begin(), order.end(), 1);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return bone[path[a]] > bone[path[b]]; });
     *joint_out = path[std::max(order[0], order[1])];
+    *middle_out = path[std::min(order[0], order[1])];  // elbow / knee
     return absl::OkStatus();
   };
-  std::array<int, 2> wrists{}, ankles{};
+  std::array<int, 2> wrists{}, ankles{}, elbows{}, knees{};
   for (int i = 0; i < 2; ++i) {
-    if (auto s = limb_joint(arm_tips[i], &wrists[i]); !s.ok()) return s;
-    if (auto s = limb_joint(leg_tips[i], &ankles[i]); !s.ok()) return s;
+    if (auto s = limb_joint(arm_tips[i], &wrists[i], &elbows[i]); !s.ok()) return s;
+    if (auto s = limb_joint(leg_tips[i], &ankles[i], &knees[i]); !s.ok()) return s;
   }
 
   // Forward: ankle -> next joint toward the toes, on the ground plane; else the travel direction.
   auto horizontal = [&](const Eigen::Vector3f& v) -> Eigen::Vector3f { return v - up * v.dot(up); };
-  // Only frames where the toe is near its lowest (stance): a foot kicked back in a run points its
-  // toes backwards.
+  // Two anatomical cues, summed unnormalised so that strong frames weigh more: knees bend forward
+  // (knee minus its projection on the hip-ankle line), and toes point forward from the ankle in
+  // stance (only frames where the toe is near its lowest: a foot kicked back in a run points its
+  // toes backwards).
   Eigen::Vector3f forward = Eigen::Vector3f::Zero();
+  for (int i = 0; i < 2; ++i) {
+    const int hip = metric.ChildToward(attach_of(leg_tips[i]), leg_tips[i]);
+    for (int f : frames) {
+      float along;
+      const Eigen::Vector3f a = position(f, hip), b = position(f, ankles[i]), k = position(f, knees[i]);
+      PointSegmentDistance(k, a, b, &along);
+      forward += horizontal(k - (a + along * (b - a)));
+    }
+  }
   float foot_length = 0.0f;
   for (int i = 0; i < 2; ++i) {
     if (ankles[i] == leg_tips[i]) continue;
