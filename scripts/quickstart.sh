@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# The README's main command: sets up everything, imports motion into a SQLite motion store and
+# shows what is in it.
+#   usage: scripts/quickstart.sh [BVH_FILE_OR_FOLDER...]
+# Without arguments it imports the shared data sets (../shared/data) when present.
+# Output: var/mocap.db (the store) and out/ (what the importer found, as JSON you can open).
+set -euo pipefail
+repo=$(cd "$(dirname "$0")/.." && pwd)
+"$repo/scripts/setup.sh"
+mocapd="$repo/build/server/mocapd"
+store="$repo/var/mocap.db"
+out="$repo/out"
+mkdir -p "$out"
+
+inputs=("$@")
+database=motion
+if [ ${#inputs[@]} -eq 0 ]; then
+  shared="$repo/../shared/data"
+  if [ ! -x "$shared/unpack.sh" ]; then
+    echo "quickstart: no BVH inputs given and no ../shared/data beside the repository." >&2
+    echo "usage: scripts/quickstart.sh FOLDER_OF_BVH_FILES..." >&2
+    exit 2
+  fi
+  data="${MOCAP_DATA_CACHE_DIR:-$HOME/.cache/mocap/data}"
+  "$shared/unpack.sh" "$data" bandai-namco-2 bandai-namco-1 cmu-cc
+  # One database per rig: the two Bandai sets share a rig, cmu-cc has its own.
+  "$mocapd" import --store "$store" --database bandai-namco-2 "$data/bandai-namco-2"
+  "$mocapd" import --store "$store" --database bandai-namco-1 "$data/bandai-namco-1"
+  "$mocapd" import --store "$store" --database cmu-cc "$data/cmu-cc"
+  sample_bandai=$(ls "$data"/bandai-namco-2/*.bvh | head -1)
+  sample_cmu=$(ls "$data"/cmu-cc/*.bvh | head -1)
+  "$mocapd" inspect --json "$sample_bandai" "$sample_cmu" > "$out/inspect.json"
+else
+  "$mocapd" import --store "$store" --database "$database" "${inputs[@]}"
+  first=$(find "${inputs[@]}" -iname '*.bvh' -type f | sort | head -1)
+  "$mocapd" inspect --json "$first" > "$out/inspect.json"
+fi
+echo
+echo "== Motion databases in $store"
+"$mocapd" databases --store "$store"
+"$mocapd" databases --store "$store" --json > "$out/databases.json"
+echo
+echo "Wrote $out/databases.json and $out/inspect.json (groups, landmarks, up axis, units of sample files)."
