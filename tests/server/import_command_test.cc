@@ -1,0 +1,213 @@
+#include "server/import_command.h"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "motion/bvh/bvh_writer.h"
+#include "storage/motion_store.h"
+#include "tests/support/shared_data.h"
+#include "tests/support/synthetic_clip.h"
+
+namespace mocap {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ImportCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("mocap_import_test_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "clips");
+    store_ = dir_ / "store.db";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Writes a synthetic walk; `frames` makes each file's content distinct.
+  fs::path WriteClip(const std::string& name, int frames, const testing::SyntheticRigOptions& rig = {}) {
+    const fs::path path = dir_ / "clips" / name;
+    EXPECT_TRUE(WriteBvhFile(testing::MakeWalkingClip(rig, frames), path).ok());
+    return path;
+  }
+  fs::path WriteText(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / "clips" / name;
+    std::ofstream(path) << text;
+    return path;
+  }
+  ImportOptions Options(std::vector<std::string> inputs) {
+    ImportOptions options;
+    options.store = store_;
+    options.database = "walks";
+    options.inputs = std::move(inputs);
+    options.threads = 2;
+    return options;
+  }
+  std::int64_t ClipCount() {
+    auto store = MotionStore::Open(store_);
+    EXPECT_TRUE(store.ok());
+    auto database = (*store)->FindDatabase("walks");
+    return database.ok() ? database->num_clips : -1;
+  }
+
+  fs::path dir_, store_;
+};
+
+TEST_F(ImportCommandTest, ImportsFolderAndDetectsDuplicates) {
+  for (int i = 0; i < 5; ++i) WriteClip("walk_" + std::to_string(i) + ".bvh", 40 + i);
+  auto summary = RunImport(Options({(dir_ / "clips").string()}));
+  ASSERT_TRUE(summary.ok()) << summary.status();
+  EXPECT_TRUE(summary->created_database);
+  EXPECT_EQ(summary->imported, 5);
+  EXPECT_EQ(summary->frames, 40 + 41 + 42 + 43 + 44);
+  EXPECT_EQ(ClipCount(), 5);
+
+  WriteClip("walk_5.bvh", 50);
+  fs::copy_file(dir_ / "clips" / "walk_0.bvh", dir_ / "clips" / "copy_of_walk_0.bvh");
+  auto again = RunImport(Options({(dir_ / "clips").string()}));
+  ASSERT_TRUE(again.ok()) << again.status();
+  EXPECT_FALSE(again->created_database);
+  EXPECT_EQ(again->imported, 1);
+  EXPECT_EQ(again->duplicates, 6);
+  EXPECT_EQ(ClipCount(), 6);
+}
+
+TEST_F(ImportCommandTest, BadFileRollsBackTheBatchAndNamesTheFile) {
+  WriteClip("a.bvh", 40);
+  ASSERT_TRUE(RunImport(Options({(dir_ / "clips" / "a.bvh").string()})).ok());
+  const fs::path b = WriteClip("b.bvh", 41);
+  const fs::path bad = WriteText("c_bad.bvh", "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n");
+  const fs::path d = WriteClip("d.bvh", 43);
+  auto summary = RunImport(Options({b.string(), bad.string(), d.string()}));
+  ASSERT_FALSE(summary.ok());
+  EXPECT_EQ(summary.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(summary.status().message().find("c_bad.bvh:"), std::string_view::npos) << summary.status();
+  EXPECT_NE(summary.status().message().find("nothing from this batch was stored"), std::string_view::npos);
+  EXPECT_EQ(ClipCount(), 1);  // only the earlier import
+}
+
+TEST_F(ImportCommandTest, EarlierBatchesAreKept) {
+  std::vector<std::string> inputs;
+  for (int i = 0; i < 4; ++i) inputs.push_back(WriteClip("w" + std::to_string(i) + ".bvh", 40 + i).string());
+  inputs.push_back(WriteText("w4.bvh", "not a bvh file").string());
+  ImportOptions options = Options(inputs);
+  options.batch_size = 2;
+  auto summary = RunImport(options);
+  ASSERT_FALSE(summary.ok());
+  EXPECT_NE(summary.status().message().find("w4.bvh"), std::string_view::npos);
+  EXPECT_NE(summary.status().message().find("2 earlier batch(es) with 4 clips were kept"), std::string_view::npos)
+      << summary.status();
+  EXPECT_EQ(ClipCount(), 4);
+}
+
+TEST_F(ImportCommandTest, KeepGoingSkipsBadFiles) {
+  WriteClip("a.bvh", 40);
+  WriteText("b.bvh", "HIERARCHY\n");
+  WriteClip("c.bvh", 42);
+  ImportOptions options = Options({(dir_ / "clips").string()});
+  options.keep_going = true;
+  auto summary = RunImport(options);
+  ASSERT_TRUE(summary.ok()) << summary.status();
+  EXPECT_EQ(summary->imported, 2);
+  EXPECT_EQ(summary->failed, 1);
+  ASSERT_EQ(summary->problems.size(), 1u);
+  EXPECT_NE(summary->problems[0].find("b.bvh"), std::string::npos);
+}
+
+TEST_F(ImportCommandTest, RefusesAnotherRig) {
+  WriteClip("plain.bvh", 40);
+  ASSERT_TRUE(RunImport(Options({(dir_ / "clips" / "plain.bvh").string()})).ok());
+  const fs::path other = WriteClip("fingers.bvh", 40, {.fingers_and_toes = true});
+  auto summary = RunImport(Options({other.string()}));
+  ASSERT_FALSE(summary.ok());
+  EXPECT_EQ(summary.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(summary.status().message().find("fingers.bvh"), std::string_view::npos);
+  EXPECT_NE(summary.status().message().find("rig differs"), std::string_view::npos) << summary.status();
+  EXPECT_EQ(ClipCount(), 1);
+}
+
+TEST_F(ImportCommandTest, MissingInputsAreClearErrors) {
+  EXPECT_EQ(RunImport(Options({(dir_ / "nope").string()})).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(RunImport(Options({(dir_ / "clips").string()})).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(ImportCommandTest, ResamplesOtherRatesAndConvertsUnits) {
+  const fs::path path = dir_ / "clips" / "fast.bvh";
+  ASSERT_TRUE(WriteBvhFile(testing::MakeWalkingClip({.length_scale = 1.0 / 2.54}, 121, 1.0 / 60.0), path).ok());
+  auto summary = RunImport(Options({path.string()}));
+  ASSERT_TRUE(summary.ok()) << summary.status();
+  EXPECT_EQ(summary->frames, 61);
+  EXPECT_EQ(summary->source_frames, 121);
+  auto store = std::move(MotionStore::Open(store_)).value();
+  auto database = store->FindDatabase("walks");
+  ASSERT_TRUE(database.ok());
+  EXPECT_EQ(database->unit, LengthUnit::kInch);
+  auto rig = store->LoadRig(database->id);
+  auto clips = store->ListClips(database->id);
+  ASSERT_TRUE(clips.ok());
+  auto clip = store->LoadClip(clips->front().id, *rig);
+  ASSERT_TRUE(clip.ok()) << clip.status();
+  // Pelvis height in metres, whatever the file's unit.
+  EXPECT_NEAR(clip->features[0].pelvis_height, 0.92, 0.06);
+}
+
+// kill -9 in the middle of a large import leaves the store exactly as it was.
+TEST_F(ImportCommandTest, KillDuringImportLeavesStoreIntact) {
+  MOCAP_REQUIRE_SHARED_DATA(bandai1, "bandai-namco-1");
+  MOCAP_REQUIRE_SHARED_DATA(bandai2, "bandai-namco-2");
+  ImportOptions first = Options({bandai1.string()});
+  first.database = "first";
+  auto before = RunImport(first);
+  ASSERT_TRUE(before.ok()) << before.status();
+
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const std::string store = store_.string();
+    const std::string data = bandai2.string();
+    execl(MOCAPD_PATH, MOCAPD_PATH, "import", "--quiet", "--store", store.c_str(), "--database", "second",
+          data.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Kill once the import has written a good part of its batch to the WAL (not a timing guess: we
+  // watch the file), or give up when it finished first.
+  const fs::path wal = store_.string() + "-wal";
+  bool killed = false;
+  for (int i = 0; i < 60000; ++i) {
+    std::error_code error;
+    if (fs::exists(wal, error) && fs::file_size(wal, error) > 32u * 1024 * 1024) {
+      kill(child, SIGKILL);
+      killed = true;
+      break;
+    }
+    int status;
+    if (waitpid(child, &status, WNOHANG) == child) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (killed) waitpid(child, nullptr, 0);
+  ASSERT_TRUE(killed) << "the import finished before it could be killed";
+
+  auto store = MotionStore::Open(store_);
+  ASSERT_TRUE(store.ok()) << store.status();
+  auto databases = (*store)->ListDatabases();
+  ASSERT_TRUE(databases.ok());
+  ASSERT_EQ(databases->size(), 1u);
+  EXPECT_EQ(databases->front().name, "first");
+  EXPECT_EQ(databases->front().num_clips, before->imported);
+  EXPECT_EQ(databases->front().num_frames, before->frames);
+  auto rig = (*store)->LoadRig(databases->front().id);
+  auto clips = (*store)->ListClips(databases->front().id);
+  ASSERT_TRUE(clips.ok());
+  EXPECT_TRUE((*store)->LoadClip(clips->back().id, *rig).ok());
+}
+
+}  // namespace
+}  // namespace mocap
