@@ -26,13 +26,15 @@ if [ ${#inputs[@]} -eq 0 ]; then
   # One database per rig: the two Bandai sets share a rig, cmu-cc has its own.
   "$mocapd" import --store "$store" --database bandai-namco-2 "$data/bandai-namco-2"
   "$mocapd" import --store "$store" --database bandai-namco-1 "$data/bandai-namco-1"
-  "$mocapd" import --store "$store" --database cmu-cc "$data/cmu-cc"
-  sample_bandai=$(ls "$data"/bandai-namco-2/*.bvh | head -1)
-  sample_cmu=$(ls "$data"/cmu-cc/*.bvh | head -1)
+  # cmu-cc comes on two rigs (41 files rooted at the hips, 4 under an extra Z-up root node): the
+  # database takes the first rig and --keep-going reports the files on the other one.
+  "$mocapd" import --store "$store" --database cmu-cc --keep-going "$data/cmu-cc"
+  sample_bandai="$data/bandai-namco-2/dataset-2_walk_normal_001.bvh"
+  sample_cmu="$data/cmu-cc/002_01.bvh"
   "$mocapd" inspect --json "$sample_bandai" "$sample_cmu" > "$out/inspect.json"
 else
   "$mocapd" import --store "$store" --database "$database" "${inputs[@]}"
-  first=$(find "${inputs[@]}" -iname '*.bvh' -type f | sort | head -1)
+  first=$(find "${inputs[@]}" -iname '*.bvh' -type f -print -quit)
   "$mocapd" inspect --json "$first" > "$out/inspect.json"
 fi
 echo

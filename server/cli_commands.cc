@@ -125,7 +125,7 @@ void RegisterImport(CLI::App& app) {
       for (const std::string& problem : summary->problems) std::cerr << "  " << problem << "\n";
       std::cout << "database '" << summary->database << "'" << (summary->created_database ? " (created)" : "") << ": "
                 << summary->imported << " clips imported, " << summary->duplicates << " duplicates skipped"
-                << (summary->failed ? StrCat(", ", summary->failed, " bad files skipped") : std::string()) << "\n"
+                << (summary->failed ? StrCat(", ", summary->failed, " files skipped") : std::string()) << "\n"
                 << "  " << Thousands(summary->frames) << " frames at the database rate ("
                 << Thousands(summary->source_frames) << " in the files), " << summary->motion_seconds / 60.0
                 << " min of motion\n"

@@ -258,7 +258,6 @@ absl::StatusOr<ImportSummary> RunImport(const ImportOptions& options, const Impo
     } else if (options.keep_going) {
       ++summary.failed;
       summary.problems.push_back(std::string(status.message()));
-      spdlog::warn("skipped {}", std::string(status.message()));
     } else {
       batch.reset();  // roll back this batch
       std::string message = StrCat(status.message(), " — nothing from this batch was stored");

@@ -73,8 +73,20 @@ absl::StatusOr<PreparedClip> PrepareClip(const BvhClip& clip, const RigModel& ri
     const Skeleton& a = clip.skeleton;
     const Skeleton& b = rig.skeleton;
     if (a.num_joints() != b.num_joints()) {
+      auto missing_from = [](const Skeleton& x, const Skeleton& y) {  // names in x not in y
+        std::string names;
+        int count = 0;
+        for (const Joint& joint : x.joints()) {
+          if (y.Find(joint.name) >= 0) continue;
+          if (count++ < 3) names += StrCat(names.empty() ? "" : ", ", "'", joint.name, "'");
+        }
+        return count > 3 ? StrCat(names, " and ", count - 3, " more") : names;
+      };
+      std::string detail;
+      if (const std::string extra = missing_from(a, b); !extra.empty()) detail += StrCat("; the clip adds ", extra);
+      if (const std::string lacking = missing_from(b, a); !lacking.empty()) detail += StrCat("; the clip lacks ", lacking);
       return absl::FailedPreconditionError(StrCat("rig differs from the database's: ", a.num_joints(),
-                                                  " joints where the database has ", b.num_joints()));
+                                                  " joints where the database has ", b.num_joints(), detail));
     }
     for (int j = 0; j < a.num_joints(); ++j) {
       if (a.joint(j).name != b.joint(j).name || a.parent(j) != b.parent(j)) {

@@ -21,6 +21,8 @@ struct ExpectedNames {
   const char* head;
 };
 
+void PrintTo(const ExpectedNames& names, std::ostream* out) { *out << names.set; }
+
 class InspectSharedDataTest : public ::testing::TestWithParam<ExpectedNames> {};
 
 TEST_P(InspectSharedDataTest, FindsLandmarksInEveryFile) {
