@@ -15,6 +15,7 @@
 #include "storage/motion_store.h"
 #include "tests/support/shared_data.h"
 #include "tests/support/synthetic_clip.h"
+#include "tests/support/temp_dir.h"
 
 namespace mocap {
 namespace {
@@ -24,13 +25,9 @@ namespace fs = std::filesystem;
 class ImportCommandTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("mocap_import_test_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
     fs::create_directories(dir_ / "clips");
     store_ = dir_ / "store.db";
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // Writes a synthetic walk; `frames` makes each file's content distinct.
   fs::path WriteClip(const std::string& name, int frames, const testing::SyntheticRigOptions& rig = {}) {
@@ -58,7 +55,9 @@ class ImportCommandTest : public ::testing::Test {
     return database.ok() ? database->num_clips : -1;
   }
 
-  fs::path dir_, store_;
+  testing::ScopedTempDir temp_;
+  const fs::path& dir_ = temp_.path();
+  fs::path store_;
 };
 
 TEST_F(ImportCommandTest, ImportsFolderAndDetectsDuplicates) {

@@ -11,6 +11,7 @@
 
 #include "motion/bvh/bvh_writer.h"
 #include "tests/support/synthetic_clip.h"
+#include "tests/support/temp_dir.h"
 
 namespace mocap {
 namespace {
@@ -38,9 +39,6 @@ RunResult RunMocapd(const std::string& arguments) {
 class MocapdCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("mocapd_cli_test_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
     fs::create_directories(dir_ / "clips");
     for (int i = 0; i < 3; ++i) {
       ASSERT_TRUE(WriteBvhFile(testing::MakeWalkingClip({.extra_root = true}, 30 + i),
@@ -48,8 +46,8 @@ class MocapdCliTest : public ::testing::Test {
                       .ok());
     }
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  testing::ScopedTempDir temp_;
+  const fs::path& dir_ = temp_.path();
 };
 
 TEST_F(MocapdCliTest, InspectPrintsLandmarksAsJson) {

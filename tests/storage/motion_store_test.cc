@@ -9,6 +9,7 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "storage/schema.h"
 #include "tests/support/synthetic_clip.h"
+#include "tests/support/temp_dir.h"
 
 namespace mocap {
 namespace {
@@ -16,11 +17,7 @@ namespace {
 class MotionStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("mocap_store_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    path_ = dir_ / "nested" / "store.db";
+    path_ = temp_.path() / "nested" / "store.db";
     clip_ = testing::MakeWalkingClip({}, 60, 1.0 / 60.0);
     auto rig = BuildRigModel(clip_, {});
     ASSERT_TRUE(rig.ok()) << rig.status();
@@ -29,9 +26,8 @@ class MotionStoreTest : public ::testing::Test {
     ASSERT_TRUE(prepared.ok()) << prepared.status();
     prepared_ = *prepared;
   }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::filesystem::path dir_, path_;
+  testing::ScopedTempDir temp_;
+  std::filesystem::path path_;
   BvhClip clip_;
   RigModel rig_;
   PreparedClip prepared_;
