@@ -7,7 +7,7 @@ namespace mocap {
 
 ClipLabels ParseClipLabels(std::string_view file_name) {
   const std::string stem = std::filesystem::path(std::string(file_name)).stem().string();
-  static const std::regex kBandai(R"(^(dataset-\d+)_(.+)_([A-Za-z]+)_(\d+)$)");
+  static const std::regex kBandai(R"(^(dataset-\d+)_(.+)_([A-Za-z][A-Za-z-]*)_(\d+)$)");
   static const std::regex kCmu(R"(^(\d+)_(\d+)$)");
   std::smatch match;
   if (std::regex_match(stem, match, kBandai)) {

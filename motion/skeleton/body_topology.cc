@@ -331,7 +331,7 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
       if (height(f, toe) < lowest_toe + 0.05f * body_size) forward += horizontal(foot);
     }
   }
-  if (forward.norm() < 0.1f * foot_length) {
+  if (forward.norm() < 0.1f * std::max(foot_length, 0.05f * body_size)) {
     forward = horizontal(position(motion.num_frames() - 1, pelvis) - position(0, pelvis));
     if (forward.norm() < 0.05f * body_size) {
       return absl::FailedPreconditionError(

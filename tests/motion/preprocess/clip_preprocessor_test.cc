@@ -113,7 +113,7 @@ TEST(ClipPreprocessorTest, FrameCountsAtOtherRates) {
                         Case{30, 1.0 / 30, 60, 59},   // upsampled: 29/30 s at 60 fps
                         Case{120, 1.0 / 120, 30, 30},
                         Case{2, 1.0 / 30, 30, 2}}) {
-    SCOPED_TRACE(testing::PrintToString(std::vector<double>{double(c.frames), c.frame_time, c.rate}));
+    SCOPED_TRACE(::testing::PrintToString(std::vector<double>{double(c.frames), c.frame_time, c.rate}));
     PreprocessOptions options;
     options.frame_rate = c.rate;
     absl::StatusOr<PreparedClip> prepared = PrepareClip(MakeWalkingClip({}, c.frames, c.frame_time), *rig, options);
