@@ -2,8 +2,20 @@
 # The README's test command: sets up everything (packages, build) and runs the whole test suite.
 # Tests that need ../shared/data unpack it on first use (into ~/.cache/mocap/data) or skip with a
 # message when it is absent.
+#   usage: scripts/test.sh [--sanitize] [extra ctest arguments]
+#   --sanitize: a second build in build-asan with AddressSanitizer + UndefinedBehaviorSanitizer
+#               (skips the every-file landmark sweep, which the plain run covers, and the Docker
+#               runtime check, which sanitizer runtimes would fail).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
+if [ "${1:-}" = "--sanitize" ]; then
+  shift
+  "$repo/scripts/setup.sh" --build-dir "$repo/build-asan" -- -DMOCAP_SANITIZE=ON -DMOCAP_BUILD_BENCHMARKS=OFF
+  cd "$repo/build-asan"
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  ctest --output-on-failure -j "$(nproc)" -E 'docker_runtime_packages|InspectSharedDataTest' "$@"
+  exit
+fi
 "$repo/scripts/setup.sh"
 cd "$repo/build"
 ctest --output-on-failure -j "$(nproc)" "$@"
