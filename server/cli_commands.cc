@@ -12,6 +12,7 @@
 #include "server/import_command.h"
 #include "server/inspect_command.h"
 #include "server/progress_bar.h"
+#include "server/similar_command.h"
 #include "storage/motion_store.h"
 
 namespace mocap {
@@ -170,12 +171,73 @@ void RegisterDatabases(CLI::App& app) {
   }});
 }
 
+void RegisterSimilar(CLI::App& app) {
+  struct Options {
+    SimilarOptions similar;
+    std::string store, query, frames, weights = "uniform", sampling = "resample";
+    bool json = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* command = app.add_subcommand("similar", "Find the poses most similar to a BVH frame's, across skeletons "
+                                                    "(any rig: no joint mapping needed)");
+  command->add_option("--store", options->store, "Motion store file")->required();
+  command->add_option("--database", options->similar.databases, "Database(s) to search (repeat for several)")->required();
+  command->add_option("--query", options->query, "BVH file with the query pose(s)")->required()->check(CLI::ExistingFile);
+  command->add_option("--frames", options->frames, "Query frames A:B (inclusive, the file's numbering); default all");
+  command->add_option("--step", options->similar.frame_step, "Use every Nth query frame")->check(CLI::PositiveNumber);
+  command->add_option("--top", options->similar.search.top_k, "Matches per query frame")->check(CLI::Range(1, 1000));
+  command->add_option("--window", options->similar.search.window, "Frames compared around each frame (odd)")
+      ->check(CLI::Range(1, 61));
+  command->add_option("--weights", options->weights, "Group weights preset")
+      ->check(CLI::IsMember({"uniform", "locomotion", "upper-body"}));
+  command->add_option("--sampling", options->sampling, "Body points: resample chains or drop joints (the seed's rule)")
+      ->check(CLI::IsMember({"resample", "drop"}));
+  command->add_option("--suppress", options->similar.search.suppress_within_frames,
+                      "Drop matches within N frames of a better match in the same clip");
+  command->add_flag("--exact", options->similar.search.exact, "Compare with every frame (no prefilter)");
+  command->add_flag("--json", options->json, "Print JSON");
+  Commands().push_back({command, [options] {
+    SimilarOptions& similar = options->similar;
+    similar.store = options->store;
+    similar.query = options->query;
+    if (!options->frames.empty()) {
+      const size_t colon = options->frames.find(':');
+      try {
+        similar.first_frame = std::stoi(options->frames.substr(0, colon));
+        similar.last_frame = colon == std::string::npos ? *similar.first_frame : std::stoi(options->frames.substr(colon + 1));
+      } catch (const std::exception&) {
+        return ReportError(absl::InvalidArgumentError("--frames takes A:B or A"));
+      }
+    }
+    similar.search.weights = options->weights == "locomotion"   ? GroupWeights::Locomotion()
+                             : options->weights == "upper-body" ? GroupWeights::UpperBody()
+                                                                : GroupWeights::Uniform();
+    similar.points.sampling =
+        options->sampling == "drop" ? PointSampling::kDropNearestEndEffector : PointSampling::kResampleChains;
+    auto result = RunSimilar(similar);
+    if (!result.ok()) return ReportError(result.status());
+    if (options->json) {
+      std::cout << result->dump(2) << "\n";
+      return 0;
+    }
+    for (const auto& entry : (*result)["results"]) {
+      std::cout << "query frame " << entry["query_frame"] << ":\n";
+      for (const auto& match : entry["matches"]) {
+        std::cout << "  " << match["distance"].get<double>() << "  " << match["database"].get<std::string>() << "/"
+                  << match["file"].get<std::string>() << " frame " << match["frame"] << "\n";
+      }
+    }
+    return 0;
+  }});
+}
+
 }  // namespace
 
 void RegisterCommands(CLI::App& app) {
   RegisterInspect(app);
   RegisterImport(app);
   RegisterDatabases(app);
+  RegisterSimilar(app);
 }
 
 int RunSelectedCommand(CLI::App& app) {

@@ -1,0 +1,93 @@
+#include "motion/similarity/body_points.h"
+
+#include <algorithm>
+
+namespace mocap {
+namespace {
+
+std::vector<int> ChainBetween(const Skeleton& skeleton, int top, int end) {
+  std::vector<int> chain;
+  for (int j = end; j >= 0; j = skeleton.parent(j)) {
+    chain.push_back(j);
+    if (j == top) break;
+  }
+  if (chain.back() != top) return {end};  // `top` is not an ancestor: degenerate rig, one point
+  std::reverse(chain.begin(), chain.end());
+  return chain;
+}
+
+}  // namespace
+
+BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology) {
+  BodyChains chains;
+  const BodyLandmarks& l = topology.landmarks;
+  chains.pelvis = l.pelvis;
+  auto top = [&](BodyGroup group) { return topology.group_top[static_cast<int>(group)]; };
+  const int chest = skeleton.parent(top(BodyGroup::kLeftArm));
+  chains.joints[static_cast<int>(BodyGroup::kSpine)] = ChainBetween(skeleton, l.pelvis, chest >= 0 ? chest : l.pelvis);
+  chains.joints[static_cast<int>(BodyGroup::kHead)] = ChainBetween(skeleton, top(BodyGroup::kHead), l.head);
+  chains.joints[static_cast<int>(BodyGroup::kLeftArm)] = ChainBetween(skeleton, top(BodyGroup::kLeftArm), l.left_wrist);
+  chains.joints[static_cast<int>(BodyGroup::kRightArm)] = ChainBetween(skeleton, top(BodyGroup::kRightArm), l.right_wrist);
+  chains.joints[static_cast<int>(BodyGroup::kLeftLeg)] = ChainBetween(skeleton, top(BodyGroup::kLeftLeg), l.left_ankle);
+  chains.joints[static_cast<int>(BodyGroup::kRightLeg)] = ChainBetween(skeleton, top(BodyGroup::kRightLeg), l.right_ankle);
+  return chains;
+}
+
+void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& chains, const BodyPointOptions& options,
+                       Eigen::Vector3f* out) {
+  const int n = options.points_per_group;
+  const Eigen::Vector3f pelvis = poses.position(frame, chains.pelvis);
+  // Body scale: mean leg chain length in this pose (METHOD.md B2).
+  float scale = 0.0f;
+  for (BodyGroup leg : {BodyGroup::kLeftLeg, BodyGroup::kRightLeg}) {
+    const std::vector<int>& chain = chains.joints[static_cast<int>(leg)];
+    for (size_t i = 1; i < chain.size(); ++i) {
+      scale += (poses.position(frame, chain[i]) - poses.position(frame, chain[i - 1])).norm();
+    }
+  }
+  scale = scale > 0 ? 0.5f * scale : 1.0f;
+  const float inverse = 1.0f / scale;
+
+  for (int g = 0; g < kNumBodyGroups; ++g) {
+    const std::vector<int>& chain = chains.joints[g];
+    Eigen::Vector3f* group_out = out + g * n;
+    if (options.sampling == PointSampling::kDropNearestEndEffector || chain.size() == 1) {
+      // The seed's rule: keep the first n joints, dropping those nearest the end effector; a
+      // shorter chain repeats its last joint.
+      for (int k = 0; k < n; ++k) {
+        const int joint = chain[std::min<size_t>(k, chain.size() - 1)];
+        group_out[k] = (poses.position(frame, joint) - pelvis) * inverse;
+      }
+      continue;
+    }
+    // Resample at equal fractions of the chain's length.
+    float cumulative[Skeleton::kMaxJoints];
+    cumulative[0] = 0.0f;
+    const size_t m = std::min<size_t>(chain.size(), Skeleton::kMaxJoints);
+    for (size_t i = 1; i < m; ++i) {
+      cumulative[i] = cumulative[i - 1] + (poses.position(frame, chain[i]) - poses.position(frame, chain[i - 1])).norm();
+    }
+    const float length = cumulative[m - 1];
+    size_t segment = 1;
+    for (int k = 0; k < n; ++k) {
+      const float s = n > 1 ? length * k / (n - 1) : 0.0f;
+      while (segment < m - 1 && cumulative[segment] < s) ++segment;
+      const float span = cumulative[segment] - cumulative[segment - 1];
+      const float u = span > 0 ? std::clamp((s - cumulative[segment - 1]) / span, 0.0f, 1.0f) : 1.0f;
+      const Eigen::Vector3f a = poses.position(frame, chain[segment - 1]);
+      const Eigen::Vector3f b = poses.position(frame, chain[segment]);
+      group_out[k] = ((1 - u) * a + u * b - pelvis) * inverse;
+    }
+  }
+}
+
+BodyPointMatrix BodyPointsOfClip(const GlobalPoses& poses, const BodyChains& chains, const BodyPointOptions& options) {
+  const int points = kNumBodyGroups * options.points_per_group;
+  BodyPointMatrix out(poses.num_frames(), points * 3);
+  for (int f = 0; f < poses.num_frames(); ++f) {
+    BodyPointsOfFrame(poses, f, chains, options, reinterpret_cast<Eigen::Vector3f*>(out.row(f).data()));
+  }
+  return out;
+}
+
+}  // namespace mocap

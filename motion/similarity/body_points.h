@@ -1,0 +1,51 @@
+// Rig-independent body point clouds (METHOD.md B3–B4): for every body group, points along the
+// group's main chain, relative to the pelvis and divided by the body scale, so that skeletons of
+// different size, joint count and joint names give comparable clouds.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motion/skeleton/body_topology.h"
+#include "motion/skeleton/forward_kinematics.h"
+
+namespace mocap {
+
+// How each group's chain becomes a fixed number of points (METHOD.md B4).
+enum class PointSampling {
+  // Points at equal fractions of the chain's length: rigs with extra twist or split joints
+  // still give the same body points. The default (measured better; see README).
+  kResampleChains,
+  // The seed's rule: the chain's joints, dropping those nearest the end effector beyond the
+  // count (a rig with more joints in a chain compares different body points).
+  kDropNearestEndEffector,
+};
+
+struct BodyPointOptions {
+  int points_per_group = 5;
+  PointSampling sampling = PointSampling::kResampleChains;
+};
+
+// The chains of a rig: per group, joint indices from the group's start to its end landmark
+// (spine: pelvis -> the joint the arms branch off; head: neck -> head; arms: shoulder -> wrist;
+// legs: hip joint -> ankle). The body scale (METHOD.md B2) is measured on each pose as the mean
+// length of the two leg chains, which no rotation changes (the zero-rotation pose of real rigs
+// is not a standing pose), so any length unit works.
+struct BodyChains {
+  std::array<std::vector<int>, kNumBodyGroups> joints;
+  int pelvis = 0;
+};
+BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology);
+
+// Points of one pose: kNumBodyGroups x points_per_group, Y up, relative to the pelvis, in body
+// scales. `out` must hold kNumBodyGroups * points_per_group points.
+void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& chains, const BodyPointOptions& options,
+                       Eigen::Vector3f* out);
+
+// Points of every frame: frames x (kNumBodyGroups * points_per_group * 3) floats, row-major.
+using BodyPointMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+BodyPointMatrix BodyPointsOfClip(const GlobalPoses& poses, const BodyChains& chains, const BodyPointOptions& options);
+
+}  // namespace mocap

@@ -1,0 +1,76 @@
+// PoseIndex: cross-skeleton similar-pose search over a motion database (METHOD.md B; issue #5).
+// Exact search compares the query with every frame (the reference). The fast path prefilters
+// with a FLANN kd-tree over a rig-independent feature (heading-normalised body points reduced by
+// PCA) and re-ranks the candidates with the exact distance.
+//
+// Thread safety: build once (AddClip..., Build), then Search is const and safe to call from many
+// threads at once.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "motion/similarity/body_points.h"
+#include "motion/similarity/pose_distance.h"
+
+namespace mocap {
+
+struct PoseSearchOptions {
+  GroupWeights weights;
+  int top_k = 10;
+  // Frames compared, centred on the query frame (odd; 1 = single pose). With more than one,
+  // each neighbouring frame's points are placed relative to the centre frame's pelvis, so that
+  // the same pose while walking differs from the pose while standing.
+  int window = 1;
+  bool exact = false;          // compare with every frame instead of the prefiltered candidates
+  int candidates = 1000;       // fast path: candidates re-ranked with the exact distance
+  // Matches closer than this many frames to a better match in the same clip are dropped, so the
+  // top K are not K neighbours of one frame. 0 keeps all.
+  int suppress_within_frames = 0;
+};
+
+struct PoseMatch {
+  int clip = 0;    // index of the clip in the order added
+  int frame = 0;   // frame in that clip (the database's frame numbering)
+  PoseDistance distance;
+};
+
+// The body points of one clip, at the database's frame rate.
+struct ClipPoints {
+  std::string name;
+  std::int64_t clip_id = 0;
+  BodyPointMatrix points;                       // frames x (groups * points_per_group * 3)
+  Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor> pelvis;  // frames x 3, body scales
+};
+
+// Points and pelvis trajectory of a clip (world Y up), ready for AddClip or as a query.
+ClipPoints MakeClipPoints(const GlobalPoses& poses, const BodyChains& chains, const BodyPointOptions& options);
+
+class PoseIndex {
+ public:
+  explicit PoseIndex(BodyPointOptions options = {});
+  ~PoseIndex();
+  PoseIndex(PoseIndex&&) noexcept;
+  PoseIndex& operator=(PoseIndex&&) noexcept;
+
+  void AddClip(ClipPoints clip);
+  // Builds the prefilter (PCA + FLANN kd-tree). FailedPrecondition when there are no frames.
+  absl::Status Build();
+
+  // Top matches for frame `frame` of `query` (a clip made with the same BodyPointOptions).
+  absl::StatusOr<std::vector<PoseMatch>> Search(const ClipPoints& query, int frame, const PoseSearchOptions& options) const;
+
+  int num_clips() const;
+  std::int64_t num_frames() const;
+  const ClipPoints& clip(int index) const;
+  const BodyPointOptions& point_options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mocap

@@ -1,0 +1,112 @@
+#include "server/similar_command.h"
+
+#include <cmath>
+
+#include "motion/bvh/bvh_reader.h"
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+#include "motion/preprocess/clip_preprocessor.h"
+#include "motion/skeleton/forward_kinematics.h"
+#include "storage/motion_store.h"
+
+namespace mocap {
+namespace {
+
+struct LoadedDatabase {
+  DatabaseSummary summary;
+  std::vector<ClipSummary> clips;
+  PoseIndex index;
+};
+
+absl::StatusOr<LoadedDatabase> LoadDatabase(MotionStore& store, const std::string& name, const BodyPointOptions& points) {
+  LoadedDatabase loaded;
+  MOCAP_ASSIGN_OR_RETURN(loaded.summary, store.FindDatabase(name));
+  MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(loaded.summary.id));
+  MOCAP_ASSIGN_OR_RETURN(loaded.clips, store.ListClips(loaded.summary.id));
+  loaded.index = PoseIndex(points);
+  const BodyChains chains = MakeBodyChains(rig.skeleton, rig.topology);
+  for (const ClipSummary& clip : loaded.clips) {
+    MOCAP_ASSIGN_OR_RETURN(StoredClip stored, store.LoadClip(clip.id, rig));
+    ClipPoints clip_points = MakeClipPoints(ForwardKinematics(stored.skeleton, stored.motion), chains, points);
+    clip_points.name = clip.source_name;
+    clip_points.clip_id = clip.id;
+    loaded.index.AddClip(std::move(clip_points));
+  }
+  MOCAP_RETURN_IF_ERROR(loaded.index.Build());
+  return loaded;
+}
+
+nlohmann::json GroupDistances(const PoseDistance& distance) {
+  nlohmann::json out = nlohmann::json::object();
+  for (int g = 0; g < kNumBodyGroups; ++g) out[std::string(BodyGroupName(static_cast<BodyGroup>(g)))] = distance.per_group[g];
+  return out;
+}
+
+}  // namespace
+
+absl::StatusOr<nlohmann::json> RunSimilar(const SimilarOptions& options) {
+  if (options.databases.empty()) return absl::InvalidArgumentError("name at least one database");
+  if (options.frame_step < 1) return absl::InvalidArgumentError("frame step must be at least 1");
+  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<MotionStore> store,
+                         MotionStore::Open(options.store, StoreOpenOptions{.create_if_missing = false, .read_only = true}));
+  MOCAP_ASSIGN_OR_RETURN(BvhClip query_clip, ReadBvhFile(options.query));
+
+  std::vector<LoadedDatabase> databases;
+  for (const std::string& name : options.databases) {
+    MOCAP_ASSIGN_OR_RETURN(LoadedDatabase loaded, LoadDatabase(*store, name, options.points));
+    databases.push_back(std::move(loaded));
+  }
+  // The query on its own rig, resampled to each database's rate (databases may differ).
+  absl::StatusOr<RigModel> query_rig = BuildRigModel(query_clip, {});
+  if (!query_rig.ok()) {
+    return absl::Status(query_rig.status().code(), StrCat(options.query.string(), ": ", query_rig.status().message()));
+  }
+  const int file_frames = query_clip.num_frames();
+  const int first = options.first_frame.value_or(0);
+  const int last = options.last_frame.value_or(file_frames - 1);
+  if (first < 0 || last >= file_frames || first > last) {
+    return absl::InvalidArgumentError(StrCat("query frames ", first, ":", last, " are outside the file's 0:", file_frames - 1));
+  }
+
+  nlohmann::json results = nlohmann::json::array();
+  std::vector<ClipPoints> query_points;  // per database
+  for (const LoadedDatabase& database : databases) {
+    MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared, PrepareClip(query_clip, *query_rig, {.frame_rate = database.summary.frame_rate}));
+    query_points.push_back(MakeClipPoints(ForwardKinematics(prepared.skeleton, prepared.motion),
+                                          MakeBodyChains(query_rig->skeleton, query_rig->topology), options.points));
+  }
+  for (int file_frame = first; file_frame <= last; file_frame += options.frame_step) {
+    std::vector<std::pair<PoseMatch, int>> merged;  // match, database
+    for (size_t d = 0; d < databases.size(); ++d) {
+      const double rate = databases[d].summary.frame_rate;
+      const int frame = std::min<int>(static_cast<int>(std::lround(file_frame * query_clip.frame_time * rate)),
+                                      static_cast<int>(query_points[d].points.rows()) - 1);
+      MOCAP_ASSIGN_OR_RETURN(std::vector<PoseMatch> matches, databases[d].index.Search(query_points[d], frame, options.search));
+      for (const PoseMatch& match : matches) merged.emplace_back(match, static_cast<int>(d));
+    }
+    std::sort(merged.begin(), merged.end(),
+              [](const auto& a, const auto& b) { return a.first.distance.total < b.first.distance.total; });
+    if (static_cast<int>(merged.size()) > options.search.top_k) merged.resize(options.search.top_k);
+    nlohmann::json matches = nlohmann::json::array();
+    for (const auto& [match, d] : merged) {
+      const LoadedDatabase& database = databases[d];
+      const ClipSummary& clip = database.clips[match.clip];
+      const double source_frame = match.frame / database.summary.frame_rate * clip.source_frame_rate;
+      matches.push_back({{"database", database.summary.name},
+                         {"clip_id", clip.id},
+                         {"file", clip.source_name},
+                         {"frame", static_cast<int>(std::lround(source_frame))},
+                         {"database_frame", match.frame},
+                         {"distance", match.distance.total},
+                         {"group_distances", GroupDistances(match.distance)},
+                         {"alignment", {{"yaw_degrees", match.distance.alignment.yaw * 180.0 / M_PI},
+                                        {"x_body_scales", match.distance.alignment.x},
+                                        {"z_body_scales", match.distance.alignment.z}}}});
+    }
+    results.push_back({{"query_frame", file_frame}, {"matches", matches}});
+  }
+  return nlohmann::json{{"query", options.query.string()}, {"window", options.search.window},
+                        {"exact", options.search.exact}, {"results", results}};
+}
+
+}  // namespace mocap
