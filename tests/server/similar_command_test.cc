@@ -1,0 +1,88 @@
+#include "server/similar_command.h"
+
+#include <gtest/gtest.h>
+
+#include "motion/bvh/bvh_writer.h"
+#include "server/import_command.h"
+#include "tests/support/synthetic_clip.h"
+#include "tests/support/temp_dir.h"
+
+namespace mocap {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SimilarCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::create_directories(dir_ / "db");
+    ASSERT_TRUE(WriteBvhFile(testing::MakeWalkingClip({.extra_root = true}, 90), dir_ / "db" / "walk_a.bvh").ok());
+    ASSERT_TRUE(WriteBvhFile(testing::MakeWalkingClip({.extra_root = true}, 70), dir_ / "db" / "walk_b.bvh").ok());
+    ImportOptions import;
+    import.store = dir_ / "store.db";
+    import.database = "walks";
+    import.inputs = {(dir_ / "db").string()};
+    ASSERT_TRUE(RunImport(import).ok());
+    // The query: another rig (twist bones, fingers, Z-up root, inches) of the same walk.
+    query_ = dir_ / "query.bvh";
+    ASSERT_TRUE(WriteBvhFile(testing::MakeWalkingClip({.z_up = true, .fingers_and_toes = true, .twist_bones = true,
+                                                       .length_scale = 1.0 / 2.54, .rotation_order = "XYZ"},
+                                                      90),
+                             query_)
+                    .ok());
+  }
+  SimilarOptions Options() {
+    SimilarOptions options;
+    options.store = dir_ / "store.db";
+    options.databases = {"walks"};
+    options.query = query_;
+    options.search.top_k = 3;
+    return options;
+  }
+  testing::ScopedTempDir temp_;
+  const fs::path& dir_ = temp_.path();
+  fs::path query_;
+};
+
+TEST_F(SimilarCommandTest, FindsTheSamePoseOnAnotherRig) {
+  SimilarOptions options = Options();
+  options.first_frame = 20;
+  options.last_frame = 60;
+  options.frame_step = 20;
+  for (bool exact : {false, true}) {
+    options.search.exact = exact;
+    auto result = RunSimilar(options);
+    ASSERT_TRUE(result.ok()) << result.status();
+    const auto& results = (*result)["results"];
+    ASSERT_EQ(results.size(), 3u);
+    for (const auto& entry : results) {
+      const auto& best = entry["matches"][0];
+      // Both database clips hold the same periodic walk (one gait cycle = 30 frames at 30 fps):
+      // the same phase anywhere in either clip is the same pose.
+      const int cycle = static_cast<int>(testing::kSyntheticGaitCycle * 30);
+      const int phase = ((best["frame"].get<int>() - entry["query_frame"].get<int>()) % cycle + cycle) % cycle;
+      EXPECT_TRUE(phase <= 1 || phase >= cycle - 1) << entry.dump();
+      EXPECT_LT(best["distance"].get<double>(), 0.05);
+      EXPECT_EQ(best["group_distances"].size(), 6u);
+    }
+  }
+}
+
+TEST_F(SimilarCommandTest, BadRequestsAreClearErrors) {
+  SimilarOptions options = Options();
+  options.databases = {"nope"};
+  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kNotFound);
+  options = Options();
+  options.first_frame = 0;
+  options.last_frame = 500;
+  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
+  options = Options();
+  options.search.window = 4;
+  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
+  options = Options();
+  options.store = dir_ / "missing.db";
+  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kNotFound);
+}
+
+}  // namespace
+}  // namespace mocap
