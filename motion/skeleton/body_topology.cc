@@ -290,11 +290,43 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
       return absl::FailedPreconditionError(
           StrCat("limb starting at '", skeleton.joint(top).name, "' has fewer than two bones"));
     }
-    std::vector<int> order(path.size() - 1);
-    std::iota(order.begin(), order.end(), 1);
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return bone[path[a]] > bone[path[b]]; });
-    *joint_out = path[std::max(order[0], order[1])];
-    *middle_out = path[std::min(order[0], order[1])];  // elbow / knee
+    // Segments between the joints where the chain really bends: a joint with one child that keeps
+    // its two bones in line in every frame (a split bone, a roll joint) does not end a segment.
+    // With too few frames to tell, every joint ends one.
+    std::vector<int> segment_end;       // index into path
+    std::vector<float> segment_length;
+    float running = 0.0f;
+    for (size_t i = 1; i < path.size(); ++i) {
+      running += bone[path[i]];
+      bool straight_through = false;
+      if (i + 1 < path.size() && frames.size() >= 10 && children[path[i]].size() == 1) {
+        straight_through = true;
+        for (int f : frames) {
+          const Eigen::Vector3f in = position(f, path[i]) - position(f, path[i - 1]);
+          const Eigen::Vector3f out = position(f, path[i + 1]) - position(f, path[i]);
+          if (in.norm() < 1e-6f || out.norm() < 1e-6f) continue;
+          // A split bone stays in line to rounding; a real joint held straight still wobbles.
+          if (in.normalized().dot(out.normalized()) < std::cos(0.035f)) {  // bends by more than 2 deg
+            straight_through = false;
+            break;
+          }
+        }
+      }
+      if (!straight_through) {
+        segment_end.push_back(static_cast<int>(i));
+        segment_length.push_back(running);
+        running = 0.0f;
+      }
+    }
+    if (segment_end.size() < 2) {
+      return absl::FailedPreconditionError(
+          StrCat("limb starting at '", skeleton.joint(top).name, "' does not bend: fewer than two segments"));
+    }
+    std::vector<int> order(segment_end.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return segment_length[a] > segment_length[b]; });
+    *joint_out = path[segment_end[std::max(order[0], order[1])]];
+    *middle_out = path[segment_end[std::min(order[0], order[1])]];  // elbow / knee
     return absl::OkStatus();
   };
   std::array<int, 2> wrists{}, ankles{}, elbows{}, knees{};
