@@ -1,6 +1,7 @@
 #include "server/cli_commands.h"
 
 #include <chrono>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -174,7 +175,7 @@ void RegisterDatabases(CLI::App& app) {
 void RegisterSimilar(CLI::App& app) {
   struct Options {
     SimilarOptions similar;
-    std::string store, query, frames, weights = "uniform", sampling = "resample";
+    std::string store, query, pose_file, frames, weights = "uniform", sampling = "resample";
     bool json = false;
   };
   auto options = std::make_shared<Options>();
@@ -182,7 +183,11 @@ void RegisterSimilar(CLI::App& app) {
                                                     "(any rig: no joint mapping needed)");
   command->add_option("--store", options->store, "Motion store file")->required();
   command->add_option("--database", options->similar.databases, "Database(s) to search (repeat for several)")->required();
-  command->add_option("--query", options->query, "BVH file with the query pose(s)")->required()->check(CLI::ExistingFile);
+  auto* query = command->add_option("--query", options->query, "BVH file with the query pose(s)")->check(CLI::ExistingFile);
+  auto* pose = command->add_option("--query-pose", options->pose_file,
+                                   "JSON file with one pose as named joint positions and landmarks (see README)")
+                   ->check(CLI::ExistingFile);
+  query->excludes(pose);
   command->add_option("--frames", options->frames, "Query frames A:B (inclusive, the file's numbering); default all");
   command->add_option("--step", options->similar.frame_step, "Use every Nth query frame")->check(CLI::PositiveNumber);
   command->add_option("--top", options->similar.search.top_k, "Matches per query frame")->check(CLI::Range(1, 1000));
@@ -200,6 +205,17 @@ void RegisterSimilar(CLI::App& app) {
     SimilarOptions& similar = options->similar;
     similar.store = options->store;
     similar.query = options->query;
+    if (options->query.empty() && options->pose_file.empty()) {
+      return ReportError(absl::InvalidArgumentError("give --query FILE.bvh or --query-pose FILE.json"));
+    }
+    if (!options->pose_file.empty()) {
+      std::ifstream in(options->pose_file);
+      try {
+        similar.pose = nlohmann::json::parse(in);
+      } catch (const nlohmann::json::exception& error) {
+        return ReportError(absl::InvalidArgumentError(StrCat(options->pose_file, ": not JSON: ", error.what())));
+      }
+    }
     if (!options->frames.empty()) {
       const size_t colon = options->frames.find(':');
       try {

@@ -16,7 +16,11 @@ namespace mocap {
 struct SimilarOptions {
   std::filesystem::path store;
   std::vector<std::string> databases;   // searched together; matches merged by distance
-  std::filesystem::path query;          // a BVH file on any humanoid rig
+  std::filesystem::path query;          // a BVH file on any humanoid rig, or
+  std::optional<nlohmann::json> pose;   // one pose as joint positions with the landmarks named:
+  // {"units": "m", "up": "+Y", "joints": [{"name": "Hips", "parent": null, "position": [x, y, z]},
+  //  ...], "landmarks": {"pelvis": "Hips", "head": ..., "left_wrist": ..., "right_wrist": ...,
+  //  "left_ankle": ..., "right_ankle": ...}}   (parents listed before children)
   std::optional<int> first_frame;       // query frames in the file's own numbering (inclusive)
   std::optional<int> last_frame;
   int frame_step = 1;

@@ -1,6 +1,9 @@
 #include "motion/similarity/body_points.h"
 
 #include <algorithm>
+#include <tuple>
+
+#include "motion/core/str_cat.h"
 
 namespace mocap {
 namespace {
@@ -30,6 +33,51 @@ BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology
   chains.joints[static_cast<int>(BodyGroup::kRightArm)] = ChainBetween(skeleton, top(BodyGroup::kRightArm), l.right_wrist);
   chains.joints[static_cast<int>(BodyGroup::kLeftLeg)] = ChainBetween(skeleton, top(BodyGroup::kLeftLeg), l.left_ankle);
   chains.joints[static_cast<int>(BodyGroup::kRightLeg)] = ChainBetween(skeleton, top(BodyGroup::kRightLeg), l.right_ankle);
+  return chains;
+}
+
+absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const BodyLandmarks& l) {
+  for (int joint : {l.pelvis, l.head, l.left_wrist, l.right_wrist, l.left_ankle, l.right_ankle}) {
+    if (joint < 0 || joint >= skeleton.num_joints()) return absl::InvalidArgumentError("a landmark is not a joint of the pose");
+  }
+  auto ancestors = [&](int joint) {
+    std::vector<int> out;
+    for (int j = joint; j >= 0; j = skeleton.parent(j)) out.push_back(j);
+    return out;  // joint first, root last
+  };
+  auto common = [&](int a, int b) {
+    const std::vector<int> up_a = ancestors(a);
+    for (int j : ancestors(b)) {
+      if (std::find(up_a.begin(), up_a.end(), j) != up_a.end()) return j;
+    }
+    return 0;
+  };
+  // The chain below `ancestor` down to `end`: its first joint is the child of `ancestor`.
+  auto below = [&](int ancestor, int end) -> absl::StatusOr<std::vector<int>> {
+    if (end == ancestor) return absl::InvalidArgumentError(StrCat("joint '", skeleton.joint(end).name,
+                                                                 "' cannot be both a limb end and where limbs branch"));
+    std::vector<int> chain;
+    for (int j = end; j != ancestor; j = skeleton.parent(j)) chain.push_back(j);
+    std::reverse(chain.begin(), chain.end());
+    return chain;
+  };
+  BodyChains chains;
+  chains.pelvis = l.pelvis;
+  const int chest = common(l.left_wrist, l.right_wrist);
+  const int hips = common(l.left_ankle, l.right_ankle);
+  auto set = [&](BodyGroup group, absl::StatusOr<std::vector<int>> chain) -> absl::Status {
+    if (!chain.ok()) return chain.status();
+    chains.joints[static_cast<int>(group)] = std::move(*chain);
+    return absl::OkStatus();
+  };
+  for (auto [group, ancestor, end] : {std::tuple{BodyGroup::kLeftArm, chest, l.left_wrist},
+                                      std::tuple{BodyGroup::kRightArm, chest, l.right_wrist},
+                                      std::tuple{BodyGroup::kLeftLeg, hips, l.left_ankle},
+                                      std::tuple{BodyGroup::kRightLeg, hips, l.right_ankle},
+                                      std::tuple{BodyGroup::kHead, common(l.head, l.left_wrist), l.head}}) {
+    if (absl::Status status = set(group, below(ancestor, end)); !status.ok()) return status;
+  }
+  chains.joints[static_cast<int>(BodyGroup::kSpine)] = ChainBetween(skeleton, l.pelvis, chest);
   return chains;
 }
 

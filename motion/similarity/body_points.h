@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "absl/status/statusor.h"
 #include "motion/skeleton/body_topology.h"
 #include "motion/skeleton/forward_kinematics.h"
 
@@ -38,6 +39,13 @@ struct BodyChains {
   int pelvis = 0;
 };
 BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology);
+
+// Chains from landmarks a caller names (a pose sent as joint positions, no analysis): arms run
+// from below the wrists' common ancestor to each wrist, legs from below the ankles' common
+// ancestor to each ankle, the head from below its common ancestor with the wrists, the spine from
+// the pelvis to the wrists' common ancestor. InvalidArgument when the landmarks do not form such
+// a body (e.g. a wrist that is an ancestor of the other).
+absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const BodyLandmarks& landmarks);
 
 // Points of one pose: kNumBodyGroups x points_per_group, Y up, relative to the pelvis, in body
 // scales. `out` must hold kNumBodyGroups * points_per_group points.

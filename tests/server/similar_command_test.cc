@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "motion/bvh/bvh_writer.h"
+#include "motion/skeleton/forward_kinematics.h"
+#include "motion/skeleton/local_motion.h"
 #include "server/import_command.h"
 #include "tests/support/synthetic_clip.h"
 #include "tests/support/temp_dir.h"
@@ -66,6 +68,49 @@ TEST_F(SimilarCommandTest, FindsTheSamePoseOnAnotherRig) {
       EXPECT_EQ(best["group_distances"].size(), 6u);
     }
   }
+}
+
+// A pose sent as named joint positions (what an app or the RPC sends), here the synthetic walk's
+// frame 20 on the plain rig, in metres, Z up.
+nlohmann::json PoseOfFrame(int frame) {
+  const BvhClip clip = testing::MakeWalkingClip({}, 40);
+  const GlobalPoses poses = ForwardKinematics(clip.skeleton, MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
+  nlohmann::json joints = nlohmann::json::array();
+  for (int j = 0; j < clip.skeleton.num_joints(); ++j) {
+    const Eigen::Vector3f p = poses.position(frame, j) * 0.01f;
+    const int parent = clip.skeleton.parent(j);
+    joints.push_back({{"name", clip.skeleton.joint(j).name},
+                      {"parent", parent < 0 ? nlohmann::json(nullptr) : nlohmann::json(clip.skeleton.joint(parent).name)},
+                      {"position", {p.x(), -p.z(), p.y()}}});  // Y-up -> Z-up
+  }
+  return {{"up", "+Z"},
+          {"joints", joints},
+          {"landmarks", {{"pelvis", "Hips"}, {"head", "Head"}, {"left_wrist", "LeftHand"}, {"right_wrist", "RightHand"},
+                         {"left_ankle", "LeftFoot"}, {"right_ankle", "RightFoot"}}}};
+}
+
+TEST_F(SimilarCommandTest, FindsAPoseSentAsJointPositions) {
+  SimilarOptions options = Options();
+  options.pose = PoseOfFrame(20);
+  auto result = RunSimilar(options);
+  ASSERT_TRUE(result.ok()) << result.status();
+  const auto& best = (*result)["results"][0]["matches"][0];
+  const int phase = (best["frame"].get<int>() - 20 + 300) % 30;
+  EXPECT_TRUE(phase <= 1 || phase >= 29) << best.dump();
+  EXPECT_LT(best["distance"].get<double>(), 0.05);
+
+  options.pose = PoseOfFrame(20);
+  (*options.pose)["landmarks"]["left_wrist"] = "Nope";
+  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
+  options.pose = PoseOfFrame(20);
+  (*options.pose)["landmarks"]["left_wrist"] = "Chest";  // the wrists' common ancestor itself
+  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
+  options.pose = PoseOfFrame(20);
+  (*options.pose)["joints"][3]["position"][0] = "x";
+  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
+  options.pose = PoseOfFrame(20);
+  options.search.window = 3;
+  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 TEST_F(SimilarCommandTest, BadRequestsAreClearErrors) {
