@@ -1,0 +1,114 @@
+#include "motion/reconstruct/ankle_path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "motion/core/str_cat.h"
+
+namespace mocap {
+namespace {
+
+float EdgeCost(const AnkleCandidate& from, const AnkleCandidate& to, float dt, const AnklePathOptions& o) {
+  float prior = 0.0f;
+  float slide = 0.0f;
+  for (int side = 0; side < 2; ++side) {
+    const Eigen::Vector3f predicted = from.position[side] + dt * from.velocity[side];
+    prior += (predicted - to.position[side]).squaredNorm();
+    const Eigen::Vector3f step = to.position[side] - from.position[side];
+    const float distance_sq = step.squaredNorm();
+    if (distance_sq > o.slide_distance * o.slide_distance && std::abs(step.y()) < o.slide_height) {
+      slide += std::exp(o.slide_weight * distance_sq);
+    }
+  }
+  return o.prior_weight * prior + (1.0f - o.prior_weight) * slide;
+}
+
+AnklePair AnklesOf(const AnkleCandidate& c) { return {c.position[0], c.position[1]}; }
+
+}  // namespace
+
+absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector<AnkleCandidate>>& clouds,
+                                                   const std::optional<AnkleCandidate>& start, double frame_time,
+                                                   const AnklePathOptions& options) {
+  if (clouds.empty()) return absl::InvalidArgumentError("ankle window has no frames");
+  for (size_t t = 0; t < clouds.size(); ++t) {
+    if (clouds[t].empty()) return absl::InvalidArgumentError(StrCat("ankle cloud of frame ", t, " is empty"));
+  }
+  const float dt = static_cast<float>(frame_time);
+  const int frames = static_cast<int>(clouds.size());
+  std::vector<std::vector<float>> cost(frames);
+  std::vector<std::vector<int>> from(frames);
+  cost[0].resize(clouds[0].size());
+  from[0].assign(clouds[0].size(), -1);
+  for (size_t k = 0; k < clouds[0].size(); ++k) {
+    cost[0][k] = start ? EdgeCost(*start, clouds[0][k], dt, options) : 0.0f;
+  }
+  for (int t = 1; t < frames; ++t) {
+    const std::vector<AnkleCandidate>& previous = clouds[t - 1];
+    const std::vector<AnkleCandidate>& current = clouds[t];
+    cost[t].assign(current.size(), std::numeric_limits<float>::infinity());
+    from[t].assign(current.size(), 0);
+    for (size_t k = 0; k < current.size(); ++k) {
+      float best = std::numeric_limits<float>::infinity();
+      int best_j = 0;
+      for (size_t j = 0; j < previous.size(); ++j) {
+        const float c = cost[t - 1][j] + EdgeCost(previous[j], current[k], dt, options);
+        if (c < best) {
+          best = c;
+          best_j = static_cast<int>(j);
+        }
+      }
+      cost[t][k] = best;
+      from[t][k] = best_j;
+    }
+  }
+  AnkleWindowResult result;
+  result.nodes.resize(frames);
+  const auto last = std::min_element(cost[frames - 1].begin(), cost[frames - 1].end());
+  result.cost = *last;
+  result.nodes[frames - 1] = static_cast<int>(last - cost[frames - 1].begin());
+  for (int t = frames - 1; t > 0; --t) result.nodes[t - 1] = from[t][result.nodes[t]];
+  for (int t = 0; t < frames; ++t) result.ankles.push_back(AnklesOf(clouds[t][result.nodes[t]]));
+  return result;
+}
+
+std::vector<AnklePair> SmoothAnkles(const std::vector<AnklePair>& ankles, float sigma_frames) {
+  if (sigma_frames <= 0.0f || ankles.size() < 2) return ankles;
+  const int radius = static_cast<int>(std::ceil(3.0f * sigma_frames));
+  std::vector<float> kernel(2 * radius + 1);
+  for (int i = -radius; i <= radius; ++i) kernel[i + radius] = std::exp(-0.5f * i * i / (sigma_frames * sigma_frames));
+  const int n = static_cast<int>(ankles.size());
+  std::vector<AnklePair> out(n);
+  for (int t = 0; t < n; ++t) {
+    AnklePair sum = {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+    float weight = 0.0f;
+    for (int i = -radius; i <= radius; ++i) {
+      const int s = std::clamp(t + i, 0, n - 1);
+      for (int side = 0; side < 2; ++side) sum[side] += kernel[i + radius] * ankles[s][side];
+      weight += kernel[i + radius];
+    }
+    for (int side = 0; side < 2; ++side) out[t][side] = sum[side] / weight;
+  }
+  return out;
+}
+
+absl::StatusOr<std::vector<AnklePair>> SolveAnklePath(const std::vector<std::vector<AnkleCandidate>>& clouds,
+                                                      int window, double frame_time, const AnklePathOptions& options) {
+  if (clouds.empty()) return std::vector<AnklePair>();
+  const int frames = static_cast<int>(clouds.size());
+  const int step = window > 0 ? window : frames;
+  std::vector<AnklePair> path;
+  std::optional<AnkleCandidate> start;
+  for (int begin = 0; begin < frames; begin += step) {
+    const int end = std::min(frames, begin + step);
+    const std::vector<std::vector<AnkleCandidate>> part(clouds.begin() + begin, clouds.begin() + end);
+    absl::StatusOr<AnkleWindowResult> solved = SolveAnkleWindow(part, start, frame_time, options);
+    if (!solved.ok()) return solved.status();
+    path.insert(path.end(), solved->ankles.begin(), solved->ankles.end());
+    start = part.back()[solved->nodes.back()];
+  }
+  return SmoothAnkles(path, options.smoothing_sigma_frames);
+}
+
+}  // namespace mocap

@@ -1,0 +1,55 @@
+// Optimal ankle trajectory of METHOD.md A4: a shortest path through the ankle clouds. Nodes are
+// the cloud candidates of every frame; every node at t−1 links to every node at t with cost
+//   w = β·σ + (1−β)·d,  β = 0.5,
+//   σ = ‖y_j^(t−1) + Δt·ẏ_j^(t−1) − y_k^t‖²   (motion prior: where the neighbour's velocity goes)
+//   d = Σ_feet exp(w_s·‖y_j^(t−1) − y_k^t‖²) when that foot slides, else 0,
+// a foot sliding when it moves more than `slide_distance` while its height changes less than
+// `slide_height` (the patent's "2 cm" and "0.14 cm"; parameters). Dynamic programming over the
+// frames (O(L·K1²)), backtracking, then a Gaussian filter (Algorithm 1).
+// Sub-intervals (§3.3.1): SolveAnkleWindow solves L frames starting from the previous window's
+// last node, so a stream can emit windows as they fill.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "absl/status/statusor.h"
+#include "motion/reconstruct/ankle_cloud.h"
+
+namespace mocap {
+
+struct AnklePathOptions {
+  float prior_weight = 0.5f;        // β
+  float slide_distance = 0.02f;     // metres between consecutive frames
+  float slide_height = 0.014f;      // metres: the patent's "0.14 cm" read as 1.4 cm (see note)
+  float slide_weight = 100.0f;      // w_s, 1/m²
+  float smoothing_sigma_frames = 2.0f;  // Gaussian filter on the chosen path; 0 = none
+};
+
+using AnklePair = std::array<Eigen::Vector3f, 2>;  // [0] left, [1] right ankle, world metres
+
+struct AnkleWindowResult {
+  std::vector<int> nodes;          // chosen candidate per frame of the window
+  std::vector<AnklePair> ankles;   // its ankles (not smoothed)
+  float cost = 0.0f;
+};
+
+// One window: clouds[t] for its frames; `start` is the previous window's last chosen candidate
+// (the only start node), or nullopt at the beginning of a segment. InvalidArgument for an empty
+// window or an empty cloud.
+absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector<AnkleCandidate>>& clouds,
+                                                   const std::optional<AnkleCandidate>& start, double frame_time,
+                                                   const AnklePathOptions& options);
+
+// Whole trajectory in windows of `window` frames (0 = all frames at once, the global optimum),
+// then smoothed.
+absl::StatusOr<std::vector<AnklePair>> SolveAnklePath(const std::vector<std::vector<AnkleCandidate>>& clouds,
+                                                      int window, double frame_time, const AnklePathOptions& options);
+
+// Gaussian filter over frames (edges clamped).
+std::vector<AnklePair> SmoothAnkles(const std::vector<AnklePair>& ankles, float sigma_frames);
+
+}  // namespace mocap

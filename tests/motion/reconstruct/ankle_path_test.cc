@@ -1,0 +1,101 @@
+#include "motion/reconstruct/ankle_path.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace mocap {
+namespace {
+
+constexpr double kFrameTime = 1.0 / 30.0;
+
+// A true candidate (left foot planted, right foot lifting and lowering: consistent positions and
+// velocities, no sliding) hidden among distractors scattered around it.
+std::vector<std::vector<AnkleCandidate>> CloudsAroundTruth(int frames, int distractors, unsigned seed,
+                                                           std::vector<int>* truth_index) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<float> offset(-0.15f, 0.15f);
+  std::uniform_int_distribution<int> slot(0, distractors);
+  std::vector<std::vector<AnkleCandidate>> clouds(frames);
+  for (int t = 0; t < frames; ++t) {
+    AnkleCandidate truth;
+    truth.row = -1;
+    truth.position[0] = Eigen::Vector3f(0.1f, 0.08f, 0.0f);
+    truth.position[1] = Eigen::Vector3f(-0.1f, 0.13f + 0.05f * std::sin(0.3f * t), 0.3f);
+    truth.velocity[0] = Eigen::Vector3f::Zero();
+    // Forward difference, so that position + Δt·velocity lands exactly on the next frame.
+    truth.velocity[1] = Eigen::Vector3f(0.0f, 0.05f * (std::sin(0.3f * (t + 1)) - std::sin(0.3f * t)) / kFrameTime, 0.0f);
+    for (int i = 0; i < distractors; ++i) {
+      AnkleCandidate d = truth;
+      d.row = i;
+      for (int side = 0; side < 2; ++side) d.position[side] += Eigen::Vector3f(offset(random), offset(random) * 0.3f, offset(random));
+      clouds[t].push_back(d);
+    }
+    const int at = slot(random);
+    clouds[t].insert(clouds[t].begin() + at, truth);
+    truth_index->push_back(at);
+  }
+  return clouds;
+}
+
+TEST(AnklePathTest, FollowsTheConsistentCandidate) {
+  std::vector<int> truth;
+  const auto clouds = CloudsAroundTruth(40, 30, 3, &truth);
+  auto solved = SolveAnkleWindow(clouds, std::nullopt, kFrameTime, {});
+  ASSERT_TRUE(solved.ok()) << solved.status();
+  int hits = 0;
+  for (int t = 0; t < 40; ++t) hits += solved->nodes[t] == truth[t] ? 1 : 0;
+  EXPECT_GE(hits, 38);  // the first frame has no predecessor to tell it apart
+}
+
+TEST(AnklePathTest, WindowsCarryTheirLastNode) {
+  std::vector<int> truth;
+  const auto clouds = CloudsAroundTruth(60, 20, 5, &truth);
+  AnklePathOptions options;
+  options.smoothing_sigma_frames = 0.0f;
+  auto global = SolveAnklePath(clouds, 0, kFrameTime, options);
+  auto windowed = SolveAnklePath(clouds, 10, kFrameTime, options);
+  ASSERT_TRUE(global.ok() && windowed.ok());
+  ASSERT_EQ(windowed->size(), 60u);
+  int same = 0;
+  for (int t = 0; t < 60; ++t) same += ((*global)[t][0] - (*windowed)[t][0]).norm() < 1e-6f ? 1 : 0;
+  EXPECT_GE(same, 55);
+}
+
+TEST(AnklePathTest, SlidingIsPenalised) {
+  // From a planted foot, two next candidates equally far from the motion prior: one slides 5 cm
+  // along the floor, the other lifts 5 cm.
+  AnkleCandidate start;
+  start.position[0] = start.position[1] = Eigen::Vector3f(0, 0.08f, 0);
+  start.velocity[0] = start.velocity[1] = Eigen::Vector3f::Zero();
+  AnkleCandidate slides = start, lifts = start;
+  slides.position[0] += Eigen::Vector3f(0, 0, 0.05f);
+  lifts.position[0] += Eigen::Vector3f(0, 0.05f, 0);
+  auto solved = SolveAnkleWindow({{slides, lifts}}, start, kFrameTime, {});
+  ASSERT_TRUE(solved.ok());
+  EXPECT_EQ(solved->nodes[0], 1);
+  AnklePathOptions no_slide_term;
+  no_slide_term.prior_weight = 1.0f;
+  auto tie = SolveAnkleWindow({{slides, lifts}}, start, kFrameTime, no_slide_term);
+  EXPECT_NEAR(tie->cost, 0.05f * 0.05f, 1e-6f);
+}
+
+TEST(AnklePathTest, SmoothingKeepsLinesAndDampsJitter) {
+  std::vector<AnklePair> line, jitter;
+  for (int t = 0; t < 30; ++t) {
+    line.push_back({Eigen::Vector3f(0, 0, 0.04f * t), Eigen::Vector3f(1, 0, 0.04f * t)});
+    jitter.push_back({Eigen::Vector3f(0, (t % 2) ? 0.01f : -0.01f, 0), Eigen::Vector3f::Zero()});
+  }
+  const auto smoothed_line = SmoothAnkles(line, 2.0f);
+  for (int t = 8; t < 22; ++t) EXPECT_LT((smoothed_line[t][0] - line[t][0]).norm(), 1e-5f);
+  const auto smoothed_jitter = SmoothAnkles(jitter, 2.0f);
+  for (int t = 8; t < 22; ++t) EXPECT_LT(std::abs(smoothed_jitter[t][0].y()), 0.001f);
+}
+
+TEST(AnklePathTest, RejectsEmptyInput) {
+  EXPECT_EQ(SolveAnkleWindow({}, std::nullopt, kFrameTime, {}).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(SolveAnkleWindow({{}}, std::nullopt, kFrameTime, {}).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace mocap
