@@ -4,13 +4,13 @@
 // their wrists' features perturbed as by σ = 0.5 cm position noise (fixed seed).
 #include <algorithm>
 #include <random>
-#include <regex>
 #include <thread>
 #include <unordered_set>
 
 #include <benchmark/benchmark.h>
 
 #include "motion/bvh/bvh_reader.h"
+#include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/wrist_feature_index.h"
 #include "tests/support/shared_data.h"
@@ -25,9 +25,8 @@ struct Split {
 };
 
 bool IsTestTake(const std::string& file_name) {
-  static const std::regex take(R"(_(\d+)\.bvh$)");
-  std::smatch match;
-  return std::regex_search(file_name, match, take) && std::stoi(match[1]) % 10 == 3;
+  const std::string take = LabelValue(ParseClipLabels(file_name), "take");
+  return !take.empty() && std::stoi(take) % 10 == 3;
 }
 
 const Split& GetSplit() {

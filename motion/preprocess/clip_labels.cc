@@ -1,20 +1,50 @@
 #include "motion/preprocess/clip_labels.h"
 
 #include <filesystem>
-#include <regex>
+#include <algorithm>
+#include <cctype>
 
 namespace mocap {
 
+namespace {
+
+bool AllDigits(std::string_view text) {
+  return !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+bool IsStyle(std::string_view text) {  // letters and inner hyphens ("not-confident")
+  return !text.empty() && std::isalpha(static_cast<unsigned char>(text.front())) &&
+         std::all_of(text.begin(), text.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '-'; });
+}
+
+std::vector<std::string_view> SplitUnderscores(std::string_view text) {
+  std::vector<std::string_view> parts;
+  size_t start = 0;
+  while (true) {
+    const size_t end = text.find('_', start);
+    parts.push_back(text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start));
+    if (end == std::string_view::npos) return parts;
+    start = end + 1;
+  }
+}
+
+}  // namespace
+
 ClipLabels ParseClipLabels(std::string_view file_name) {
   const std::string stem = std::filesystem::path(std::string(file_name)).stem().string();
-  static const std::regex kBandai(R"(^(dataset-\d+)_(.+)_([A-Za-z][A-Za-z-]*)_(\d+)$)");
-  static const std::regex kCmu(R"(^(\d+)_(\d+)$)");
-  std::smatch match;
-  if (std::regex_match(stem, match, kBandai)) {
-    return {{"set", match[1]}, {"content", match[2]}, {"style", match[3]}, {"take", match[4]}};
+  const std::vector<std::string_view> parts = SplitUnderscores(stem);
+  // dataset-N_{content}_{style}_{take}; the content may itself hold underscores.
+  if (parts.size() >= 4 && parts[0].starts_with("dataset-") && AllDigits(parts[0].substr(8)) &&
+      IsStyle(parts[parts.size() - 2]) && AllDigits(parts.back())) {
+    std::string content(parts[1]);
+    for (size_t i = 2; i + 2 < parts.size(); ++i) (content += '_') += parts[i];
+    if (!content.empty()) {
+      return {{"set", std::string(parts[0])}, {"content", content}, {"style", std::string(parts[parts.size() - 2])},
+              {"take", std::string(parts.back())}};
+    }
   }
-  if (std::regex_match(stem, match, kCmu)) {
-    return {{"subject", match[1]}, {"trial", match[2]}};
+  if (parts.size() == 2 && AllDigits(parts[0]) && AllDigits(parts[1])) {
+    return {{"subject", std::string(parts[0])}, {"trial", std::string(parts[1])}};
   }
   return {{"name", stem}};
 }

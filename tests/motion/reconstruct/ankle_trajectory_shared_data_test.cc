@@ -4,11 +4,11 @@
 // DAG path must be at least as accurate as a plain nearest-neighbour lookup and far smoother.
 #include <iostream>
 #include <random>
-#include <regex>
 
 #include <gtest/gtest.h>
 
 #include "motion/bvh/bvh_reader.h"
+#include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/ankle_path.h"
 #include "motion/skeleton/forward_kinematics.h"
@@ -18,9 +18,8 @@ namespace mocap {
 namespace {
 
 int TakeOf(const std::string& file_name) {
-  static const std::regex take(R"(_(\d+)\.bvh$)");
-  std::smatch match;
-  return std::regex_search(file_name, match, take) ? std::stoi(match[1]) : -1;
+  const std::string take = LabelValue(ParseClipLabels(file_name), "take");
+  return take.empty() ? -1 : std::stoi(take);
 }
 
 float Jitter(const std::vector<AnklePair>& path) {
