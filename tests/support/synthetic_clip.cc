@@ -331,4 +331,15 @@ BvhClip MakeWalkingClip(const SyntheticRigOptions& options, int frames, double f
   return clip;
 }
 
+SyntheticRigOptions SyntheticRigFromBits(int bits, const std::string& rotation_order) {
+  SyntheticRigOptions options;
+  options.extra_root = (bits & 1) != 0;
+  options.z_up = (bits & 2) != 0;
+  options.fingers_and_toes = (bits & 4) != 0;
+  options.twist_bones = (bits & 8) != 0;
+  options.position_channels_everywhere = (bits & 16) != 0;
+  options.rotation_order = rotation_order;
+  return options;
+}
+
 }  // namespace mocap::testing

@@ -79,6 +79,10 @@ struct SyntheticRigOptions {
 };
 
 // The walking clip described above; `frames` frames, `frame_time` seconds apart.
+// Rig options from bit flags (1 extra_root, 2 z_up, 4 fingers_and_toes, 8 twist_bones,
+// 16 position_channels_everywhere), for tests that sweep every combination.
+SyntheticRigOptions SyntheticRigFromBits(int bits, const std::string& rotation_order = "ZXY");
+
 BvhClip MakeWalkingClip(const SyntheticRigOptions& options = {}, int frames = 60,
                         double frame_time = 1.0 / 30.0);
 

@@ -336,12 +336,7 @@ TEST(ClipPreprocessorTest, AnimatedJointsCarryTheirOwnTranslations) {
 
 TEST(ClipPreprocessorTest, AnimatedJointsOfOtherRigs) {
   for (int bits : {0, 2, 4 | 8, 16, 2 | 16, 1 | 16, 1 | 2 | 16}) {
-    SyntheticRigOptions options;
-    options.extra_root = (bits & 1) != 0;
-    options.z_up = (bits & 2) != 0;
-    options.fingers_and_toes = (bits & 4) != 0;
-    options.twist_bones = (bits & 8) != 0;
-    options.position_channels_everywhere = (bits & 16) != 0;
+    const SyntheticRigOptions options = testing::SyntheticRigFromBits(bits);
     SCOPED_TRACE(bits);
     const Prepared p = RigAndPrepare(MakeWalkingClip(options, 20));
     if (options.extra_root) {

@@ -26,14 +26,7 @@ using testing::MakeWalkingClip;
 using testing::SyntheticRigOptions;
 
 SyntheticRigOptions RigFromBits(int bits, const std::string& order = "ZXY") {
-  SyntheticRigOptions options;
-  options.extra_root = (bits & 1) != 0;
-  options.z_up = (bits & 2) != 0;
-  options.fingers_and_toes = (bits & 4) != 0;
-  options.twist_bones = (bits & 8) != 0;
-  options.position_channels_everywhere = (bits & 16) != 0;
-  options.rotation_order = order;
-  return options;
+  return testing::SyntheticRigFromBits(bits, order);
 }
 
 std::string Describe(const SyntheticRigOptions& o) {
