@@ -32,6 +32,13 @@ if [ ${#inputs[@]} -eq 0 ]; then
   sample_bandai="$data/bandai-namco-2/dataset-2_walk_normal_001.bvh"
   sample_cmu="$data/cmu-cc/002_01.bvh"
   "$mocapd" inspect --json "$sample_bandai" "$sample_cmu" > "$out/inspect.json"
+  # Cross-skeleton search: a CMU walk (101 joints, Z-up root, 60 fps) against the Bandai rig.
+  "$mocapd" similar --store "$store" --database bandai-namco-2 --query "$sample_cmu" \
+    --frames 30:150 --step 30 --top 5 --suppress 15 --json > "$out/similar.json"
+  echo
+  echo "== Poses of $(basename "$sample_cmu") (cmu-cc) matched in bandai-namco-2 (first matches)"
+  "$mocapd" similar --store "$store" --database bandai-namco-2 --query "$sample_cmu" \
+    --frames 60:120 --step 60 --top 3 --suppress 15
 else
   "$mocapd" import --store "$store" --database "$database" "${inputs[@]}"
   first=$(find "${inputs[@]}" -iname '*.bvh' -type f -print -quit)
@@ -42,4 +49,4 @@ echo "== Motion databases in $store"
 "$mocapd" databases --store "$store"
 "$mocapd" databases --store "$store" --json > "$out/databases.json"
 echo
-echo "Wrote $out/databases.json and $out/inspect.json (groups, landmarks, up axis, units of sample files)."
+echo "Wrote $out/: databases.json, inspect.json (groups, landmarks, up axis, units of sample files)$([ -f "$out/similar.json" ] && echo ', similar.json')."
