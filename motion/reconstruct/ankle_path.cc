@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "motion/core/str_cat.h"
 
@@ -44,19 +45,27 @@ absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector
   for (size_t k = 0; k < clouds[0].size(); ++k) {
     cost[0][k] = start ? EdgeCost(*start, clouds[0][k], dt, options) : 0.0f;
   }
+  std::vector<int> order;
   for (int t = 1; t < frames; ++t) {
     const std::vector<AnkleCandidate>& previous = clouds[t - 1];
     const std::vector<AnkleCandidate>& current = clouds[t];
     cost[t].assign(current.size(), std::numeric_limits<float>::infinity());
     from[t].assign(current.size(), 0);
+    // Exact branch and bound: edge costs are never negative, so scanning predecessors by
+    // increasing path cost can stop at the first one already costing more than the best found.
+    order.resize(previous.size());
+    std::iota(order.begin(), order.end(), 0);
+    const std::vector<float>& previous_cost = cost[t - 1];
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return previous_cost[a] < previous_cost[b]; });
     for (size_t k = 0; k < current.size(); ++k) {
       float best = std::numeric_limits<float>::infinity();
-      int best_j = 0;
-      for (size_t j = 0; j < previous.size(); ++j) {
-        const float c = cost[t - 1][j] + EdgeCost(previous[j], current[k], dt, options);
+      int best_j = order[0];
+      for (int j : order) {
+        if (previous_cost[j] >= best) break;
+        const float c = previous_cost[j] + EdgeCost(previous[j], current[k], dt, options);
         if (c < best) {
           best = c;
-          best_j = static_cast<int>(j);
+          best_j = j;
         }
       }
       cost[t][k] = best;
