@@ -17,5 +17,9 @@ if [ "${1:-}" = "--sanitize" ]; then
   exit
 fi
 "$repo/scripts/setup.sh"
+# Unpack the shared data once, before tests run in parallel (they also do it on demand, locked).
+if [ -x "$repo/../shared/data/unpack.sh" ]; then
+  "$repo/../shared/data/unpack.sh" "${MOCAP_DATA_CACHE_DIR:-$HOME/.cache/mocap/data}" >/dev/null
+fi
 cd "$repo/build"
 ctest --output-on-failure -j "$(nproc)" "$@"

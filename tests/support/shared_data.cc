@@ -17,7 +17,11 @@ std::optional<std::filesystem::path> SharedDataSet(std::string_view name, std::s
     *why = "no " + unpack.string() + " (run tests with ../shared beside the repository)";
     return std::nullopt;
   }
-  const std::string command = "bash '" + unpack.string() + "' '" + cache.string() + "' " + std::string(name) + " >&2";
+  // ctest runs test processes in parallel: serialise unpacking (unpack.sh is not safe to run
+  // twice at once on one folder).
+  std::filesystem::create_directories(cache);
+  const std::string command = "flock '" + (cache / ".unpack.lock").string() + "' bash '" + unpack.string() + "' '" +
+                              cache.string() + "' " + std::string(name) + " >&2";
   if (std::system(command.c_str()) != 0 || !std::filesystem::exists(folder / ".complete")) {
     *why = "unpacking " + std::string(name) + " with " + unpack.string() + " failed";
     return std::nullopt;
