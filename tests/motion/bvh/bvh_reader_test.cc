@@ -42,32 +42,32 @@ struct MalformedCase {
 void PrintTo(const MalformedCase& c, std::ostream* os) { *os << c.file; }
 
 constexpr MalformedCase kMalformedCases[] = {
-    {"truncated_motion.bvh", 21, "truncated motion block: 'Frames: 3' but the file ends after 2 frames"},
-    {"wrong_value_count.bvh", 20, "frame 1 has 8 values; the hierarchy declares 9"},
-    {"too_many_values.bvh", 20, "frame 1 has more than the 9 values"},
-    {"nan_value.bvh", 20, "expected a finite number, found 'nan'"},
-    {"inf_value.bvh", 20, "expected a finite number, found '-inf'"},
-    {"garbage_value.bvh", 20, "expected a finite number, found '8x'"},
-    {"unknown_channel.bvh", 9, "unknown channel 'Wrotation' on joint 'Spine'"},
-    {"channel_count_7.bvh", 5, "expected a channel count from 0 to 6, found '7'"},
-    {"repeated_channel.bvh", 9, "channel 'Zrotation' repeated on joint 'Spine'"},
-    {"missing_close_brace.bvh", 15, "unbalanced braces: joint 'Hips' is not closed before 'MOTION'"},
-    {"extra_close_brace.bvh", 16, "expected 'MOTION', found '}'"},
-    {"duplicate_joint_names.bvh", 10, "duplicate joint name 'Spine'"},
-    {"zero_frame_time.bvh", 18, "frame time 0 s is outside"},
-    {"absurd_frame_time.bvh", 18, "frame time 50 s is outside"},
-    {"negative_frame_count.bvh", 17, "frame count -2 outside 1.."},
-    {"fractional_frame_count.bvh", 17, "expected a whole frame count after 'Frames:', found '2.5'"},
-    {"missing_frames_line.bvh", 17, "expected 'Frames: N', found 'Frame Time: 0.0333333'"},
-    {"missing_frame_time.bvh", 18, "expected 'Frame Time: T', found '0 0 0 0 0 0 0 0 0'"},
-    {"missing_motion.bvh", 16, "expected 'MOTION', found end of file"},
-    {"non_numeric_offset.bvh", 8, "expected a finite number for OFFSET of Spine, found 'ten'"},
-    {"short_offset.bvh", 9, "expected a finite number for OFFSET of Spine, found 'CHANNELS'"},
-    {"two_end_sites.bvh", 17, "joint 'Spine' has two End Sites"},
-    {"empty.bvh", 1, "expected 'HIERARCHY', found end of file"},
-    {"binary_garbage.bvh", 1, "expected 'HIERARCHY', found '"},
-    {"second_root.bvh", 16, "a second ROOT is not supported"},
-    {"data_after_frames.bvh", 21, "unexpected data after the 2 declared frames"},
+    {"truncated_motion.bvh.txt", 21, "truncated motion block: 'Frames: 3' but the file ends after 2 frames"},
+    {"wrong_value_count.bvh.txt", 20, "frame 1 has 8 values; the hierarchy declares 9"},
+    {"too_many_values.bvh.txt", 20, "frame 1 has more than the 9 values"},
+    {"nan_value.bvh.txt", 20, "expected a finite number, found 'nan'"},
+    {"inf_value.bvh.txt", 20, "expected a finite number, found '-inf'"},
+    {"garbage_value.bvh.txt", 20, "expected a finite number, found '8x'"},
+    {"unknown_channel.bvh.txt", 9, "unknown channel 'Wrotation' on joint 'Spine'"},
+    {"channel_count_7.bvh.txt", 5, "expected a channel count from 0 to 6, found '7'"},
+    {"repeated_channel.bvh.txt", 9, "channel 'Zrotation' repeated on joint 'Spine'"},
+    {"missing_close_brace.bvh.txt", 15, "unbalanced braces: joint 'Hips' is not closed before 'MOTION'"},
+    {"extra_close_brace.bvh.txt", 16, "expected 'MOTION', found '}'"},
+    {"duplicate_joint_names.bvh.txt", 10, "duplicate joint name 'Spine'"},
+    {"zero_frame_time.bvh.txt", 18, "frame time 0 s is outside"},
+    {"absurd_frame_time.bvh.txt", 18, "frame time 50 s is outside"},
+    {"negative_frame_count.bvh.txt", 17, "frame count -2 outside 1.."},
+    {"fractional_frame_count.bvh.txt", 17, "expected a whole frame count after 'Frames:', found '2.5'"},
+    {"missing_frames_line.bvh.txt", 17, "expected 'Frames: N', found 'Frame Time: 0.0333333'"},
+    {"missing_frame_time.bvh.txt", 18, "expected 'Frame Time: T', found '0 0 0 0 0 0 0 0 0'"},
+    {"missing_motion.bvh.txt", 16, "expected 'MOTION', found end of file"},
+    {"non_numeric_offset.bvh.txt", 8, "expected a finite number for OFFSET of Spine, found 'ten'"},
+    {"short_offset.bvh.txt", 9, "expected a finite number for OFFSET of Spine, found 'CHANNELS'"},
+    {"two_end_sites.bvh.txt", 17, "joint 'Spine' has two End Sites"},
+    {"empty.bvh.txt", 1, "expected 'HIERARCHY', found end of file"},
+    {"binary_garbage.bvh.txt", 1, "expected 'HIERARCHY', found '"},
+    {"second_root.bvh.txt", 16, "a second ROOT is not supported"},
+    {"data_after_frames.bvh.txt", 21, "unexpected data after the 2 declared frames"},
 };
 
 class BvhReaderMalformedTest : public ::testing::TestWithParam<MalformedCase> {};
@@ -263,25 +263,25 @@ TEST_P(BvhReaderBaseVariantTest, ParsesLikeThePlainFile) {
 }
 
 INSTANTIATE_TEST_SUITE_P(BvhValidCorpus, BvhReaderBaseVariantTest,
-                         ::testing::Values("crlf.bvh", "tabs.bvh", "trailing_blank_lines.bvh",
-                                           "frame_time_leading_dot.bvh", "utf8_bom.bvh"),
+                         ::testing::Values("crlf.bvh.txt", "tabs.bvh.txt", "trailing_blank_lines.bvh.txt",
+                                           "frame_time_leading_dot.bvh.txt", "utf8_bom.bvh.txt"),
                          [](const ::testing::TestParamInfo<const char*>& info) {
                            std::string name = info.param;
                            return name.substr(0, name.find('.'));
                          });
 
 TEST(BvhReaderTest, CorpusFilesReallyHaveTheirQuirks) {
-  EXPECT_NE(ReadText(ValidDir() / "crlf.bvh").find("\r\n"), std::string::npos);
-  EXPECT_NE(ReadText(ValidDir() / "tabs.bvh").find("Frame Time:\t"), std::string::npos);
-  EXPECT_NE(ReadText(ValidDir() / "frame_time_leading_dot.bvh").find("Frame Time: .0333333"), std::string::npos);
-  EXPECT_EQ(ReadText(ValidDir() / "utf8_bom.bvh").rfind("\xEF\xBB\xBFHIERARCHY", 0), 0u);
-  const std::string trailing = ReadText(ValidDir() / "trailing_blank_lines.bvh");
+  EXPECT_NE(ReadText(ValidDir() / "crlf.bvh.txt").find("\r\n"), std::string::npos);
+  EXPECT_NE(ReadText(ValidDir() / "tabs.bvh.txt").find("Frame Time:\t"), std::string::npos);
+  EXPECT_NE(ReadText(ValidDir() / "frame_time_leading_dot.bvh.txt").find("Frame Time: .0333333"), std::string::npos);
+  EXPECT_EQ(ReadText(ValidDir() / "utf8_bom.bvh.txt").rfind("\xEF\xBB\xBFHIERARCHY", 0), 0u);
+  const std::string trailing = ReadText(ValidDir() / "trailing_blank_lines.bvh.txt");
   EXPECT_EQ(trailing.substr(trailing.size() - 2), "\n\n");
   EXPECT_NE(trailing.find("9\n\n"), std::string::npos);
 }
 
 TEST(BvhReaderTest, RootWithThreeRotationChannels) {
-  absl::StatusOr<BvhClip> clip = ReadBvhFile(ValidDir() / "root_3_channels.bvh");
+  absl::StatusOr<BvhClip> clip = ReadBvhFile(ValidDir() / "root_3_channels.bvh.txt");
   ASSERT_TRUE(clip.ok()) << clip.status();
   ASSERT_EQ(clip->skeleton.num_joints(), 2);
   EXPECT_EQ(clip->skeleton.joint(0).channels.size(), 3u);
@@ -293,7 +293,7 @@ TEST(BvhReaderTest, RootWithThreeRotationChannels) {
 }
 
 TEST(BvhReaderTest, SixChannelsMidHierarchy) {
-  absl::StatusOr<BvhClip> clip = ReadBvhFile(ValidDir() / "mid_hierarchy_6_channels.bvh");
+  absl::StatusOr<BvhClip> clip = ReadBvhFile(ValidDir() / "mid_hierarchy_6_channels.bvh.txt");
   ASSERT_TRUE(clip.ok()) << clip.status();
   ASSERT_EQ(clip->skeleton.num_joints(), 3);
   EXPECT_EQ(clip->skeleton.joint(1).channels.size(), 6u);
@@ -308,7 +308,7 @@ TEST(BvhReaderTest, SixChannelsMidHierarchy) {
 }
 
 TEST(BvhReaderTest, JointsWithoutChannelsLine) {
-  absl::StatusOr<BvhClip> clip = ReadBvhFile(ValidDir() / "no_channels_line.bvh");
+  absl::StatusOr<BvhClip> clip = ReadBvhFile(ValidDir() / "no_channels_line.bvh.txt");
   ASSERT_TRUE(clip.ok()) << clip.status();
   ASSERT_EQ(clip->skeleton.num_joints(), 4);
   EXPECT_EQ(clip->skeleton.joint(1).name, "Spine");
@@ -328,8 +328,8 @@ TEST(BvhReaderTest, RotationOrders) {
     std::vector<ChannelType> rotations;
   };
   const Case cases[] = {
-      {"order_xyz.bvh", {ChannelType::kXrotation, ChannelType::kYrotation, ChannelType::kZrotation}},
-      {"order_yxz.bvh", {ChannelType::kYrotation, ChannelType::kXrotation, ChannelType::kZrotation}},
+      {"order_xyz.bvh.txt", {ChannelType::kXrotation, ChannelType::kYrotation, ChannelType::kZrotation}},
+      {"order_yxz.bvh.txt", {ChannelType::kYrotation, ChannelType::kXrotation, ChannelType::kZrotation}},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);
@@ -360,7 +360,7 @@ TEST(BvhReaderTest, EveryValidCorpusFileParses) {
 }
 
 TEST(BvhReaderTest, HonoursLimits) {
-  const std::string text = ReadText(ValidDir() / "order_xyz.bvh");
+  const std::string text = ReadText(ValidDir() / "order_xyz.bvh.txt");
   BvhReadLimits limits;
   limits.max_frames = 2;
   absl::StatusOr<BvhClip> clip = ParseBvh(text, "limits.bvh", limits);
