@@ -2,16 +2,14 @@
 // standard split's database clips (bandai-namco-2 takes not ≡ 3 mod 10); query = a held-out walk's
 // wrists by FK with σ = 0.5 cm noise; K1 = 1000 (and 200). Reported: time per frame (step).
 #include <random>
-#include <thread>
 
 #include <benchmark/benchmark.h>
 
 #include "motion/bvh/bvh_reader.h"
-#include "motion/preprocess/clip_labels.h"
+#include "benchmarks/standard_split.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/ankle_path.h"
 #include "motion/skeleton/forward_kinematics.h"
-#include "tests/support/shared_data.h"
 
 namespace mocap {
 namespace {
@@ -25,34 +23,19 @@ struct Clouds {
 const Clouds& GetClouds() {
   static Clouds clouds = [] {
     Clouds c;
-    std::string why;
-    auto folder = testing::SharedDataSet("bandai-namco-2", &why);
-    if (!folder) return c;
-    const auto files = testing::BvhFilesIn(*folder);
-    auto first = ReadBvhFile(files.front());
-    auto rig = BuildRigModel(*first, {});
-    if (!rig.ok()) return c;
-    std::vector<std::vector<FrameFeatures>> per_file(files.size());
-    std::vector<std::thread> workers;
-    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-    for (unsigned t = 0; t < threads; ++t) {
-      workers.emplace_back([&, t] {
-        for (size_t i = t; i < files.size(); i += threads) {
-          const std::string take = LabelValue(ParseClipLabels(files[i].filename().string()), "take");
-          if (take.empty() || std::stoi(take) % 10 == 3) continue;
-          auto clip = ReadBvhFile(files[i]);
-          if (!clip.ok()) continue;
-          auto prepared = PrepareClip(*clip, *rig, {});
-          if (prepared.ok()) per_file[i] = std::move(prepared->features);
-        }
-      });
+    auto standard = benchmarks::LoadStandardSplit();
+    if (!standard.ok()) return c;
+    const RigModel* rig = &standard->rig;
+    std::vector<std::vector<FrameFeatures>> per_file(standard->database_files.size());
+    if (!benchmarks::PrepareAll(standard->database_files, *rig,
+                                [&](size_t i, PreparedClip&& clip) { per_file[i] = std::move(clip.features); }).ok()) {
+      return c;
     }
-    for (auto& worker : workers) worker.join();
     std::vector<FrameFeatures> database;
     for (auto& features : per_file) database.insert(database.end(), features.begin(), features.end());
     WristFeatureIndex index;
     if (!index.Build(database).ok()) return c;
-    auto query = ReadBvhFile(*folder / "dataset-2_walk_normal_003.bvh");
+    auto query = ReadBvhFile(standard->folder / "dataset-2_walk_normal_003.bvh");
     if (!query.ok()) return c;
     auto prepared = PrepareClip(*query, *rig, {});
     const GlobalPoses poses = ForwardKinematics(prepared->skeleton, prepared->motion);

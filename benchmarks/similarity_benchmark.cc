@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "benchmarks/standard_split.h"
 #include "motion/bvh/bvh_reader.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
@@ -64,28 +65,13 @@ std::vector<std::optional<ClipPoints>> LoadClips(const std::vector<std::filesyst
                                                  std::string* error) {
   std::vector<std::optional<ClipPoints>> out(files.size());
   const BodyChains chains = MakeBodyChains(rig.skeleton, rig.topology);
-  std::atomic<size_t> next{0};
-  std::mutex error_mutex;
-  auto work = [&] {
-    for (size_t i = next++; i < files.size(); i = next++) {
-      absl::StatusOr<BvhClip> clip = ReadBvhFile(files[i]);
-      absl::StatusOr<PreparedClip> prepared =
-          clip.ok() ? PrepareClip(*clip, rig, {}) : absl::StatusOr<PreparedClip>(clip.status());
-      if (!prepared.ok()) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        *error = files[i].filename().string() + ": " + prepared.status().ToString();
-        continue;
-      }
-      ClipPoints points = MakeClipPoints(ForwardKinematics(prepared->skeleton, prepared->motion), chains, {});
-      points.name = files[i].filename().string();
-      points.clip_id = static_cast<std::int64_t>(i);
-      out[i] = std::move(points);
-    }
-  };
-  std::vector<std::thread> threads;
-  const unsigned count = std::max(1u, std::thread::hardware_concurrency());
-  for (unsigned t = 0; t < count; ++t) threads.emplace_back(work);
-  for (std::thread& t : threads) t.join();
+  const absl::Status status = benchmarks::PrepareAll(files, rig, [&](size_t i, PreparedClip&& prepared) {
+    ClipPoints points = MakeClipPoints(ForwardKinematics(prepared.skeleton, prepared.motion), chains, {});
+    points.name = files[i].filename().string();
+    points.clip_id = static_cast<std::int64_t>(i);
+    out[i] = std::move(points);
+  });
+  if (!status.ok()) *error = status.ToString();
   return out;
 }
 
@@ -112,30 +98,15 @@ double ExactAnswers(const Setup& s, int window, int stride, std::vector<PoseMatc
 
 Setup* MakeSetup() {
   auto* s = new Setup;
-  std::string why;
-  auto folder = testing::SharedDataSet("bandai-namco-2", &why);
-  if (!folder) {
-    s->error = "shared data unavailable: " + why;
+  auto split = benchmarks::LoadStandardSplit();
+  if (!split.ok()) {
+    s->error = split.status().ToString();
     return s;
   }
-  std::vector<std::filesystem::path> database_files, held_out_files;
-  for (const std::filesystem::path& file : testing::BvhFilesIn(*folder)) {
-    const std::string take = LabelValue(ParseClipLabels(file.filename().string()), "take");
-    if (take.empty()) continue;
-    (std::stoi(take) % 10 == 3 ? held_out_files : database_files).push_back(file);
-  }
-  if (database_files.empty() || held_out_files.empty()) {
-    s->error = "no bandai-namco-2 clips";
-    return s;
-  }
-
+  const std::vector<std::filesystem::path>& database_files = split->database_files;
+  const std::vector<std::filesystem::path>& held_out_files = split->test_files;
   auto start = std::chrono::steady_clock::now();
-  absl::StatusOr<BvhClip> first = ReadBvhFile(database_files.front());
-  absl::StatusOr<RigModel> rig = first.ok() ? BuildRigModel(*first, {}) : absl::StatusOr<RigModel>(first.status());
-  if (!rig.ok()) {
-    s->error = rig.status().ToString();
-    return s;
-  }
+  const RigModel* rig = &split->rig;
   std::vector<std::optional<ClipPoints>> database = LoadClips(database_files, *rig, &s->error);
   std::vector<std::optional<ClipPoints>> queries = LoadClips(held_out_files, *rig, &s->error);
   if (!s->error.empty()) return s;

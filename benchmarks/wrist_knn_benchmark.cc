@@ -4,16 +4,12 @@
 // their wrists' features perturbed as by σ = 0.5 cm position noise (fixed seed).
 #include <algorithm>
 #include <random>
-#include <thread>
-#include <unordered_set>
 
 #include <benchmark/benchmark.h>
 
-#include "motion/bvh/bvh_reader.h"
-#include "motion/preprocess/clip_labels.h"
+#include "benchmarks/standard_split.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/wrist_feature_index.h"
-#include "tests/support/shared_data.h"
 
 namespace mocap {
 namespace {
@@ -24,42 +20,22 @@ struct Split {
   bool ok = false;
 };
 
-bool IsTestTake(const std::string& file_name) {
-  const std::string take = LabelValue(ParseClipLabels(file_name), "take");
-  return !take.empty() && std::stoi(take) % 10 == 3;
-}
-
 const Split& GetSplit() {
   static Split split = [] {
     Split s;
-    std::string why;
-    auto folder = testing::SharedDataSet("bandai-namco-2", &why);
-    if (!folder) return s;
-    const auto files = testing::BvhFilesIn(*folder);
-    auto first = ReadBvhFile(files.front());
-    if (!first.ok()) return s;
-    auto rig = BuildRigModel(*first, {});
-    if (!rig.ok()) return s;
-    std::vector<std::vector<FrameFeatures>> per_file(files.size());
-    std::vector<std::thread> workers;
-    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-    for (unsigned t = 0; t < threads; ++t) {
-      workers.emplace_back([&, t] {
-        for (size_t i = t; i < files.size(); i += threads) {
-          auto clip = ReadBvhFile(files[i]);
-          if (!clip.ok()) continue;
-          auto prepared = PrepareClip(*clip, *rig, {});
-          if (prepared.ok()) per_file[i] = std::move(prepared->features);
-        }
-      });
+    auto standard = benchmarks::LoadStandardSplit();
+    if (!standard.ok()) return s;
+    std::vector<std::vector<FrameFeatures>> database_features(standard->database_files.size());
+    std::vector<std::vector<FrameFeatures>> test_features(standard->test_files.size());
+    if (!benchmarks::PrepareAll(standard->database_files, standard->rig,
+                                [&](size_t i, PreparedClip&& clip) { database_features[i] = std::move(clip.features); }).ok() ||
+        !benchmarks::PrepareAll(standard->test_files, standard->rig,
+                                [&](size_t i, PreparedClip&& clip) { test_features[i] = std::move(clip.features); }).ok()) {
+      return s;
     }
-    for (auto& worker : workers) worker.join();
-    std::vector<FrameFeatures> database;
-    std::vector<FrameFeatures> test_frames;
-    for (size_t i = 0; i < files.size(); ++i) {
-      auto& target = IsTestTake(files[i].filename().string()) ? test_frames : database;
-      target.insert(target.end(), per_file[i].begin(), per_file[i].end());
-    }
+    std::vector<FrameFeatures> database, test_frames;
+    for (auto& f : database_features) database.insert(database.end(), f.begin(), f.end());
+    for (auto& f : test_features) test_frames.insert(test_frames.end(), f.begin(), f.end());
     if (!s.index.Build(database).ok()) return s;
     std::mt19937 random(42);
     std::normal_distribution<float> noise(0.0f, 0.005f);

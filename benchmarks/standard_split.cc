@@ -1,0 +1,56 @@
+#include "benchmarks/standard_split.h"
+
+#include <algorithm>
+#include <atomic>
+#include <mutex>
+#include <thread>
+
+#include "motion/bvh/bvh_reader.h"
+#include "motion/core/status_macros.h"
+#include "motion/preprocess/clip_labels.h"
+#include "tests/support/shared_data.h"
+
+namespace mocap::benchmarks {
+
+absl::StatusOr<StandardSplit> LoadStandardSplit() {
+  std::string why;
+  auto folder = testing::SharedDataSet("bandai-namco-2", &why);
+  if (!folder) return absl::NotFoundError("shared data unavailable: " + why);
+  StandardSplit split;
+  split.folder = *folder;
+  for (const std::filesystem::path& file : testing::BvhFilesIn(*folder)) {
+    const std::string take = LabelValue(ParseClipLabels(file.filename().string()), "take");
+    if (take.empty()) continue;
+    (std::stoi(take) % 10 == 3 ? split.test_files : split.database_files).push_back(file);
+  }
+  if (split.database_files.empty() || split.test_files.empty()) return absl::NotFoundError("no bandai-namco-2 takes");
+  MOCAP_ASSIGN_OR_RETURN(BvhClip first, ReadBvhFile(split.database_files.front()));
+  MOCAP_ASSIGN_OR_RETURN(split.rig, BuildRigModel(first, {}));
+  return split;
+}
+
+absl::Status PrepareAll(const std::vector<std::filesystem::path>& files, const RigModel& rig,
+                        const std::function<void(size_t, PreparedClip&&)>& consume) {
+  std::atomic<size_t> next{0};
+  std::mutex mutex;
+  absl::Status first_error = absl::OkStatus();
+  auto work = [&] {
+    for (size_t i = next++; i < files.size(); i = next++) {
+      absl::StatusOr<BvhClip> clip = ReadBvhFile(files[i]);
+      absl::StatusOr<PreparedClip> prepared = clip.ok() ? PrepareClip(*clip, rig, {}) : absl::StatusOr<PreparedClip>(clip.status());
+      if (!prepared.ok()) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (first_error.ok()) first_error = prepared.status();
+        continue;
+      }
+      consume(i, std::move(*prepared));
+    }
+  };
+  std::vector<std::thread> threads;
+  const unsigned count = std::max(1u, std::thread::hardware_concurrency());
+  for (unsigned t = 0; t < count; ++t) threads.emplace_back(work);
+  for (std::thread& t : threads) t.join();
+  return first_error;
+}
+
+}  // namespace mocap::benchmarks
