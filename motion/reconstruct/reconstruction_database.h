@@ -1,0 +1,67 @@
+// ReconstructionDatabase: the immutable, query-ready form of a motion database for METHOD.md
+// A3–A6: every frame's A1 features and pose feature m = (θ, h, q), clip boundaries, and the two
+// nearest-neighbour indices (A3: wrists only, eq. 2; A5: wrists and ankles, eq. 8).
+//
+// Thread safety: built once, then shared read-only (const) by any number of sessions.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "absl/status/statusor.h"
+#include "motion/preprocess/clip_preprocessor.h"
+#include "motion/reconstruct/wrist_feature_index.h"
+
+namespace mocap {
+
+// A clip as the database needs it: A1 features and the encoded poses (EncodePoses layout).
+struct DatabaseClip {
+  std::vector<FrameFeatures> features;
+  std::vector<float> encoded_poses;
+};
+
+inline constexpr int kWristAnkleFeatureDims = 24;
+
+// The 24-D eq. 8 feature: √α·(wrist and ankle positions), √(1−α)·(their velocities).
+void WristAnkleFeature(const FrameFeatures& features, float position_weight, float out[kWristAnkleFeatureDims]);
+
+class ReconstructionDatabase {
+ public:
+  // InvalidArgument when a clip's poses do not match its features or the rig; FailedPrecondition
+  // when there are no frames.
+  static absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> Build(const RigModel& rig,
+                                                                            const std::vector<DatabaseClip>& clips,
+                                                                            float position_weight = 0.8f);
+
+  const RigModel& rig() const { return rig_; }
+  int num_frames() const { return static_cast<int>(frames_.size()); }
+  const std::vector<FrameFeatures>& frames() const { return frames_; }
+  // Row r: pose feature m of frame r: θ, h, then the rotation vectors of every joint below the
+  // pelvis chain (the root-to-pelvis joints are the solver's z_R, not part of q).
+  const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& pose_features() const { return pose_features_; }
+  const std::vector<int>& pose_joints() const { return pose_joints_; }  // joints of q, in order
+  int clip_of(int row) const { return clip_of_row_[row]; }
+  int frame_in_clip(int row) const { return frame_of_row_[row]; }
+  const WristFeatureIndex& wrist_index() const { return wrist_index_; }
+  // K nearest frames by eq. 8 (exact kd-tree).
+  absl::StatusOr<std::vector<Neighbour>> NearestByWristsAndAnkles(const float query[kWristAnkleFeatureDims], int k) const;
+
+  ReconstructionDatabase(const ReconstructionDatabase&) = delete;
+  ReconstructionDatabase& operator=(const ReconstructionDatabase&) = delete;
+  ~ReconstructionDatabase();
+
+ private:
+  ReconstructionDatabase();
+  struct FullIndex;
+  RigModel rig_;
+  std::vector<FrameFeatures> frames_;
+  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> pose_features_;
+  std::vector<int> pose_joints_;
+  std::vector<int> clip_of_row_, frame_of_row_;
+  WristFeatureIndex wrist_index_;
+  std::unique_ptr<FullIndex> full_index_;
+};
+
+}  // namespace mocap
