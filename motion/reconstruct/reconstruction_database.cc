@@ -2,8 +2,6 @@
 
 #include <cmath>
 
-#include <flann/flann.hpp>
-
 #include "motion/core/str_cat.h"
 
 namespace mocap {
@@ -19,14 +17,6 @@ void WristAnkleFeature(const FrameFeatures& f, float position_weight, float out[
     }
   }
 }
-
-struct ReconstructionDatabase::FullIndex {
-  std::vector<float> data;
-  std::unique_ptr<flann::Index<flann::L2<float>>> tree;
-};
-
-ReconstructionDatabase::ReconstructionDatabase() : full_index_(std::make_unique<FullIndex>()) {}
-ReconstructionDatabase::~ReconstructionDatabase() = default;
 
 absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionDatabase::Build(
     const RigModel& rig, const std::vector<DatabaseClip>& clips, float position_weight) {
@@ -70,43 +60,15 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   if (absl::Status status = db->wrist_index_.Build(db->frames_, {.position_weight = position_weight}); !status.ok()) {
     return status;
   }
-  FullIndex& full = *db->full_index_;
-  full.data.resize(total * kWristAnkleFeatureDims);
-  for (size_t r = 0; r < total; ++r) WristAnkleFeature(db->frames_[r], position_weight, full.data.data() + r * kWristAnkleFeatureDims);
-  try {
-    flann::Matrix<float> matrix(full.data.data(), total, kWristAnkleFeatureDims);
-    full.tree = std::make_unique<flann::Index<flann::L2<float>>>(matrix, flann::KDTreeSingleIndexParams(16));
-    full.tree->buildIndex();
-  } catch (const std::exception& error) {
-    return absl::InternalError(StrCat("building the eq. 8 index failed: ", error.what()));
-  }
+  std::vector<float> points(total * kWristAnkleFeatureDims);
+  for (size_t r = 0; r < total; ++r) WristAnkleFeature(db->frames_[r], position_weight, points.data() + r * kWristAnkleFeatureDims);
+  if (absl::Status status = db->full_index_.Build(std::move(points), kWristAnkleFeatureDims); !status.ok()) return status;
   return std::shared_ptr<const ReconstructionDatabase>(std::move(db));
 }
 
 absl::StatusOr<std::vector<Neighbour>> ReconstructionDatabase::NearestByWristsAndAnkles(
     const float query[kWristAnkleFeatureDims], int k) const {
-  if (k < 1) return absl::InvalidArgumentError("k must be at least 1");
-  for (int d = 0; d < kWristAnkleFeatureDims; ++d) {
-    if (!std::isfinite(query[d])) return absl::InvalidArgumentError("query feature is not finite");
-  }
-  const size_t count = static_cast<size_t>(std::min(k, num_frames()));
-  std::vector<float> q(query, query + kWristAnkleFeatureDims);
-  std::vector<size_t> indices(count);
-  std::vector<float> distances(count);
-  flann::Matrix<float> query_matrix(q.data(), 1, kWristAnkleFeatureDims);
-  flann::Matrix<size_t> index_matrix(indices.data(), 1, count);
-  flann::Matrix<float> distance_matrix(distances.data(), 1, count);
-  flann::SearchParams params;
-  params.checks = flann::FLANN_CHECKS_UNLIMITED;
-  params.sorted = true;
-  try {
-    full_index_->tree->knnSearch(query_matrix, index_matrix, distance_matrix, count, params);
-  } catch (const std::exception& error) {
-    return absl::InternalError(StrCat("eq. 8 search failed: ", error.what()));
-  }
-  std::vector<Neighbour> out(count);
-  for (size_t i = 0; i < count; ++i) out[i] = {static_cast<int>(indices[i]), distances[i]};
-  return out;
+  return full_index_.Search(query, k);
 }
 
 }  // namespace mocap

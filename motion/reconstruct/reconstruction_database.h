@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "absl/status/statusor.h"
+#include "motion/core/kd_tree.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/wrist_feature_index.h"
 
@@ -50,18 +51,16 @@ class ReconstructionDatabase {
 
   ReconstructionDatabase(const ReconstructionDatabase&) = delete;
   ReconstructionDatabase& operator=(const ReconstructionDatabase&) = delete;
-  ~ReconstructionDatabase();
 
  private:
-  ReconstructionDatabase();
-  struct FullIndex;
+  ReconstructionDatabase() = default;
   RigModel rig_;
   std::vector<FrameFeatures> frames_;
   Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> pose_features_;
   std::vector<int> pose_joints_;
   std::vector<int> clip_of_row_, frame_of_row_;
   WristFeatureIndex wrist_index_;
-  std::unique_ptr<FullIndex> full_index_;
+  KdTree full_index_;  // eq. 8
 };
 
 }  // namespace mocap

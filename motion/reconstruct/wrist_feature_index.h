@@ -12,6 +12,7 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "motion/core/kd_tree.h"
 #include "motion/preprocess/frame_features.h"
 
 namespace mocap {
@@ -25,31 +26,21 @@ struct WristFeatureOptions {
 // The 12-D weighted feature of one frame: left/right wrist positions (m) then velocities (m/s).
 void WristFeature(const FrameFeatures& features, const WristFeatureOptions& options, float out[kWristFeatureDims]);
 
-struct Neighbour {
-  int row;         // index into the frames the index was built from
-  float distance;  // eq. 2 value (squared)
-};
-
 class WristFeatureIndex {
  public:
-  WristFeatureIndex();
-  ~WristFeatureIndex();
-  WristFeatureIndex(WristFeatureIndex&&) noexcept;
-  WristFeatureIndex& operator=(WristFeatureIndex&&) noexcept;
-
   // Builds over `frames` (all clips' features, concatenated). FailedPrecondition when empty.
   absl::Status Build(const std::vector<FrameFeatures>& frames, const WristFeatureOptions& options = {});
 
-  // The k nearest frames, nearest first. InvalidArgument for k < 1 or a non-finite query.
+  // The k nearest frames (rows of `frames`), nearest first, with their eq. 2 values.
+  // InvalidArgument for k < 1 or a non-finite query.
   absl::StatusOr<std::vector<Neighbour>> Search(const float query[kWristFeatureDims], int k) const;
   // The same by exhaustive comparison (the reference for recall and speed-up).
   absl::StatusOr<std::vector<Neighbour>> SearchBruteForce(const float query[kWristFeatureDims], int k) const;
 
-  int size() const;
+  int size() const { return tree_.size(); }
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  KdTree tree_;
 };
 
 }  // namespace mocap

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numeric>
 
-#include <flann/flann.hpp>
+#include "motion/core/kd_tree.h"
 #include <Eigen/Eigenvalues>
 
 #include "motion/core/str_cat.h"
@@ -64,8 +64,7 @@ struct PoseIndex::Impl {
   bool built = false;
   Eigen::RowVectorXf mean;
   Eigen::MatrixXf basis;  // features x kReducedDims
-  std::vector<float> reduced;
-  std::unique_ptr<flann::Index<flann::L2<float>>> kd_tree;
+  KdTree kd_tree;  // over the reduced features
 
   int pose_points() const { return kNumBodyGroups * options.points_per_group; }
 
@@ -140,18 +139,12 @@ absl::Status PoseIndex::Build() {
   m.mean = mean.cast<float>();
   m.basis = solver.eigenvectors().rightCols(reduced_dims).cast<float>();
 
-  m.reduced.assign(static_cast<size_t>(m.rows) * reduced_dims, 0.0f);
+  std::vector<float> reduced(static_cast<size_t>(m.rows) * reduced_dims, 0.0f);
   for (std::int64_t row = 0; row < m.rows; ++row) {
     const auto [clip, frame] = m.Locate(row);
-    m.Reduce(m.clips[clip].points.row(frame).data(), m.reduced.data() + row * reduced_dims);
+    m.Reduce(m.clips[clip].points.row(frame).data(), reduced.data() + row * reduced_dims);
   }
-  try {
-    flann::Matrix<float> data(m.reduced.data(), static_cast<size_t>(m.rows), reduced_dims);
-    m.kd_tree = std::make_unique<flann::Index<flann::L2<float>>>(data, flann::KDTreeSingleIndexParams(16));
-    m.kd_tree->buildIndex();
-  } catch (const std::exception& error) {
-    return absl::InternalError(StrCat("building the pose index failed: ", error.what()));
-  }
+  if (absl::Status status = m.kd_tree.Build(std::move(reduced), reduced_dims); !status.ok()) return status;
   m.built = true;
   return absl::OkStatus();
 }
@@ -183,20 +176,10 @@ absl::StatusOr<std::vector<PoseMatch>> PoseIndex::Search(const ClipPoints& query
     const int reduced_dims = static_cast<int>(m.basis.cols());
     std::vector<float> reduced(reduced_dims);
     m.Reduce(query.points.row(frame).data(), reduced.data());
-    const size_t count = static_cast<size_t>(std::min<std::int64_t>(std::max(options.candidates, options.top_k), m.rows));
-    std::vector<size_t> indices(count);
-    std::vector<float> distances(count);
-    flann::Matrix<float> query_matrix(reduced.data(), 1, reduced_dims);
-    flann::Matrix<size_t> index_matrix(indices.data(), 1, count);
-    flann::Matrix<float> distance_matrix(distances.data(), 1, count);
-    flann::SearchParams params;
-    params.checks = flann::FLANN_CHECKS_UNLIMITED;
-    try {
-      m.kd_tree->knnSearch(query_matrix, index_matrix, distance_matrix, count, params);
-    } catch (const std::exception& error) {
-      return absl::InternalError(StrCat("pose index search failed: ", error.what()));
-    }
-    rows.assign(indices.begin(), indices.end());
+    const int count = static_cast<int>(std::min<std::int64_t>(std::max(options.candidates, options.top_k), m.rows));
+    absl::StatusOr<std::vector<Neighbour>> candidates = m.kd_tree.Search(reduced.data(), count);
+    if (!candidates.ok()) return candidates.status();
+    for (const Neighbour& candidate : *candidates) rows.push_back(candidate.row);
   }
 
   std::vector<PoseMatch> matches;

@@ -1,0 +1,44 @@
+// KdTree: exact k-nearest-neighbour search (squared L2) over float points, a thin owner of a
+// FLANN single kd-tree. FLANN's matrix does not own its data and its default search visits only
+// 32 leaves; this wrapper owns the points, always searches exactly, and turns FLANN's exceptions
+// into statuses (STYLE.md §4; FACTS.md: exact and ~8x faster than brute force at K = 1000).
+//
+// Thread safety: Build once; Search is const and safe from many threads at once.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+
+namespace mocap {
+
+struct Neighbour {
+  int row;         // index of the point in the order given to Build
+  float distance;  // squared L2
+};
+
+class KdTree {
+ public:
+  KdTree();
+  ~KdTree();
+  KdTree(KdTree&&) noexcept;
+  KdTree& operator=(KdTree&&) noexcept;
+
+  // `points` holds size() rows of `dims` floats, row-major. FailedPrecondition when empty.
+  absl::Status Build(std::vector<float> points, int dims);
+  // The min(k, size()) nearest rows, nearest first. FailedPrecondition before Build;
+  // InvalidArgument for k < 1 or a non-finite query.
+  absl::StatusOr<std::vector<Neighbour>> Search(const float* query, int k) const;
+
+  int size() const;
+  int dims() const;
+  const float* point(int row) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mocap
