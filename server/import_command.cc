@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <deque>
 #include <fstream>
@@ -183,6 +184,10 @@ absl::StatusOr<ImportSummary> RunImport(const ImportOptions& options, const Impo
   RigModel rig;
   if (absl::StatusOr<DatabaseSummary> found = store->FindDatabase(options.database); found.ok()) {
     database = *found;
+    if (std::abs(options.frame_rate - found->frame_rate) > 1e-9) {
+      spdlog::warn("database '{}' keeps its {} fps; --frame-rate {} applies only when a database is created",
+                   options.database, found->frame_rate, options.frame_rate);
+    }
     preprocess.frame_rate = found->frame_rate;
     MOCAP_ASSIGN_OR_RETURN(rig, store->LoadRig(found->id));
   } else if (found.status().code() != absl::StatusCode::kNotFound) {
@@ -230,15 +235,17 @@ absl::StatusOr<ImportSummary> RunImport(const ImportOptions& options, const Impo
     if (!batch) {
       MOCAP_ASSIGN_OR_RETURN(batch, store->BeginWrite());
       hashes_in_batch.clear();
-      if (!database) {
-        MOCAP_ASSIGN_OR_RETURN(DatabaseSummary created, store->CreateDatabase(options.database, rig, preprocess.frame_rate));
-        database = created;
-        summary.created_database = true;
-      }
     }
     PreparedFile prepared = pipeline.Take(i);
     const std::string name = files[i].filename().string();
     absl::Status status = prepared.status;
+    if (status.ok() && !database) {
+      // Created with its first clip, inside that clip's batch: a failed or empty import leaves
+      // no empty database behind.
+      MOCAP_ASSIGN_OR_RETURN(DatabaseSummary created, store->CreateDatabase(options.database, rig, preprocess.frame_rate));
+      database = created;
+      summary.created_database = true;
+    }
     if (status.ok()) {
       MOCAP_ASSIGN_OR_RETURN(std::optional<std::int64_t> existing, store->FindClipByHash(database->id, prepared.hash));
       if (existing || hashes_in_batch.contains(prepared.hash)) {

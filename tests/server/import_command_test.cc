@@ -121,6 +121,21 @@ TEST_F(ImportCommandTest, KeepGoingSkipsBadFiles) {
   EXPECT_NE(summary->problems[0].find("b.bvh"), std::string::npos);
 }
 
+TEST_F(ImportCommandTest, KeepGoingWithOnlyBadFilesCreatesNoDatabase) {
+  // A one-frame clip: its rig reads, but it is too short to store, so nothing is imported.
+  const fs::path single = WriteClip("single_frame.bvh", 1);
+  ImportOptions options = Options({single.string()});
+  options.keep_going = true;
+  auto summary = RunImport(options);
+  ASSERT_TRUE(summary.ok()) << summary.status();
+  EXPECT_EQ(summary->imported, 0);
+  EXPECT_EQ(summary->failed, 1);
+  EXPECT_FALSE(summary->created_database);
+  auto store = MotionStore::Open(store_);
+  ASSERT_TRUE(store.ok());
+  EXPECT_EQ((*store)->FindDatabase("walks").status().code(), absl::StatusCode::kNotFound);
+}
+
 TEST_F(ImportCommandTest, RefusesAnotherRig) {
   WriteClip("plain.bvh", 40);
   ASSERT_TRUE(RunImport(Options({(dir_ / "clips" / "plain.bvh").string()})).ok());
