@@ -81,11 +81,7 @@ absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const B
   return chains;
 }
 
-void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& chains, const BodyPointOptions& options,
-                       Eigen::Vector3f* out) {
-  const int n = options.points_per_group;
-  const Eigen::Vector3f pelvis = poses.position(frame, chains.pelvis);
-  // Body scale: mean leg chain length in this pose (METHOD.md B2).
+float BodyScale(const GlobalPoses& poses, int frame, const BodyChains& chains) {
   float scale = 0.0f;
   for (BodyGroup leg : {BodyGroup::kLeftLeg, BodyGroup::kRightLeg}) {
     const std::vector<int>& chain = chains.joints[static_cast<int>(leg)];
@@ -93,8 +89,14 @@ void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& ch
       scale += (poses.position(frame, chain[i]) - poses.position(frame, chain[i - 1])).norm();
     }
   }
-  scale = scale > 0 ? 0.5f * scale : 1.0f;
-  const float inverse = 1.0f / scale;
+  return scale > 0 ? 0.5f * scale : 1.0f;
+}
+
+void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& chains, const BodyPointOptions& options,
+                       Eigen::Vector3f* out) {
+  const int n = options.points_per_group;
+  const Eigen::Vector3f pelvis = poses.position(frame, chains.pelvis);
+  const float inverse = 1.0f / BodyScale(poses, frame, chains);
 
   for (int g = 0; g < kNumBodyGroups; ++g) {
     const std::vector<int>& chain = chains.joints[g];

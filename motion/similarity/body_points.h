@@ -48,6 +48,9 @@ BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology
 // a body (e.g. a wrist that is an ancestor of the other).
 absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const BodyLandmarks& landmarks);
 
+// Body scale of one pose (METHOD.md B2): the mean length of the two leg chains; 1 when zero.
+float BodyScale(const GlobalPoses& poses, int frame, const BodyChains& chains);
+
 // Points of one pose: kNumBodyGroups x points_per_group, Y up, relative to the pelvis, in body
 // scales. `out` must hold kNumBodyGroups * points_per_group points.
 void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& chains, const BodyPointOptions& options,

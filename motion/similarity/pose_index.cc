@@ -44,14 +44,8 @@ ClipPoints MakeClipPoints(const GlobalPoses& poses, const BodyChains& chains, co
   clip.points = BodyPointsOfClip(poses, chains, options);
   clip.pelvis.resize(poses.num_frames(), 3);
   for (int f = 0; f < poses.num_frames(); ++f) {
-    // Same scale as the frame's points: mean leg chain length.
-    float scale = 0.0f;
-    for (BodyGroup leg : {BodyGroup::kLeftLeg, BodyGroup::kRightLeg}) {
-      const std::vector<int>& chain = chains.joints[static_cast<int>(leg)];
-      for (size_t i = 1; i < chain.size(); ++i) scale += (poses.position(f, chain[i]) - poses.position(f, chain[i - 1])).norm();
-    }
-    scale = scale > 0 ? 0.5f * scale : 1.0f;
-    clip.pelvis.row(f) = poses.position(f, chains.pelvis).transpose() / scale;
+    // Same scale as the frame's points.
+    clip.pelvis.row(f) = poses.position(f, chains.pelvis).transpose() / BodyScale(poses, f, chains);
   }
   return clip;
 }
