@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "motion/core/status_macros.h"
+#include "motion/core/rotation_vector.h"
 #include "motion/core/str_cat.h"
 #include "motion/skeleton/forward_kinematics.h"
 
@@ -17,21 +18,6 @@ LocalMotion ToDatabaseWorld(const BvhClip& clip, const RigModel& rig, const Prep
   if (std::abs(clip.frame_time - target) > 1e-6 * target) motion = Resample(motion, target);
   motion.frame_time = target;
   return motion;
-}
-
-Eigen::Vector3f RotationVector(const Eigen::Quaternionf& q_in) {
-  Eigen::Quaternionf q = q_in.normalized();
-  if (q.w() < 0) q.coeffs() *= -1.0f;
-  const Eigen::Vector3f v = q.vec();
-  const float s = v.norm();
-  if (s < 1e-7f) return 2.0f * v;
-  return v * (2.0f * std::atan2(s, q.w()) / s);
-}
-
-Eigen::Quaternionf FromRotationVector(const Eigen::Vector3f& v) {
-  const float angle = v.norm();
-  if (angle < 1e-7f) return Eigen::Quaternionf(1.0f, 0.5f * v.x(), 0.5f * v.y(), 0.5f * v.z()).normalized();
-  return Eigen::Quaternionf(Eigen::AngleAxisf(angle, v / angle));
 }
 
 }  // namespace

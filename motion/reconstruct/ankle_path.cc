@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 
+#include "motion/core/gaussian_kernel.h"
 #include "motion/core/str_cat.h"
 
 namespace mocap {
@@ -13,21 +14,69 @@ namespace {
 float EdgeCost(const AnkleCandidate& from, const AnkleCandidate& to, float dt, const AnklePathOptions& o) {
   float prior = 0.0f;
   float slide = 0.0f;
+  const float ground = o.planted_ankle_height + o.contact_height;
   for (int side = 0; side < 2; ++side) {
     const Eigen::Vector3f predicted = from.position[side] + dt * from.velocity[side];
     prior += (predicted - to.position[side]).squaredNorm();
     const Eigen::Vector3f step = to.position[side] - from.position[side];
     const float distance_sq = step.squaredNorm();
-    if (distance_sq > o.slide_distance * o.slide_distance && std::abs(step.y()) < o.slide_height) {
-      slide += std::exp(o.slide_weight * distance_sq);
-    }
+    if (distance_sq <= o.slide_distance * o.slide_distance) continue;
+    const bool sliding = o.slide_rule == SlideRule::kPatent
+                             ? std::abs(step.y()) < o.slide_height
+                             : from.position[side].y() < ground && to.position[side].y() < ground;
+    if (sliding) slide += std::exp(o.slide_weight * distance_sq);
   }
-  return o.prior_weight * prior + (1.0f - o.prior_weight) * slide;
+  return o.prior_weight * o.prior_length_scale * o.prior_length_scale * prior + (1.0f - o.prior_weight) * slide;
 }
 
 AnklePair AnklesOf(const AnkleCandidate& c) { return {c.position[0], c.position[1]}; }
 
 }  // namespace
+
+AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<float>& kernel, int t, int available) {
+  const int radius = static_cast<int>(kernel.size()) / 2;
+  AnklePair sum = {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  for (int i = -radius; i <= radius; ++i) {
+    const int s = std::clamp(t + i, 0, available - 1);
+    for (int side = 0; side < 2; ++side) sum[side] += kernel[i + radius] * ankles[s][side];
+  }
+  return sum;
+}
+
+void AnkleDagStep(const std::vector<AnkleCandidate>& previous, const std::vector<float>& previous_cost,
+                  const std::vector<AnkleCandidate>& current, float dt, const AnklePathOptions& options,
+                  std::vector<float>* cost, std::vector<int>* from) {
+  cost->assign(current.size(), std::numeric_limits<float>::infinity());
+  from->assign(current.size(), 0);
+  // Exact branch and bound: edge costs are never negative, so scanning predecessors by
+  // increasing path cost can stop at the first one already costing more than the best found.
+  std::vector<int> order(previous.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return previous_cost[a] < previous_cost[b]; });
+  for (size_t k = 0; k < current.size(); ++k) {
+    float best = std::numeric_limits<float>::infinity();
+    int best_j = order[0];
+    for (int j : order) {
+      if (previous_cost[j] >= best) break;
+      const float c = previous_cost[j] + EdgeCost(previous[j], current[k], dt, options);
+      if (c < best) {
+        best = c;
+        best_j = j;
+      }
+    }
+    (*cost)[k] = best;
+    (*from)[k] = best_j;
+  }
+}
+
+std::vector<float> AnkleStartCosts(const std::optional<AnkleCandidate>& start, const std::vector<AnkleCandidate>& first,
+                                   float dt, const AnklePathOptions& options) {
+  std::vector<float> cost(first.size(), 0.0f);
+  if (start) {
+    for (size_t k = 0; k < first.size(); ++k) cost[k] = EdgeCost(*start, first[k], dt, options);
+  }
+  return cost;
+}
 
 absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector<AnkleCandidate>>& clouds,
                                                    const std::optional<AnkleCandidate>& start, double frame_time,
@@ -40,38 +89,9 @@ absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector
   const int frames = static_cast<int>(clouds.size());
   std::vector<std::vector<float>> cost(frames);
   std::vector<std::vector<int>> from(frames);
-  cost[0].resize(clouds[0].size());
+  cost[0] = AnkleStartCosts(start, clouds[0], dt, options);
   from[0].assign(clouds[0].size(), -1);
-  for (size_t k = 0; k < clouds[0].size(); ++k) {
-    cost[0][k] = start ? EdgeCost(*start, clouds[0][k], dt, options) : 0.0f;
-  }
-  std::vector<int> order;
-  for (int t = 1; t < frames; ++t) {
-    const std::vector<AnkleCandidate>& previous = clouds[t - 1];
-    const std::vector<AnkleCandidate>& current = clouds[t];
-    cost[t].assign(current.size(), std::numeric_limits<float>::infinity());
-    from[t].assign(current.size(), 0);
-    // Exact branch and bound: edge costs are never negative, so scanning predecessors by
-    // increasing path cost can stop at the first one already costing more than the best found.
-    order.resize(previous.size());
-    std::iota(order.begin(), order.end(), 0);
-    const std::vector<float>& previous_cost = cost[t - 1];
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return previous_cost[a] < previous_cost[b]; });
-    for (size_t k = 0; k < current.size(); ++k) {
-      float best = std::numeric_limits<float>::infinity();
-      int best_j = order[0];
-      for (int j : order) {
-        if (previous_cost[j] >= best) break;
-        const float c = previous_cost[j] + EdgeCost(previous[j], current[k], dt, options);
-        if (c < best) {
-          best = c;
-          best_j = j;
-        }
-      }
-      cost[t][k] = best;
-      from[t][k] = best_j;
-    }
-  }
+  for (int t = 1; t < frames; ++t) AnkleDagStep(clouds[t - 1], cost[t - 1], clouds[t], dt, options, &cost[t], &from[t]);
   AnkleWindowResult result;
   result.nodes.resize(frames);
   const auto last = std::min_element(cost[frames - 1].begin(), cost[frames - 1].end());
@@ -84,21 +104,10 @@ absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector
 
 std::vector<AnklePair> SmoothAnkles(const std::vector<AnklePair>& ankles, float sigma_frames) {
   if (sigma_frames <= 0.0f || ankles.size() < 2) return ankles;
-  const int radius = static_cast<int>(std::ceil(3.0f * sigma_frames));
-  std::vector<float> kernel(2 * radius + 1);
-  for (int i = -radius; i <= radius; ++i) kernel[i + radius] = std::exp(-0.5f * i * i / (sigma_frames * sigma_frames));
+  const std::vector<float> kernel = GaussianKernel(sigma_frames);
   const int n = static_cast<int>(ankles.size());
   std::vector<AnklePair> out(n);
-  for (int t = 0; t < n; ++t) {
-    AnklePair sum = {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
-    float weight = 0.0f;
-    for (int i = -radius; i <= radius; ++i) {
-      const int s = std::clamp(t + i, 0, n - 1);
-      for (int side = 0; side < 2; ++side) sum[side] += kernel[i + radius] * ankles[s][side];
-      weight += kernel[i + radius];
-    }
-    for (int side = 0; side < 2; ++side) out[t][side] = sum[side] / weight;
-  }
+  for (int t = 0; t < n; ++t) out[t] = SmoothAnkleAt(ankles, kernel, t, n);
   return out;
 }
 

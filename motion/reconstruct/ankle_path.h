@@ -21,10 +21,21 @@
 
 namespace mocap {
 
+enum class SlideRule {
+  kPatent,   // moves > slide_distance while its height changes < slide_height (fires on a level swing too)
+  kContact,  // moves > slide_distance while both ends are within contact_height of the planted ankle height
+};
+
 struct AnklePathOptions {
   float prior_weight = 0.5f;        // β
+  // σ is a squared length; the patent does not give its unit. In metres a 2 cm miss costs 0.0004
+  // while any slide costs ≥ 1, so σ is taken in centimetres (× 100²), which balances the terms.
+  float prior_length_scale = 100.0f;
+  SlideRule slide_rule = SlideRule::kContact;
   float slide_distance = 0.02f;     // metres between consecutive frames
   float slide_height = 0.014f;      // metres: the patent's "0.14 cm" read as 1.4 cm (see note)
+  float planted_ankle_height = 0.08f;  // metres (the session sets the database's)
+  float contact_height = 0.04f;     // metres above the planted height
   float slide_weight = 100.0f;      // w_s, 1/m²
   float smoothing_sigma_frames = 2.0f;  // Gaussian filter on the chosen path; 0 = none
 };
@@ -36,6 +47,15 @@ struct AnkleWindowResult {
   std::vector<AnklePair> ankles;   // its ankles (not smoothed)
   float cost = 0.0f;
 };
+
+// One DP step (Algorithm 1): the cheapest path cost to every node of `current` and its best
+// predecessor in `previous`, whose path costs are `previous_cost`. Exact branch and bound.
+void AnkleDagStep(const std::vector<AnkleCandidate>& previous, const std::vector<float>& previous_cost,
+                  const std::vector<AnkleCandidate>& current, float frame_time, const AnklePathOptions& options,
+                  std::vector<float>* cost, std::vector<int>* from);
+// Path costs of a window's first frame: edges from `start`, or all zero at a segment's start.
+std::vector<float> AnkleStartCosts(const std::optional<AnkleCandidate>& start, const std::vector<AnkleCandidate>& first,
+                                   float frame_time, const AnklePathOptions& options);
 
 // One window: clouds[t] for its frames; `start` is the previous window's last chosen candidate
 // (the only start node), or nullopt at the beginning of a segment. InvalidArgument for an empty
@@ -50,6 +70,9 @@ absl::StatusOr<std::vector<AnklePair>> SolveAnklePath(const std::vector<std::vec
                                                       int window, double frame_time, const AnklePathOptions& options);
 
 // Gaussian filter over frames (edges clamped).
+// One filtered frame: `kernel` (GaussianKernel) centred on t over ankles[0, available), the
+// frames beyond either end clamped to the nearest available one.
+AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<float>& kernel, int t, int available);
 std::vector<AnklePair> SmoothAnkles(const std::vector<AnklePair>& ankles, float sigma_frames);
 
 }  // namespace mocap

@@ -1,5 +1,6 @@
 #include "motion/reconstruct/reconstruction_database.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "motion/core/str_cat.h"
@@ -19,9 +20,11 @@ void WristAnkleFeature(const FrameFeatures& f, float position_weight, float out[
 }
 
 absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionDatabase::Build(
-    const RigModel& rig, const std::vector<DatabaseClip>& clips, float position_weight) {
+    const RigModel& rig, const std::vector<DatabaseClip>& clips, float position_weight, double frame_time) {
   std::shared_ptr<ReconstructionDatabase> db(new ReconstructionDatabase());
   db->rig_ = rig;
+  db->position_weight_ = position_weight;
+  db->frame_time_ = frame_time;
   const int joints = rig.skeleton.num_joints();
   // q: every joint except those from the root down to the pelvis (their rotations are z_R).
   std::vector<bool> on_pelvis_chain(joints, false);
@@ -57,6 +60,19 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
       }
     }
   }
+  // The body the solver drives: the rig's offsets in metres.
+  std::vector<Joint> body_joints = rig.skeleton.joints();
+  const float metres = static_cast<float>(MetresPerUnit(rig.unit));
+  for (Joint& joint : body_joints) joint.offset *= metres;
+  absl::StatusOr<BodyModel> body = BodyModel::Create(rig, Skeleton(std::move(body_joints)), db->pose_joints_);
+  if (!body.ok()) return body.status();
+  db->body_.emplace(std::move(*body));
+  std::vector<float> lower_ankle(total);
+  for (size_t r = 0; r < total; ++r) {
+    lower_ankle[r] = std::min(db->frames_[r].ankle_position[0][1], db->frames_[r].ankle_position[1][1]);
+  }
+  std::nth_element(lower_ankle.begin(), lower_ankle.begin() + total / 10, lower_ankle.end());
+  db->planted_ankle_height_ = lower_ankle[total / 10];
   if (absl::Status status = db->wrist_index_.Build(db->frames_, {.position_weight = position_weight}); !status.ok()) {
     return status;
   }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,6 +14,7 @@
 #include "absl/status/statusor.h"
 #include "motion/core/kd_tree.h"
 #include "motion/preprocess/clip_preprocessor.h"
+#include "motion/reconstruct/body_model.h"
 #include "motion/reconstruct/wrist_feature_index.h"
 
 namespace mocap {
@@ -34,7 +36,8 @@ class ReconstructionDatabase {
   // when there are no frames.
   static absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> Build(const RigModel& rig,
                                                                             const std::vector<DatabaseClip>& clips,
-                                                                            float position_weight = 0.8f);
+                                                                            float position_weight = 0.8f,
+                                                                            double frame_time = 1.0 / 30.0);
 
   const RigModel& rig() const { return rig_; }
   int num_frames() const { return static_cast<int>(frames_.size()); }
@@ -46,6 +49,12 @@ class ReconstructionDatabase {
   int clip_of(int row) const { return clip_of_row_[row]; }
   int frame_in_clip(int row) const { return frame_of_row_[row]; }
   const WristFeatureIndex& wrist_index() const { return wrist_index_; }
+  float position_weight() const { return position_weight_; }
+  // The rig with the first performer's offsets in metres, as the A6 solver drives it.
+  const BodyModel& body() const { return *body_; }
+  // Typical height of a planted ankle (10th percentile of the lower ankle's height): A7's ground.
+  float planted_ankle_height() const { return planted_ankle_height_; }
+  double frame_time() const { return frame_time_; }
   // K nearest frames by eq. 8 (exact kd-tree).
   absl::StatusOr<std::vector<Neighbour>> NearestByWristsAndAnkles(const float query[kWristAnkleFeatureDims], int k) const;
 
@@ -61,6 +70,10 @@ class ReconstructionDatabase {
   std::vector<int> clip_of_row_, frame_of_row_;
   WristFeatureIndex wrist_index_;
   KdTree full_index_;  // eq. 8
+  float position_weight_ = 0.8f;
+  std::optional<BodyModel> body_;
+  float planted_ankle_height_ = 0.0f;
+  double frame_time_ = 1.0 / 30.0;
 };
 
 }  // namespace mocap

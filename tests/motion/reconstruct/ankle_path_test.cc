@@ -77,7 +77,20 @@ TEST(AnklePathTest, SlidingIsPenalised) {
   AnklePathOptions no_slide_term;
   no_slide_term.prior_weight = 1.0f;
   auto tie = SolveAnkleWindow({{slides, lifts}}, start, kFrameTime, no_slide_term);
-  EXPECT_NEAR(tie->cost, 0.05f * 0.05f, 1e-6f);
+  EXPECT_NEAR(tie->cost, 0.05f * 0.05f * 1e4f, 1e-3f);  // σ in cm²
+}
+
+TEST(AnklePathTest, OnlyTheContactRuleSparesALevelSwingAboveTheGround) {
+  AnkleCandidate from;
+  from.position[0] = from.position[1] = Eigen::Vector3f(0, 0.25f, 0);  // a swinging foot, well above ground
+  from.velocity[0] = from.velocity[1] = Eigen::Vector3f::Zero();
+  AnkleCandidate to = from;
+  to.position[0].z() += 0.08f;  // 8 cm forward, level
+  AnklePathOptions contact, patent;
+  contact.prior_weight = patent.prior_weight = 0.0f;  // the slide term alone
+  patent.slide_rule = SlideRule::kPatent;
+  EXPECT_EQ(SolveAnkleWindow({{to}}, from, kFrameTime, contact)->cost, 0.0f);
+  EXPECT_GT(SolveAnkleWindow({{to}}, from, kFrameTime, patent)->cost, 1.0f);
 }
 
 TEST(AnklePathTest, SmoothingKeepsLinesAndDampsJitter) {

@@ -1,0 +1,141 @@
+#include "motion/reconstruct/body_model.h"
+
+#include <algorithm>
+
+#include "motion/core/rotation_vector.h"
+#include "motion/core/str_cat.h"
+
+namespace mocap {
+
+absl::StatusOr<BodyModel> BodyModel::Create(const RigModel& rig, const Skeleton& skeleton, const std::vector<int>& pose_joints) {
+  if (!skeleton.SameRigAs(rig.skeleton)) return absl::InvalidArgumentError("body model skeleton is not the rig's hierarchy");
+  const int joints = skeleton.num_joints();
+  if (static_cast<int>(rig.reference_rotations.size()) != joints) {
+    return absl::InvalidArgumentError("rig has no reference rotation per joint");
+  }
+  BodyModel model;
+  model.rig_ = rig;
+  model.skeleton_ = skeleton;
+  model.pose_joints_ = pose_joints;
+  model.pose_slot_.assign(joints, -1);
+  const BodyLandmarks& l = rig.topology.landmarks;
+  std::vector<bool> on_chain(joints, false);
+  std::vector<int> chain;
+  for (int j = l.pelvis; j >= 0; j = skeleton.parent(j)) {
+    on_chain[j] = true;
+    chain.push_back(j);
+  }
+  for (size_t i = 0; i < pose_joints.size(); ++i) {
+    const int j = pose_joints[i];
+    if (j < 0 || j >= joints || on_chain[j]) {
+      return absl::InvalidArgumentError(StrCat("pose joint ", j, " is outside the rig or on the pelvis chain"));
+    }
+    model.pose_slot_[j] = static_cast<int>(i);
+  }
+  for (int j = 0; j < joints; ++j) {
+    model.reference_.push_back(rig.reference_rotations[j].cast<double>().normalized());
+    model.offset_.push_back(skeleton.joint(j).offset.cast<double>());
+  }
+  // K = L(c1)·…·L(pelvis) with the chain at its reference rotations (the root excluded).
+  std::reverse(chain.begin(), chain.end());
+  for (size_t i = 1; i < chain.size(); ++i) {
+    const int j = chain[i];
+    model.chain_translation_ += model.chain_rotation_ * model.offset_[j];
+    model.chain_rotation_ = model.chain_rotation_ * model.reference_[j];
+  }
+  model.control_landmarks_ = {l.left_wrist, l.right_wrist, l.left_ankle, l.right_ankle};
+  std::vector<bool> needed(joints, false);
+  for (int landmark : model.control_landmarks_) {
+    for (int j = landmark; j >= 0; j = skeleton.parent(j)) needed[j] = true;
+  }
+  for (int j = 0; j < joints; ++j) {
+    if (needed[j]) model.control_joints_.push_back(j);
+  }
+  return model;
+}
+
+void BodyModel::RootFromPelvis(const Eigen::Quaterniond& pelvis_rotation, const Eigen::Vector3d& pelvis_position,
+                               Eigen::Quaterniond* root_rotation, Eigen::Vector3d* root_position) const {
+  *root_rotation = pelvis_rotation * chain_rotation_.conjugate();
+  *root_position = pelvis_position - *root_rotation * chain_translation_;
+}
+
+void BodyModel::ControlPoints(const Eigen::Quaterniond& pelvis_rotation, const Eigen::Vector3d& pelvis_position,
+                              const double* q, std::array<Eigen::Vector3d, kNumControlPoints>* out) const {
+  // Small fixed-size work per call (the solver calls this ~100 times per frame): world transforms
+  // of the needed joints only, in a stack buffer when the rig is small enough.
+  constexpr int kStack = 128;
+  Eigen::Quaterniond stack_rotations[kStack];
+  Eigen::Vector3d stack_positions[kStack];
+  std::vector<Eigen::Quaterniond> heap_rotations;
+  std::vector<Eigen::Vector3d> heap_positions;
+  Eigen::Quaterniond* rotation = stack_rotations;
+  Eigen::Vector3d* position = stack_positions;
+  if (skeleton_.num_joints() > kStack) {
+    heap_rotations.resize(skeleton_.num_joints());
+    heap_positions.resize(skeleton_.num_joints());
+    rotation = heap_rotations.data();
+    position = heap_positions.data();
+  }
+  for (int j : control_joints_) {
+    const int parent = skeleton_.parent(j);
+    if (parent < 0) {
+      RootFromPelvis(pelvis_rotation, pelvis_position, &rotation[j], &position[j]);
+      continue;
+    }
+    const int slot = pose_slot_[j];
+    const Eigen::Quaterniond local =
+        slot < 0 ? reference_[j] : reference_[j] * FromRotationVector(Eigen::Map<const Eigen::Vector3d>(q + 3 * slot));
+    position[j] = position[parent] + rotation[parent] * offset_[j];
+    rotation[j] = rotation[parent] * local;
+  }
+  for (int c = 0; c < kNumControlPoints; ++c) (*out)[c] = position[control_landmarks_[c]];
+}
+
+BodyPose BodyModel::Pose(const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position,
+                        const float* q) const {
+  Eigen::Quaterniond root_rotation;
+  Eigen::Vector3d root_position;
+  RootFromPelvis(pelvis_rotation.cast<double>().normalized(), pelvis_position.cast<double>(), &root_rotation, &root_position);
+  BodyPose pose;
+  pose.root_position = root_position.cast<float>();
+  pose.rotations.resize(skeleton_.num_joints());
+  pose.rotations[0] = root_rotation.cast<float>();
+  for (int j = 1; j < skeleton_.num_joints(); ++j) {
+    const int slot = pose_slot_[j];
+    const Eigen::Quaterniond local =
+        slot < 0 ? reference_[j]
+                 : reference_[j] * FromRotationVector(Eigen::Vector3d(q[3 * slot], q[3 * slot + 1], q[3 * slot + 2]));
+    pose.rotations[j] = local.cast<float>();
+  }
+  return pose;
+}
+
+void BodyModel::WorldTransforms(const BodyPose& pose, std::vector<Eigen::Quaternionf>* rotations,
+                                std::vector<Eigen::Vector3f>* positions) const {
+  const int joints = skeleton_.num_joints();
+  rotations->resize(joints);
+  positions->resize(joints);
+  (*rotations)[0] = pose.rotations[0];
+  (*positions)[0] = pose.root_position;
+  for (int j = 1; j < joints; ++j) {
+    const int parent = skeleton_.parent(j);
+    (*positions)[j] = (*positions)[parent] + (*rotations)[parent] * offset_[j].cast<float>();
+    (*rotations)[j] = (*rotations)[parent] * pose.rotations[j];
+  }
+}
+
+LocalMotion BodyModel::ToLocalMotion(const std::vector<BodyPose>& poses, double frame_time) const {
+  LocalMotion motion;
+  motion.frame_time = frame_time;
+  motion.Resize(static_cast<int>(poses.size()), skeleton_.num_joints());
+  for (int f = 0; f < static_cast<int>(poses.size()); ++f) {
+    for (int j = 0; j < skeleton_.num_joints(); ++j) {
+      motion.SetRotation(f, j, poses[f].rotations[j]);
+      motion.SetTranslation(f, j, j == 0 ? poses[f].root_position : Eigen::Vector3f(offset_[j].cast<float>()));
+    }
+  }
+  return motion;
+}
+
+}  // namespace mocap

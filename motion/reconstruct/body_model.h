@@ -1,0 +1,80 @@
+// BodyModel: the database rig as METHOD.md A6 drives it. The unknowns are the pelvis' world
+// transform z = (z_R, z_P) and the joint rotations q of the pose feature (rotation vectors relative
+// to the rig's reference rotations, for ReconstructionDatabase::pose_joints()). Joints on the
+// root-to-pelvis chain keep their reference rotations; the root's transform follows from z.
+//
+// Thread safety: immutable after Create; share freely.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "absl/status/statusor.h"
+#include "motion/preprocess/clip_preprocessor.h"
+#include "motion/skeleton/local_motion.h"
+
+namespace mocap {
+
+// One frame of a body on the model's skeleton: root translation (metres, world) and every
+// joint's local rotation.
+struct BodyPose {
+  Eigen::Vector3f root_position = Eigen::Vector3f::Zero();
+  std::vector<Eigen::Quaternionf> rotations;
+};
+
+// The four control points of A6, in this order.
+enum ControlPoint { kLeftWrist = 0, kRightWrist = 1, kLeftAnkle = 2, kRightAnkle = 3 };
+inline constexpr int kNumControlPoints = 4;
+
+class BodyModel {
+ public:
+  // `skeleton`: the rig's hierarchy with offsets in metres (a database performer's, optionally
+  // scaled). InvalidArgument when it is not the rig's hierarchy or a pose joint is on the pelvis
+  // chain.
+  static absl::StatusOr<BodyModel> Create(const RigModel& rig, const Skeleton& skeleton, const std::vector<int>& pose_joints);
+
+  const Skeleton& skeleton() const { return skeleton_; }
+  const RigModel& rig() const { return rig_; }
+  int num_pose_joints() const { return static_cast<int>(pose_joints_.size()); }
+
+  // World positions (metres) of the wrists and ankles. `q` holds 3 values per pose joint.
+  void ControlPoints(const Eigen::Quaterniond& pelvis_rotation, const Eigen::Vector3d& pelvis_position, const double* q,
+                     std::array<Eigen::Vector3d, kNumControlPoints>* out) const;
+  template <typename Derived>
+  void ControlPoints(const Eigen::Quaterniond& pelvis_rotation, const Eigen::Vector3d& pelvis_position,
+                     const Eigen::MatrixBase<Derived>& q, std::array<Eigen::Vector3d, kNumControlPoints>* out) const {
+    const Eigen::VectorXd qd = q.template cast<double>();
+    ControlPoints(pelvis_rotation, pelvis_position, qd.data(), out);
+  }
+
+  // The whole pose: every joint's local rotation and the root translation that puts the pelvis
+  // at `pelvis_position` (other joints keep their offsets).
+  BodyPose Pose(const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position, const float* q) const;
+  // World rotations and positions of every joint of `pose`.
+  void WorldTransforms(const BodyPose& pose, std::vector<Eigen::Quaternionf>* rotations,
+                       std::vector<Eigen::Vector3f>* positions) const;
+  // A motion of `poses` on this skeleton (metres, Y up).
+  LocalMotion ToLocalMotion(const std::vector<BodyPose>& poses, double frame_time) const;
+
+  // Root world transform that places the pelvis at z (the chain at its reference rotations).
+  void RootFromPelvis(const Eigen::Quaterniond& pelvis_rotation, const Eigen::Vector3d& pelvis_position,
+                      Eigen::Quaterniond* root_rotation, Eigen::Vector3d* root_position) const;
+
+ private:
+  BodyModel() = default;
+  RigModel rig_;
+  Skeleton skeleton_;
+  std::vector<int> pose_joints_;
+  std::vector<int> pose_slot_;           // per joint: index into pose_joints_, or -1
+  std::vector<int> control_joints_;      // joints on the root-to-control-point paths, parents first
+  std::array<int, kNumControlPoints> control_landmarks_{};
+  std::vector<Eigen::Quaterniond> reference_;
+  std::vector<Eigen::Vector3d> offset_;
+  Eigen::Quaterniond chain_rotation_ = Eigen::Quaterniond::Identity();  // root→pelvis, reference pose
+  Eigen::Vector3d chain_translation_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace mocap

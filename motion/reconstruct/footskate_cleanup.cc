@@ -1,0 +1,81 @@
+#include "motion/reconstruct/footskate_cleanup.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mocap {
+
+void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose) {
+  const Skeleton& skeleton = body.skeleton();
+  const int knee = skeleton.parent(ankle_joint);
+  const int hip = knee >= 0 ? skeleton.parent(knee) : -1;
+  if (hip < 0) return;
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  body.WorldTransforms(*pose, &rotations, &positions);
+  const Eigen::Vector3f h = positions[hip], k = positions[knee], a = positions[ankle_joint];
+  const float upper = (k - h).norm(), lower = (a - k).norm();
+  if (upper < 1e-5f || lower < 1e-5f) return;
+  const float reach = std::clamp((target - h).norm(), std::abs(upper - lower) + 1e-4f, upper + lower - 1e-4f);
+  // Knee: change the interior angle so that hip-to-ankle distance equals the reach.
+  const Eigen::Vector3f to_hip = (h - k) / upper, to_ankle = (a - k) / lower;
+  const float current = std::acos(std::clamp(to_hip.dot(to_ankle), -1.0f, 1.0f));
+  const float wanted = std::acos(std::clamp((upper * upper + lower * lower - reach * reach) / (2 * upper * lower), -1.0f, 1.0f));
+  Eigen::Vector3f axis = to_hip.cross(to_ankle);
+  if (axis.norm() < 1e-6f) axis = rotations[knee] * Eigen::Vector3f::UnitX();  // straight leg: any bend axis
+  axis.normalize();
+  const Eigen::Quaternionf knee_turn(Eigen::AngleAxisf(wanted - current, axis));
+  const Eigen::Vector3f bent_ankle = k + knee_turn * (a - k);
+  // Hip: swing the leg so that the ankle lies on the line to the target.
+  const Eigen::Quaternionf hip_turn = Eigen::Quaternionf::FromTwoVectors(bent_ankle - h, target - h);
+  const Eigen::Quaternionf ankle_world = rotations[ankle_joint];
+  pose->rotations[hip] = (pose->rotations[hip] * (rotations[hip].conjugate() * hip_turn * rotations[hip])).normalized();
+  pose->rotations[knee] = (pose->rotations[knee] * (rotations[knee].conjugate() * knee_turn * rotations[knee])).normalized();
+  const Eigen::Quaternionf new_knee_world = hip_turn * knee_turn * rotations[knee];
+  pose->rotations[ankle_joint] = (new_knee_world.conjugate() * ankle_world).normalized();
+}
+
+FootskateCleaner::FootskateCleaner(const BodyModel& body, float planted_ankle_height, double frame_time,
+                                   const FootskateOptions& options)
+    : body_(body), planted_height_(planted_ankle_height), rate_(static_cast<float>(1.0 / frame_time)), options_(options) {}
+
+void FootskateCleaner::Reset() { feet_ = {}; }
+
+std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles, BodyPose* pose) {
+  std::array<bool, 2> contact{false, false};
+  const BodyLandmarks& l = body_.rig().topology.landmarks;
+  const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
+  for (int side = 0; side < 2; ++side) {
+    Foot& foot = feet_[side];
+    const Eigen::Vector3f& estimate = estimated_ankles[side];
+    if (foot.has_previous) {
+      const Eigen::Vector2f step(estimate.x() - foot.previous.x(), estimate.z() - foot.previous.z());
+      contact[side] = step.norm() * rate_ < options_.contact_speed && estimate.y() < planted_height_ + options_.contact_height;
+    }
+    foot.previous = estimate;
+    foot.has_previous = true;
+    if (!options_.enabled) continue;
+    body_.WorldTransforms(*pose, &rotations_, &positions_);
+    const Eigen::Vector3f solved = positions_[ankle_joints[side]];
+    if (contact[side]) {
+      if (!foot.planted) foot.pin = solved;
+      foot.planted = true;
+      foot.release_left = 0;
+      SolveLegIk(body_, ankle_joints[side], foot.pin, pose);
+      continue;
+    }
+    if (foot.planted) {
+      foot.planted = false;
+      foot.release_offset = foot.pin - solved;
+      foot.release_left = options_.release_frames;
+    }
+    if (foot.release_left > 0) {
+      const float fraction = static_cast<float>(foot.release_left) / static_cast<float>(options_.release_frames + 1);
+      SolveLegIk(body_, ankle_joints[side], solved + fraction * foot.release_offset, pose);
+      --foot.release_left;
+    }
+  }
+  return contact;
+}
+
+}  // namespace mocap

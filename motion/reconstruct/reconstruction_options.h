@@ -1,0 +1,41 @@
+// Every parameter of the reconstruction (METHOD.md A2–A7); the defaults are the patent's where it
+// gives one, otherwise what measured best (see README, mocap-eval).
+#pragma once
+
+#include "motion/reconstruct/ankle_path.h"
+#include "motion/reconstruct/footskate_cleanup.h"
+#include "motion/reconstruct/pose_solver.h"
+#include "motion/reconstruct/wrist_smoother.h"
+
+namespace mocap {
+
+enum class ReconstructionMethod {
+  kFull,              // A2–A7: estimated ankles, then the pose model driven by wrists and ankles
+  kWristsOnly,        // baseline: the A5/A6 pose model driven by the wrists alone (patent §5)
+  kNearestNeighbour,  // baseline: the database pose nearest by eq. 2 (a plain motion-matching lookup)
+};
+
+enum class StreamMode {
+  kSubInterval,  // A4 §3.3.1: windows of `window` frames (0 = the whole segment, i.e. offline)
+  kFixedLag,     // frame t−`lag` is emitted when frame t arrives (0 = causal)
+};
+
+struct ReconstructionOptions {
+  ReconstructionMethod method = ReconstructionMethod::kFull;
+  StreamMode mode = StreamMode::kSubInterval;
+  int window = 0;  // L, frames
+  int lag = 0;     // D, frames
+
+  WristSmoothingOptions smoothing;  // A2: s = 0.5
+  int ankle_candidates = 1000;      // A3: K1
+  AnklePathOptions ankle_path;      // A4: β, sliding rule, Gaussian σ
+  int pose_neighbours = 200;        // A5: K2
+  int pose_components = 6;          // A5: D'
+  PoseSolverOptions solver;         // A6: energy weights, LM
+  FootskateOptions footskate;       // A7: contacts, leg IK
+  float joint_smoothing_sigma = 1.0f;  // A7: Gaussian in joint space, frames (0 = none)
+
+  double max_gap_seconds = 0.25;    // longer input dropouts end the segment
+};
+
+}  // namespace mocap

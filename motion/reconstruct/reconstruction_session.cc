@@ -1,0 +1,397 @@
+#include "motion/reconstruct/reconstruction_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <deque>
+#include <optional>
+
+#include "motion/core/gaussian_kernel.h"
+#include "motion/core/rotation_vector.h"
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+#include "motion/reconstruct/ankle_cloud.h"
+#include "motion/reconstruct/local_pose_model.h"
+
+namespace mocap {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+AnklePair AnklesOf(const AnkleCandidate& c) { return {c.position[0], c.position[1]}; }
+
+// A database frame's pelvis placed in the query's wrist reference frame (A1: local coordinates
+// are comparable across frames).
+void PelvisInQueryFrame(const FrameFeatures& f, const ReferenceFrame& ref, SolvedPose* pose) {
+  const Eigen::Quaternionf ref_rotation(ref.rotation);
+  pose->pelvis_position =
+      ref.origin + ref.rotation * Eigen::Vector3f(f.pelvis_position[0], f.pelvis_position[1], f.pelvis_position[2]);
+  pose->pelvis_rotation =
+      (ref_rotation * Eigen::Quaternionf(f.pelvis_rotation[0], f.pelvis_rotation[1], f.pelvis_rotation[2], f.pelvis_rotation[3]))
+          .normalized();
+}
+
+}  // namespace
+
+struct ReconstructionSession::Segment {
+  Segment(int id, const ReconstructionDatabase& db, const ReconstructionOptions& o)
+      : id(id), smoother(o.smoothing, db.frame_time()),
+        cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), o.footskate) {}
+  int id;
+  WristSmoother smoother;
+  float cloud_heading = 0.0f, pose_heading = 0.0f;
+  std::vector<SmoothedWrists> wrists;
+  std::vector<double> times;
+  std::vector<bool> bridged;
+  std::vector<float> wrist_distance;
+  // A4 state.
+  std::vector<AnklePair> raw;  // decided (unsmoothed) path
+  std::vector<int> raw_rows;
+  std::vector<std::vector<AnkleCandidate>> window;  // sub-interval mode: the open window's clouds
+  std::optional<AnkleCandidate> start;
+  struct DpFrame {
+    std::vector<AnkleCandidate> cloud;
+    std::vector<float> cost;
+    std::vector<int> from;
+  };
+  std::deque<DpFrame> dp;  // fixed-lag mode: frames dp_first.. of the running DP
+  int dp_first = 0;
+  std::vector<AnklePair> ankles;  // decided and smoothed ankle controls
+  // A5–A7 state.
+  std::optional<SolvedPose> previous, before_previous;
+  FootskateCleaner cleaner;
+  std::deque<ReconstructedFrame> post;  // solved frames waiting for the joint filter
+  int post_first = 0;
+  int emitted = 0;
+};
+
+ReconstructionSession::ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database,
+                                             const ReconstructionOptions& options)
+    : database_(std::move(database)), options_(options), resampler_(database_->frame_time(), options.max_gap_seconds) {
+  options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
+  ankle_kernel_ = GaussianKernel(options_.ankle_path.smoothing_sigma_frames);
+  joint_kernel_ = GaussianKernel(options_.joint_smoothing_sigma);
+  const int radius = static_cast<int>(joint_kernel_.size()) / 2;
+  if (options_.mode == StreamMode::kFixedLag) {
+    joint_filter_lag_ = std::min(radius, options_.lag);
+    ankle_lag_ = options_.lag - joint_filter_lag_;
+  } else {
+    joint_filter_lag_ = radius;
+  }
+}
+
+ReconstructionSession::~ReconstructionSession() = default;
+
+absl::StatusOr<std::unique_ptr<ReconstructionSession>> ReconstructionSession::Create(
+    std::shared_ptr<const ReconstructionDatabase> database, const ReconstructionOptions& options) {
+  if (!database) return absl::InvalidArgumentError("no reconstruction database");
+  if (options.ankle_candidates < 1 || options.ankle_candidates > 100000) {
+    return absl::InvalidArgumentError(StrCat("K1 (ankle candidates) must be in [1, 100000], not ", options.ankle_candidates));
+  }
+  if (options.pose_neighbours < 2 || options.pose_neighbours > 100000) {
+    return absl::InvalidArgumentError(StrCat("K2 (pose neighbours) must be in [2, 100000], not ", options.pose_neighbours));
+  }
+  if (options.pose_components < 1 || options.pose_components > 64) {
+    return absl::InvalidArgumentError(StrCat("pose model components must be in [1, 64], not ", options.pose_components));
+  }
+  if (options.window < 0 || options.lag < 0 || options.lag > 600) {
+    return absl::InvalidArgumentError("window and lag must be ≥ 0 (lag ≤ 600 frames)");
+  }
+  if (!(options.max_gap_seconds > 0) || !(options.joint_smoothing_sigma >= 0) || options.joint_smoothing_sigma > 30 ||
+      !(options.ankle_path.smoothing_sigma_frames >= 0) || options.ankle_path.smoothing_sigma_frames > 30) {
+    return absl::InvalidArgumentError("gap and smoothing parameters out of range");
+  }
+  return std::unique_ptr<ReconstructionSession>(new ReconstructionSession(std::move(database), options));
+}
+
+int ReconstructionSession::latency_frames() const {
+  if (options_.method != ReconstructionMethod::kFull) return joint_filter_lag_;
+  if (options_.mode == StreamMode::kFixedLag) return options_.lag;
+  return options_.window > 0 ? options_.window - 1 + joint_filter_lag_ : -1;
+}
+
+absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<ReconstructedFrame>* out) {
+  std::vector<GridSample> grid;
+  if (absl::Status status = resampler_.Push(sample, &grid); !status.ok()) {
+    ++statistics_.refused_samples;
+    return status;
+  }
+  ++statistics_.samples;
+  for (const GridSample& g : grid) MOCAP_RETURN_IF_ERROR(AcceptGridSample(g, out));
+  return absl::OkStatus();
+}
+
+absl::Status ReconstructionSession::Finish(std::vector<ReconstructedFrame>* out) {
+  MOCAP_RETURN_IF_ERROR(EndSegment(out));
+  resampler_.Reset();
+  return absl::OkStatus();
+}
+
+absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, std::vector<ReconstructedFrame>* out) {
+  if (sample.starts_segment) MOCAP_RETURN_IF_ERROR(EndSegment(out));
+  if (!segment_) {
+    segment_ = std::make_unique<Segment>(next_segment_id_++, *database_, options_);
+    ++statistics_.segments;
+  }
+  Segment& s = *segment_;
+  const int t = static_cast<int>(s.wrists.size());
+  auto start = Clock::now();
+  s.wrists.push_back(s.smoother.Push(sample.left, sample.right));
+  s.times.push_back(sample.time);
+  s.bridged.push_back(sample.bridged);
+  if (options_.method != ReconstructionMethod::kFull) {
+    s.wrist_distance.push_back(0.0f);
+    statistics_.cloud_seconds += SecondsSince(start);
+    return SolveFrame(t, out);
+  }
+  std::vector<AnkleCandidate> cloud;
+  MOCAP_RETURN_IF_ERROR(FindAnkleCloud(database_->wrist_index(), database_->frames(), {.position_weight = database_->position_weight()},
+                                       s.wrists.back(), options_.ankle_candidates, &s.cloud_heading, &cloud));
+  s.wrist_distance.push_back(cloud.front().wrist_distance);
+  statistics_.cloud_seconds += SecondsSince(start);
+  start = Clock::now();
+  const float dt = static_cast<float>(database_->frame_time());
+  if (options_.mode == StreamMode::kSubInterval) {
+    s.window.push_back(std::move(cloud));
+    if (options_.window > 0 && static_cast<int>(s.window.size()) == options_.window) {
+      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path));
+      s.start = s.window.back()[solved.nodes.back()];
+      for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
+      s.raw.insert(s.raw.end(), solved.ankles.begin(), solved.ankles.end());
+      s.window.clear();
+      statistics_.path_seconds += SecondsSince(start);
+      return DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, out);
+    }
+    statistics_.path_seconds += SecondsSince(start);
+    return absl::OkStatus();
+  }
+  // Fixed lag: extend the running DP by one frame, then decide frame t − D_a on today's best path.
+  Segment::DpFrame frame;
+  if (s.dp.empty()) {
+    frame.cost.assign(cloud.size(), 0.0f);
+    frame.from.assign(cloud.size(), -1);
+  } else {
+    AnkleDagStep(s.dp.back().cloud, s.dp.back().cost, cloud, dt, options_.ankle_path, &frame.cost, &frame.from);
+    const float lowest = *std::min_element(frame.cost.begin(), frame.cost.end());
+    for (float& c : frame.cost) c -= lowest;  // path costs only compare within a frame: keep them small
+  }
+  frame.cloud = std::move(cloud);
+  s.dp.push_back(std::move(frame));
+  const int decide = t - ankle_lag_;
+  if (decide < 0) {
+    statistics_.path_seconds += SecondsSince(start);
+    return absl::OkStatus();
+  }
+  std::vector<int> nodes(t - decide + 1);
+  const std::vector<float>& last_cost = s.dp.back().cost;
+  nodes.back() = static_cast<int>(std::min_element(last_cost.begin(), last_cost.end()) - last_cost.begin());
+  for (int f = t; f > decide; --f) nodes[f - 1 - decide] = s.dp[f - s.dp_first].from[nodes[f - decide]];
+  const AnkleCandidate& chosen = s.dp[decide - s.dp_first].cloud[nodes[0]];
+  s.raw.push_back(AnklesOf(chosen));
+  s.raw_rows.push_back(chosen.row);
+  std::vector<AnklePair> tentative;
+  for (int f = decide + 1; f <= t; ++f) tentative.push_back(AnklesOf(s.dp[f - s.dp_first].cloud[nodes[f - decide]]));
+  while (s.dp_first < decide) {  // later backtracks stop at decide + 1
+    s.dp.pop_front();
+    ++s.dp_first;
+  }
+  statistics_.path_seconds += SecondsSince(start);
+  return DecideAnkles(decide + 1, static_cast<int>(s.raw.size() + tentative.size()), tentative, out);
+}
+
+absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available, const std::vector<AnklePair>& tentative,
+                                                 std::vector<ReconstructedFrame>* out) {
+  Segment& s = *segment_;
+  const int radius = static_cast<int>(ankle_kernel_.size()) / 2;
+  const int first = static_cast<int>(s.ankles.size());
+  if (first >= up_to_frame) return absl::OkStatus();
+  // The decided path, then the tentative continuation, from the filter's reach onwards.
+  const int low = std::max(0, first - radius);
+  std::vector<AnklePair> path(s.raw.begin() + low, s.raw.end());
+  path.insert(path.end(), tentative.begin(), tentative.end());
+  const int count = available - low;
+  for (int f = first; f < up_to_frame; ++f) {
+    s.ankles.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count));
+    MOCAP_RETURN_IF_ERROR(SolveFrame(f, out));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedFrame>* out) {
+  Segment& s = *segment_;
+  const auto start = Clock::now();
+  const ReconstructionDatabase& db = *database_;
+  const double dt = db.frame_time();
+  const SmoothedWrists& wrists = s.wrists[f];
+  const bool full = options_.method == ReconstructionMethod::kFull;
+  const ReferenceFrame ref = WristReferenceFrame(wrists.position[0], wrists.position[1], s.pose_heading, &s.pose_heading);
+  FrameFeatures query{};
+  AnklePair ankles{};
+  for (int side = 0; side < 2; ++side) {
+    const Eigen::Vector3f p = ref.ToLocal(wrists.position[side]);
+    const Eigen::Vector3f v = ref.DirectionToLocal(wrists.velocity[side]);
+    for (int axis = 0; axis < 3; ++axis) {
+      query.wrist_position[side][axis] = p[axis];
+      query.wrist_velocity[side][axis] = v[axis];
+    }
+    if (!full) continue;
+    ankles[side] = s.ankles[f][side];
+    const Eigen::Vector3f velocity = f > 0 ? Eigen::Vector3f((s.ankles[f][side] - s.ankles[f - 1][side]) / dt) : Eigen::Vector3f::Zero();
+    const Eigen::Vector3f ap = ref.ToLocal(ankles[side]);
+    const Eigen::Vector3f av = ref.DirectionToLocal(velocity);
+    for (int axis = 0; axis < 3; ++axis) {
+      query.ankle_position[side][axis] = ap[axis];
+      query.ankle_velocity[side][axis] = av[axis];
+    }
+  }
+  std::vector<Neighbour> neighbours;
+  if (full) {
+    float feature[kWristAnkleFeatureDims];
+    WristAnkleFeature(query, db.position_weight(), feature);
+    MOCAP_ASSIGN_OR_RETURN(neighbours, db.NearestByWristsAndAnkles(feature, options_.pose_neighbours));
+  } else {
+    float feature[kWristFeatureDims];
+    WristFeature(query, {.position_weight = db.position_weight()}, feature);
+    const int k = options_.method == ReconstructionMethod::kNearestNeighbour ? 1 : options_.pose_neighbours;
+    MOCAP_ASSIGN_OR_RETURN(neighbours, db.wrist_index().Search(feature, k));
+    s.wrist_distance[f] = neighbours.front().distance;
+  }
+  const int nearest = neighbours.front().row;
+  SolvedPose solved;
+  if (options_.method == ReconstructionMethod::kNearestNeighbour || !s.previous) {
+    solved.pose_feature = db.pose_features().row(nearest).transpose();
+    PelvisInQueryFrame(db.frames()[nearest], ref, &solved);
+  }
+  if (options_.method != ReconstructionMethod::kNearestNeighbour) {
+    Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_features().cols());
+    for (size_t i = 0; i < neighbours.size(); ++i) examples.row(static_cast<Eigen::Index>(i)) = db.pose_features().row(neighbours[i].row);
+    MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, options_.pose_components));
+    ControlTargets targets = {wrists.position[0], wrists.position[1], ankles[0], ankles[1]};
+    PoseSolverOptions solver_options = options_.solver;
+    if (!full) {
+      solver_options.control_ankles = false;
+      targets[kLeftAnkle] = targets[kRightAnkle] = Eigen::Vector3f::Zero();
+    }
+    const SolvedPose& initial = s.previous ? *s.previous : solved;
+    const SolvedPose* before = s.before_previous ? &*s.before_previous : nullptr;
+    MOCAP_ASSIGN_OR_RETURN(solved, SolvePose(db.body(), model, targets, initial, s.previous ? &*s.previous : nullptr, before, solver_options));
+    s.before_previous = std::move(s.previous);
+    s.previous = solved;
+  }
+  statistics_.pose_seconds += SecondsSince(start);
+  const auto post_start = Clock::now();
+  ReconstructedFrame frame;
+  frame.segment = s.id;
+  frame.frame_in_segment = f;
+  frame.time = s.times[f];
+  frame.pose = db.body().Pose(solved.pelvis_rotation, solved.pelvis_position, solved.pose_feature.data() + 2);
+  if (!full) {
+    // Baselines estimate no ankles: report where their pose puts them.
+    std::vector<Eigen::Quaternionf> rotations;
+    std::vector<Eigen::Vector3f> positions;
+    db.body().WorldTransforms(frame.pose, &rotations, &positions);
+    ankles = {positions[db.rig().topology.landmarks.left_ankle], positions[db.rig().topology.landmarks.right_ankle]};
+  }
+  frame.ankles = ankles;
+  frame.wrists = {wrists.position[0], wrists.position[1]};
+  FrameDiagnostics& d = frame.diagnostics;
+  d.wrist_neighbour_distance = s.wrist_distance[f];
+  d.ankle_source_row = full ? s.raw_rows[f] : nearest;
+  d.pose_neighbour_distance = neighbours.front().distance;
+  d.solver_cost = solved.cost;
+  d.solver_evaluations = solved.evaluations;
+  for (int c = 0; c < kNumControlPoints; ++c) d.control_error[c] = solved.control_error[c];
+  d.bridged = s.bridged[f];
+  if (full) d.contact = s.cleaner.Process(ankles, &frame.pose);
+  s.post.push_back(std::move(frame));
+  EmitFiltered(false, out);
+  statistics_.post_seconds += SecondsSince(post_start);
+  return absl::OkStatus();
+}
+
+void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFrame>* out) {
+  Segment& s = *segment_;
+  const int radius = static_cast<int>(joint_kernel_.size()) / 2;
+  const int last = s.post_first + static_cast<int>(s.post.size()) - 1;  // newest solved frame
+  const BodyModel& body = database_->body();
+  std::vector<Eigen::Quaternionf> world_rotations;
+  std::vector<Eigen::Vector3f> world_positions;
+  while (s.emitted <= last && (flush || s.emitted + joint_filter_lag_ <= last)) {
+    const int e = s.emitted;
+    ReconstructedFrame frame = s.post[e - s.post_first];
+    if (radius > 0) {
+      const BodyPose& centre = s.post[e - s.post_first].pose;
+      const int joints = static_cast<int>(centre.rotations.size());
+      std::vector<Eigen::Vector3f> log_sum(joints, Eigen::Vector3f::Zero());
+      Eigen::Vector3f root = Eigen::Vector3f::Zero();
+      for (int i = -radius; i <= radius; ++i) {
+        const int k = std::clamp(e + i, s.post_first, last);  // segment edges (and the lag) clamp
+        const BodyPose& p = s.post[k - s.post_first].pose;
+        const float w = joint_kernel_[i + radius];
+        root += w * p.root_position;
+        for (int j = 0; j < joints; ++j) log_sum[j] += w * RotationVector(Eigen::Quaternionf(centre.rotations[j].conjugate() * p.rotations[j]));
+      }
+      frame.pose.root_position = root;
+      for (int j = 0; j < joints; ++j) frame.pose.rotations[j] = (centre.rotations[j] * FromRotationVector(log_sum[j])).normalized();
+    }
+    body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
+    const int pelvis = database_->rig().topology.landmarks.pelvis;
+    frame.pelvis_rotation = world_rotations[pelvis];
+    frame.pelvis_position = world_positions[pelvis];
+    frame.index = next_output_index_++;
+    out->push_back(std::move(frame));
+    ++s.emitted;
+    ++statistics_.frames;
+    while (s.post_first < s.emitted - radius) {  // older frames no longer reach the filter
+      s.post.pop_front();
+      ++s.post_first;
+    }
+  }
+}
+
+absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* out) {
+  if (!segment_) return absl::OkStatus();
+  Segment& s = *segment_;
+  const auto start = Clock::now();
+  const float dt = static_cast<float>(database_->frame_time());
+  if (options_.method == ReconstructionMethod::kFull) {
+    if (options_.mode == StreamMode::kSubInterval && !s.window.empty()) {
+      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path));
+      for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
+      s.raw.insert(s.raw.end(), solved.ankles.begin(), solved.ankles.end());
+      s.window.clear();
+    } else if (options_.mode == StreamMode::kFixedLag && !s.dp.empty() &&
+               s.dp_first + static_cast<int>(s.dp.size()) > static_cast<int>(s.raw.size())) {
+      // The final best path through the frames not decided yet.
+      const int t = s.dp_first + static_cast<int>(s.dp.size()) - 1;
+      const int decided = static_cast<int>(s.raw.size());
+      std::vector<int> nodes(t - decided + 1);
+      const std::vector<float>& last_cost = s.dp.back().cost;
+      nodes.back() = static_cast<int>(std::min_element(last_cost.begin(), last_cost.end()) - last_cost.begin());
+      for (int f = t; f > decided; --f) nodes[f - 1 - decided] = s.dp[f - s.dp_first].from[nodes[f - decided]];
+      for (int f = decided; f <= t; ++f) {
+        const AnkleCandidate& c = s.dp[f - s.dp_first].cloud[nodes[f - decided]];
+        s.raw.push_back(AnklesOf(c));
+        s.raw_rows.push_back(c.row);
+      }
+    }
+    statistics_.path_seconds += SecondsSince(start);
+    MOCAP_RETURN_IF_ERROR(DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, out));
+  }
+  EmitFiltered(true, out);
+  segment_.reset();
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::vector<ReconstructedFrame>> ReconstructOffline(std::shared_ptr<const ReconstructionDatabase> database,
+                                                                   const ReconstructionOptions& options,
+                                                                   const std::vector<WristSample>& samples) {
+  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session, ReconstructionSession::Create(std::move(database), options));
+  std::vector<ReconstructedFrame> frames;
+  for (const WristSample& sample : samples) MOCAP_RETURN_IF_ERROR(session->Push(sample, &frames));
+  MOCAP_RETURN_IF_ERROR(session->Finish(&frames));
+  return frames;
+}
+
+}  // namespace mocap

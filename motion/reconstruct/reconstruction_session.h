@@ -1,0 +1,106 @@
+// ReconstructionSession: METHOD.md A2–A7 as one pipeline that takes timestamped wrist samples one
+// at a time and emits whole-body frames as soon as they are decided. Offline reconstruction is the
+// same session fed a whole trajectory (ReconstructOffline), so the two cannot disagree.
+//
+//   samples → resample to the database rate (gaps, NaN refusal)
+//           → A2 smoothing → A3 ankle cloud (K1)
+//           → A4 DAG: sub-intervals of L frames, or fixed lag (frame t−D_a decided at t)
+//           → A5 local pose model (K2) → A6 LM solve → A7 footskate cleanup
+//           → A7 joint-space Gaussian (lag P) → frames out
+// In fixed-lag mode the lag D is split: P = min(⌈3σ⌉, D) frames for the joint filter, the rest
+// for the ankle path, so a frame leaves exactly D frames after its sample arrived.
+//
+// Thread safety: one session per stream; many sessions may share one ReconstructionDatabase.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "absl/status/statusor.h"
+#include "motion/reconstruct/reconstruction_database.h"
+#include "motion/reconstruct/reconstruction_options.h"
+#include "motion/reconstruct/wrist_resampler.h"
+
+namespace mocap {
+
+struct FrameDiagnostics {
+  float wrist_neighbour_distance = 0;  // eq. 2 value of the nearest database frame
+  int ankle_source_row = -1;           // database frame whose ankles the A4 path chose
+  float pose_neighbour_distance = 0;   // eq. 8 (or eq. 2 for the wrists-only model) of the nearest
+  float solver_cost = 0;               // A6 energy at the solution
+  int solver_evaluations = 0;
+  std::array<float, 4> control_error{};  // metres: left/right wrist, left/right ankle before A7
+  std::array<bool, 2> contact{};         // A7 planted flags (left, right)
+  bool bridged = false;                  // input interpolated across a dropout
+};
+
+struct ReconstructedFrame {
+  int segment = 0;          // increments after each long input gap
+  int index = 0;            // frame number in the session's output
+  int frame_in_segment = 0;
+  double time = 0.0;        // seconds, on the input's clock
+  Eigen::Quaternionf pelvis_rotation = Eigen::Quaternionf::Identity();  // world
+  Eigen::Vector3f pelvis_position = Eigen::Vector3f::Zero();            // world, metres
+  BodyPose pose;            // every joint's local rotation and the root translation
+  std::array<Eigen::Vector3f, 2> ankles;  // A4 estimates (left, right), world metres
+  std::array<Eigen::Vector3f, 2> wrists;  // A2-smoothed input
+  FrameDiagnostics diagnostics;
+};
+
+struct SessionStatistics {
+  long samples = 0, frames = 0, segments = 0, refused_samples = 0;
+  // Wall time per stage, seconds (single thread): A2+A3, A4, A5+A6, A7.
+  double cloud_seconds = 0, path_seconds = 0, pose_seconds = 0, post_seconds = 0;
+};
+
+class ReconstructionSession {
+ public:
+  // InvalidArgument for options out of range (K1, K2 < 1, negative window/lag, ...).
+  static absl::StatusOr<std::unique_ptr<ReconstructionSession>> Create(std::shared_ptr<const ReconstructionDatabase> database,
+                                                                      const ReconstructionOptions& options);
+  ~ReconstructionSession();
+
+  // One input sample; frames decided by it are appended to `out`. A refused sample (NaN, time
+  // not increasing) returns InvalidArgument and leaves the session as it was.
+  absl::Status Push(const WristSample& sample, std::vector<ReconstructedFrame>* out);
+  // End of input: every remaining frame.
+  absl::Status Finish(std::vector<ReconstructedFrame>* out);
+
+  const ReconstructionDatabase& database() const { return *database_; }
+  const ReconstructionOptions& options() const { return options_; }
+  const SessionStatistics& statistics() const { return statistics_; }
+  // Frames between a sample's arrival and its frame leaving (fixed lag: D; sub-interval: up to
+  // L − 1 + the joint filter's lag; whole segment: unbounded, returns −1).
+  int latency_frames() const;
+
+ private:
+  struct Segment;
+  ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database, const ReconstructionOptions& options);
+  absl::Status AcceptGridSample(const GridSample& sample, std::vector<ReconstructedFrame>* out);
+  absl::Status EndSegment(std::vector<ReconstructedFrame>* out);
+  absl::Status DecideAnkles(int up_to_frame, int available, const std::vector<AnklePair>& tentative, std::vector<ReconstructedFrame>* out);
+  absl::Status SolveFrame(int frame, std::vector<ReconstructedFrame>* out);
+  void EmitFiltered(bool flush, std::vector<ReconstructedFrame>* out);
+
+  std::shared_ptr<const ReconstructionDatabase> database_;
+  ReconstructionOptions options_;
+  WristResampler resampler_;
+  std::unique_ptr<Segment> segment_;
+  int next_segment_id_ = 0;
+  int next_output_index_ = 0;
+  int joint_filter_lag_ = 0;
+  int ankle_lag_ = 0;
+  std::vector<float> ankle_kernel_, joint_kernel_;
+  SessionStatistics statistics_;
+};
+
+// The offline path: the same session fed every sample, then finished.
+absl::StatusOr<std::vector<ReconstructedFrame>> ReconstructOffline(std::shared_ptr<const ReconstructionDatabase> database,
+                                                                   const ReconstructionOptions& options,
+                                                                   const std::vector<WristSample>& samples);
+
+}  // namespace mocap

@@ -1,0 +1,50 @@
+#include "motion/reconstruct/wrist_resampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "motion/core/str_cat.h"
+
+namespace mocap {
+
+WristResampler::WristResampler(double frame_time, double max_gap_seconds) : frame_time_(frame_time), max_gap_(max_gap_seconds) {}
+
+absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSample>* out) {
+  if (!std::isfinite(sample.time)) return absl::InvalidArgumentError("wrist sample time is not finite");
+  if (!sample.left.allFinite() || !sample.right.allFinite()) {
+    return absl::InvalidArgumentError(StrCat("wrist sample at t = ", sample.time, " s is not finite (NaN or inf)"));
+  }
+  if (has_previous_ && sample.time <= previous_.time) {
+    return absl::InvalidArgumentError(StrCat("wrist sample times must increase: ", sample.time, " s after ", previous_.time, " s"));
+  }
+  const bool new_segment = !has_previous_ || sample.time - previous_.time > max_gap_;
+  if (new_segment) {
+    grid_origin_ = sample.time;
+    next_index_ = 0;
+    typical_period_ = 0.0;
+    GridSample first{.starts_segment = true, .bridged = false, .time = sample.time, .left = sample.left, .right = sample.right};
+    out->push_back(first);
+    next_index_ = 1;
+  } else {
+    const double span = sample.time - previous_.time;
+    const bool bridged = typical_period_ > 0.0 && span > 2.0 * typical_period_;
+    typical_period_ = typical_period_ > 0.0 && !bridged ? 0.9 * typical_period_ + 0.1 * span : (typical_period_ > 0.0 ? typical_period_ : span);
+    // Grid times in (previous, sample], a small tolerance so a sample exactly on the grid counts.
+    for (;;) {
+      const double t = grid_origin_ + static_cast<double>(next_index_) * frame_time_;
+      if (t > sample.time + 1e-9) break;
+      const float a = static_cast<float>(std::clamp((t - previous_.time) / span, 0.0, 1.0));
+      out->push_back(GridSample{.starts_segment = false,
+                                .bridged = bridged,
+                                .time = t,
+                                .left = (1 - a) * previous_.left + a * sample.left,
+                                .right = (1 - a) * previous_.right + a * sample.right});
+      ++next_index_;
+    }
+  }
+  previous_ = sample;
+  has_previous_ = true;
+  return absl::OkStatus();
+}
+
+}  // namespace mocap

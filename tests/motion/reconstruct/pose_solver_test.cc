@@ -1,0 +1,81 @@
+#include "motion/reconstruct/pose_solver.h"
+
+#include <gtest/gtest.h>
+
+#include "motion/reconstruct/local_pose_model.h"
+#include "tests/support/synthetic_database.h"
+
+namespace mocap {
+namespace {
+
+class PoseSolverTest : public ::testing::Test {
+ protected:
+  void SetUp() override { setup_ = testing::MakeSyntheticReconstructionSetup({}, 40); }
+
+  // Local model from the K2 frames nearest to the true wrists and ankles of test frame `f`.
+  LocalPoseModel ModelAt(int f) {
+    const ReconstructionDatabase& db = *setup_.database;
+    float query[kWristAnkleFeatureDims];
+    WristAnkleFeature(setup_.test_clip.features[f], db.position_weight(), query);
+    auto neighbours = db.NearestByWristsAndAnkles(query, 60);
+    EXPECT_TRUE(neighbours.ok());
+    Eigen::MatrixXf examples(neighbours->size(), db.pose_features().cols());
+    for (size_t i = 0; i < neighbours->size(); ++i) examples.row(i) = db.pose_features().row((*neighbours)[i].row);
+    return *FitLocalPoseModel(examples, 6);
+  }
+  ControlTargets TargetsAt(int f) const {
+    const BodyLandmarks& l = setup_.rig.topology.landmarks;
+    return {setup_.truth.position(f, l.left_wrist), setup_.truth.position(f, l.right_wrist),
+            setup_.truth.position(f, l.left_ankle), setup_.truth.position(f, l.right_ankle)};
+  }
+  testing::SyntheticReconstructionSetup setup_;
+};
+
+TEST_F(PoseSolverTest, ReachesTheControlPointsFromAPerturbedStart) {
+  const BodyLandmarks& l = setup_.rig.topology.landmarks;
+  for (int f : {5, 12, 27}) {
+    const LocalPoseModel model = ModelAt(f);
+    SolvedPose initial;
+    initial.pose_feature = model.mean;
+    initial.pelvis_rotation = setup_.truth.rotation(f, l.pelvis) * Eigen::Quaternionf(Eigen::AngleAxisf(0.2f, Eigen::Vector3f::UnitY()));
+    initial.pelvis_position = setup_.truth.position(f, l.pelvis) + Eigen::Vector3f(0.08f, -0.05f, 0.06f);
+    auto solved = SolvePose(setup_.database->body(), model, TargetsAt(f), initial, nullptr, nullptr, {});
+    ASSERT_TRUE(solved.ok()) << solved.status();
+    for (int c = 0; c < kNumControlPoints; ++c) EXPECT_LT(solved->control_error[c], 0.02f) << "frame " << f << " point " << c;
+    EXPECT_LT((solved->pelvis_position - setup_.truth.position(f, l.pelvis)).norm(), 0.03f);
+    EXPECT_NEAR(solved->pelvis_rotation.norm(), 1.0f, 1e-5f);
+  }
+}
+
+TEST_F(PoseSolverTest, SmoothnessPullsTowardsTheHistory) {
+  const int f = 12;
+  const LocalPoseModel model = ModelAt(f);
+  const BodyLandmarks& l = setup_.rig.topology.landmarks;
+  SolvedPose history;
+  history.pose_feature = model.mean;
+  history.pelvis_rotation = setup_.truth.rotation(f, l.pelvis);
+  history.pelvis_position = setup_.truth.position(f, l.pelvis) + Eigen::Vector3f(0.0f, 0.0f, 0.10f);
+  PoseSolverOptions strong;
+  strong.smooth_weight = 100.0f;
+  auto free = SolvePose(setup_.database->body(), model, TargetsAt(f), history, nullptr, nullptr, {});
+  auto held = SolvePose(setup_.database->body(), model, TargetsAt(f), history, &history, &history, strong);
+  ASSERT_TRUE(free.ok() && held.ok());
+  EXPECT_LT((held->pelvis_position - history.pelvis_position).norm(), (free->pelvis_position - history.pelvis_position).norm());
+}
+
+TEST_F(PoseSolverTest, RefusesNonFiniteTargetsAndMismatchedModels) {
+  const LocalPoseModel model = ModelAt(5);
+  SolvedPose initial;
+  initial.pose_feature = model.mean;
+  ControlTargets targets = TargetsAt(5);
+  targets[2].x() = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(SolvePose(setup_.database->body(), model, targets, initial, nullptr, nullptr, {}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  LocalPoseModel small = model;
+  small.mean.conservativeResize(4);
+  EXPECT_EQ(SolvePose(setup_.database->body(), small, TargetsAt(5), initial, nullptr, nullptr, {}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace mocap

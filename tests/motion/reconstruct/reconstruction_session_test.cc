@@ -1,0 +1,179 @@
+#include "motion/reconstruct/reconstruction_session.h"
+
+#include <iostream>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/synthetic_database.h"
+
+namespace mocap {
+namespace {
+
+class ReconstructionSessionTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    setup_ = testing::MakeSyntheticReconstructionSetup({}, 75);
+    options_.ankle_candidates = 60;  // the synthetic database is small
+    options_.pose_neighbours = 40;
+  }
+
+  // Mean joint position error (metres) of `frames` against the test clip.
+  double Mpjpe(const std::vector<ReconstructedFrame>& frames) const {
+    std::vector<Eigen::Quaternionf> rotations;
+    std::vector<Eigen::Vector3f> positions;
+    double sum = 0;
+    long count = 0;
+    for (const ReconstructedFrame& frame : frames) {
+      setup_.database->body().WorldTransforms(frame.pose, &rotations, &positions);
+      for (int j = 0; j < setup_.truth.num_joints(); ++j) {
+        sum += (positions[j] - setup_.truth.position(frame.frame_in_segment, j)).norm();
+        ++count;
+      }
+    }
+    return sum / count;
+  }
+
+  testing::SyntheticReconstructionSetup setup_;
+  ReconstructionOptions options_;
+};
+
+TEST_F(ReconstructionSessionTest, OfflineReconstructionFollowsTheCapturedWalk) {
+  auto frames = ReconstructOffline(setup_.database, options_, testing::WristSamplesOf(setup_));
+  ASSERT_TRUE(frames.ok()) << frames.status();
+  ASSERT_EQ(frames->size(), 75u);
+  EXPECT_LT(Mpjpe(*frames), 0.05);
+  const BodyLandmarks& l = setup_.rig.topology.landmarks;
+  for (const ReconstructedFrame& frame : *frames) {
+    if (getenv("DEBUG_SESSION")) {
+      const int f = frame.frame_in_segment;
+      const int row = frame.diagnostics.ankle_source_row;
+      std::cerr << f << " truth " << setup_.truth.position(f, l.left_ankle).transpose() << " est " << frame.ankles[0].transpose()
+                << " row " << row << " clip " << setup_.database->clip_of(row) << ":" << setup_.database->frame_in_clip(row)
+                << " wd " << frame.diagnostics.wrist_neighbour_distance << " contact " << frame.diagnostics.contact[0] << "\n";
+    }
+    EXPECT_LT((frame.pelvis_position - setup_.truth.position(frame.frame_in_segment, l.pelvis)).norm(), 0.08);
+    EXPECT_LT((frame.ankles[0] - setup_.truth.position(frame.frame_in_segment, l.left_ankle)).norm(), 0.15);
+    EXPECT_EQ(frame.index, frame.frame_in_segment);
+    EXPECT_EQ(frame.segment, 0);
+  }
+  // The walk has planted feet: the cleanup finds contacts on both sides.
+  int left = 0, right = 0;
+  for (const ReconstructedFrame& frame : *frames) {
+    left += frame.diagnostics.contact[0];
+    right += frame.diagnostics.contact[1];
+  }
+  EXPECT_GT(left, 10);
+  EXPECT_GT(right, 10);
+}
+
+TEST_F(ReconstructionSessionTest, StreamingInSubIntervalsEqualsOfflineWithTheSameWindows) {
+  options_.window = 20;
+  const auto samples = testing::WristSamplesOf(setup_);
+  auto offline = ReconstructOffline(setup_.database, options_, samples);
+  ASSERT_TRUE(offline.ok());
+  auto session = ReconstructionSession::Create(setup_.database, options_);
+  ASSERT_TRUE(session.ok());
+  std::vector<ReconstructedFrame> streamed;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    ASSERT_TRUE((*session)->Push(samples[i], &streamed).ok());
+    // Windows of 20 leave as they fill, less the joint filter's lag.
+    if (i == 19) {
+      EXPECT_EQ(static_cast<int>(streamed.size()), 20 - 3);
+    } else if (i == 18) {
+      EXPECT_TRUE(streamed.empty());
+    }
+  }
+  ASSERT_TRUE((*session)->Finish(&streamed).ok());
+  ASSERT_EQ(streamed.size(), offline->size());
+  for (size_t f = 0; f < streamed.size(); ++f) {
+    EXPECT_EQ(streamed[f].pelvis_position, (*offline)[f].pelvis_position);
+    for (size_t j = 0; j < streamed[f].pose.rotations.size(); ++j) {
+      EXPECT_EQ(streamed[f].pose.rotations[j].coeffs(), (*offline)[f].pose.rotations[j].coeffs());
+    }
+  }
+  EXPECT_EQ((*session)->latency_frames(), 19 + 3);
+}
+
+TEST_F(ReconstructionSessionTest, FixedLagEmitsFrameTMinusDWhenFrameTArrives) {
+  for (int lag : {0, 2, 8}) {
+    options_.mode = StreamMode::kFixedLag;
+    options_.lag = lag;
+    auto session = ReconstructionSession::Create(setup_.database, options_);
+    ASSERT_TRUE(session.ok());
+    std::vector<ReconstructedFrame> out;
+    const auto samples = testing::WristSamplesOf(setup_);
+    for (size_t t = 0; t < samples.size(); ++t) {
+      ASSERT_TRUE((*session)->Push(samples[t], &out).ok());
+      ASSERT_EQ(static_cast<int>(out.size()), std::max(0, static_cast<int>(t) - lag + 1)) << "lag " << lag << " t " << t;
+    }
+    ASSERT_TRUE((*session)->Finish(&out).ok());
+    EXPECT_EQ(out.size(), samples.size());
+    EXPECT_LT(Mpjpe(out), 0.08) << "lag " << lag;
+  }
+}
+
+TEST_F(ReconstructionSessionTest, RefusedSamplesLeaveTheSessionAsItWas) {
+  options_.mode = StreamMode::kFixedLag;
+  options_.lag = 4;
+  const auto samples = testing::WristSamplesOf(setup_);
+  auto clean = ReconstructOffline(setup_.database, options_, samples);
+  ASSERT_TRUE(clean.ok());
+  auto session = ReconstructionSession::Create(setup_.database, options_);
+  ASSERT_TRUE(session.ok());
+  std::vector<ReconstructedFrame> out;
+  for (size_t t = 0; t < samples.size(); ++t) {
+    if (t == 30) {
+      WristSample bad = samples[t];
+      bad.left.y() = std::numeric_limits<float>::quiet_NaN();
+      EXPECT_EQ((*session)->Push(bad, &out).code(), absl::StatusCode::kInvalidArgument);
+      EXPECT_EQ((*session)->Push(samples[t - 3], &out).code(), absl::StatusCode::kInvalidArgument);  // backwards
+    }
+    ASSERT_TRUE((*session)->Push(samples[t], &out).ok());
+  }
+  ASSERT_TRUE((*session)->Finish(&out).ok());
+  ASSERT_EQ(out.size(), clean->size());
+  for (size_t f = 0; f < out.size(); ++f) EXPECT_EQ(out[f].pelvis_position, (*clean)[f].pelvis_position);
+  EXPECT_EQ((*session)->statistics().refused_samples, 2);
+}
+
+TEST_F(ReconstructionSessionTest, ALongGapEndsTheSegmentAndInputAtAnyRateIsResampled) {
+  auto samples = testing::WristSamplesOf(setup_);
+  // Second half 2 s later: two segments. Then thin the input to 20 Hz-ish by dropping samples.
+  for (size_t i = 40; i < samples.size(); ++i) samples[i].time += 2.0;
+  std::vector<WristSample> thinned;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (i % 3 != 1) thinned.push_back(samples[i]);
+  }
+  auto frames = ReconstructOffline(setup_.database, options_, thinned);
+  ASSERT_TRUE(frames.ok()) << frames.status();
+  int first = 0, second = 0;
+  for (const ReconstructedFrame& frame : *frames) (frame.segment == 0 ? first : second)++;
+  EXPECT_EQ(frames->front().time, samples.front().time);
+  EXPECT_GE(first, 38);
+  EXPECT_GE(second, 33);
+  EXPECT_EQ(second, static_cast<int>(frames->back().frame_in_segment) + 1);
+}
+
+TEST_F(ReconstructionSessionTest, BaselinesRunThroughTheSamePipeline) {
+  for (ReconstructionMethod method : {ReconstructionMethod::kNearestNeighbour, ReconstructionMethod::kWristsOnly}) {
+    options_.method = method;
+    auto frames = ReconstructOffline(setup_.database, options_, testing::WristSamplesOf(setup_));
+    ASSERT_TRUE(frames.ok()) << frames.status();
+    EXPECT_EQ(frames->size(), 75u);
+    EXPECT_LT(Mpjpe(*frames), 0.10);
+  }
+}
+
+TEST_F(ReconstructionSessionTest, RefusesBadOptions) {
+  ReconstructionOptions bad = options_;
+  bad.ankle_candidates = 0;
+  EXPECT_EQ(ReconstructionSession::Create(setup_.database, bad).status().code(), absl::StatusCode::kInvalidArgument);
+  bad = options_;
+  bad.lag = -1;
+  EXPECT_EQ(ReconstructionSession::Create(setup_.database, bad).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(ReconstructionSession::Create(nullptr, options_).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace mocap

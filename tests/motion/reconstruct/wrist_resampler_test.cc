@@ -1,0 +1,64 @@
+#include "motion/reconstruct/wrist_resampler.h"
+
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace mocap {
+namespace {
+
+WristSample At(double t) {
+  // Wrists moving linearly: interpolation must be exact.
+  return {t, Eigen::Vector3f(static_cast<float>(t), 1.0f, 0.0f), Eigen::Vector3f(-static_cast<float>(t), 1.0f, 2.0f * static_cast<float>(t))};
+}
+
+TEST(WristResamplerTest, AnyInputRateLandsOnTheDatabaseGrid) {
+  for (double rate : {30.0, 60.0, 90.0, 24.0, 7.0}) {
+    WristResampler resampler(1.0 / 30.0, 0.25);
+    std::vector<GridSample> out;
+    for (int i = 0; i <= static_cast<int>(rate); ++i) ASSERT_TRUE(resampler.Push(At(5.0 + i / rate), &out).ok());
+    ASSERT_EQ(out.size(), 31u) << rate;  // 5 s .. 6 s at 30 Hz
+    for (size_t k = 0; k < out.size(); ++k) {
+      EXPECT_NEAR(out[k].time, 5.0 + k / 30.0, 1e-9);
+      EXPECT_NEAR(out[k].left.x(), out[k].time, 1e-5);
+      EXPECT_NEAR(out[k].right.z(), 2 * out[k].time, 1e-5);
+      EXPECT_EQ(out[k].starts_segment, k == 0);
+    }
+  }
+}
+
+TEST(WristResamplerTest, ShortDropoutsAreBridgedLongOnesStartANewSegment) {
+  WristResampler resampler(1.0 / 30.0, 0.25);
+  std::vector<GridSample> out;
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(resampler.Push(At(i / 30.0), &out).ok());
+  ASSERT_TRUE(resampler.Push(At(15 / 30.0), &out).ok());  // 5 frames missing: bridged
+  ASSERT_EQ(out.size(), 16u);
+  EXPECT_TRUE(out[12].bridged);
+  EXPECT_FALSE(out[12].starts_segment);
+  EXPECT_NEAR(out[12].left.x(), 12 / 30.0, 1e-5);
+  ASSERT_TRUE(resampler.Push(At(2.0), &out).ok());  // 1.5 s gap: a new segment
+  ASSERT_EQ(out.size(), 17u);
+  EXPECT_TRUE(out.back().starts_segment);
+  EXPECT_DOUBLE_EQ(out.back().time, 2.0);
+}
+
+TEST(WristResamplerTest, RefusesNonFiniteSamplesAndTimeGoingBackwardsAndCarriesOn) {
+  WristResampler resampler(1.0 / 30.0, 0.25);
+  std::vector<GridSample> out;
+  ASSERT_TRUE(resampler.Push(At(0.0), &out).ok());
+  WristSample nan = At(1 / 30.0);
+  nan.right.y() = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(resampler.Push(nan, &out).code(), absl::StatusCode::kInvalidArgument);
+  WristSample inf = At(1 / 30.0);
+  inf.left.x() = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(resampler.Push(inf, &out).code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(resampler.Push(At(-1.0), &out).code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(resampler.Push(At(0.0), &out).code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(resampler.Push(At(std::numeric_limits<double>::quiet_NaN()), &out).code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(out.size(), 1u);
+  ASSERT_TRUE(resampler.Push(At(1 / 30.0), &out).ok());
+  EXPECT_EQ(out.size(), 2u);
+}
+
+}  // namespace
+}  // namespace mocap

@@ -1,0 +1,28 @@
+// A reconstruction database built from synthetic walking clips (tests/support/synthetic_clip.h),
+// and a test clip with its ground truth, for unit tests of METHOD.md A3–A7.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "motion/preprocess/clip_preprocessor.h"
+#include "motion/reconstruct/reconstruction_database.h"
+#include "motion/reconstruct/wrist_resampler.h"
+#include "motion/skeleton/forward_kinematics.h"
+#include "tests/support/synthetic_clip.h"
+
+namespace mocap::testing {
+
+struct SyntheticReconstructionSetup {
+  RigModel rig;
+  std::shared_ptr<const ReconstructionDatabase> database;
+  PreparedClip test_clip;  // another walk, not in the database
+  GlobalPoses truth;       // its forward kinematics (metres, Y up)
+};
+
+SyntheticReconstructionSetup MakeSyntheticReconstructionSetup(const SyntheticRigOptions& options = {}, int test_frames = 75);
+
+// The test clip's wrists as timestamped samples (database rate, starting at `start_time`).
+std::vector<WristSample> WristSamplesOf(const SyntheticReconstructionSetup& setup, double start_time = 0.0);
+
+}  // namespace mocap::testing
