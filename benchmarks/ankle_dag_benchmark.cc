@@ -6,7 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include "motion/bvh/bvh_reader.h"
-#include "benchmarks/standard_split.h"
+#include "eval/standard_split.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/ankle_path.h"
 #include "motion/skeleton/forward_kinematics.h"
@@ -23,11 +23,11 @@ struct Clouds {
 const Clouds& GetClouds() {
   static Clouds clouds = [] {
     Clouds c;
-    auto standard = benchmarks::LoadStandardSplit();
+    auto standard = eval::LoadStandardSplit();
     if (!standard.ok()) return c;
     const RigModel* rig = &standard->rig;
     std::vector<std::vector<FrameFeatures>> per_file(standard->database_files.size());
-    if (!benchmarks::PrepareAll(standard->database_files, *rig,
+    if (!eval::PrepareAll(standard->database_files, *rig,
                                 [&](size_t i, PreparedClip&& clip) { per_file[i] = std::move(clip.features); }).ok()) {
       return c;
     }

@@ -17,7 +17,7 @@
 #include <thread>
 #include <vector>
 
-#include "benchmarks/standard_split.h"
+#include "eval/standard_split.h"
 #include "motion/bvh/bvh_reader.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
@@ -65,7 +65,7 @@ std::vector<std::optional<ClipPoints>> LoadClips(const std::vector<std::filesyst
                                                  std::string* error) {
   std::vector<std::optional<ClipPoints>> out(files.size());
   const BodyChains chains = MakeBodyChains(rig.skeleton, rig.topology);
-  const absl::Status status = benchmarks::PrepareAll(files, rig, [&](size_t i, PreparedClip&& prepared) {
+  const absl::Status status = eval::PrepareAll(files, rig, [&](size_t i, PreparedClip&& prepared) {
     ClipPoints points = MakeClipPoints(ForwardKinematics(prepared.skeleton, prepared.motion), chains, {});
     points.name = files[i].filename().string();
     points.clip_id = static_cast<std::int64_t>(i);
@@ -98,7 +98,7 @@ double ExactAnswers(const Setup& s, int window, int stride, std::vector<PoseMatc
 
 Setup* MakeSetup() {
   auto* s = new Setup;
-  auto split = benchmarks::LoadStandardSplit();
+  auto split = eval::LoadStandardSplit();
   if (!split.ok()) {
     s->error = split.status().ToString();
     return s;

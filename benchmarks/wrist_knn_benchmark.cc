@@ -7,7 +7,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "benchmarks/standard_split.h"
+#include "eval/standard_split.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/wrist_feature_index.h"
 
@@ -23,13 +23,13 @@ struct Split {
 const Split& GetSplit() {
   static Split split = [] {
     Split s;
-    auto standard = benchmarks::LoadStandardSplit();
+    auto standard = eval::LoadStandardSplit();
     if (!standard.ok()) return s;
     std::vector<std::vector<FrameFeatures>> database_features(standard->database_files.size());
     std::vector<std::vector<FrameFeatures>> test_features(standard->test_files.size());
-    if (!benchmarks::PrepareAll(standard->database_files, standard->rig,
+    if (!eval::PrepareAll(standard->database_files, standard->rig,
                                 [&](size_t i, PreparedClip&& clip) { database_features[i] = std::move(clip.features); }).ok() ||
-        !benchmarks::PrepareAll(standard->test_files, standard->rig,
+        !eval::PrepareAll(standard->test_files, standard->rig,
                                 [&](size_t i, PreparedClip&& clip) { test_features[i] = std::move(clip.features); }).ok()) {
       return s;
     }

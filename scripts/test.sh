@@ -4,6 +4,7 @@
 # message when it is absent.
 #   usage: scripts/test.sh [--sanitize] [extra ctest arguments]
 #   --sanitize: a second build in build-asan with AddressSanitizer + UndefinedBehaviorSanitizer
+#               (also skips mocap-eval --quick, minutes under the sanitizers; its code is unit-tested)
 #               (skips the every-file landmark sweep, which the plain run covers, and the Docker
 #               runtime check, which sanitizer runtimes would fail).
 set -euo pipefail
@@ -13,7 +14,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   "$repo/scripts/setup.sh" --build-dir "$repo/build-asan" -- -DMOCAP_SANITIZE=ON -DMOCAP_BUILD_BENCHMARKS=OFF
   cd "$repo/build-asan"
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-  ctest --output-on-failure -j "$(nproc)" -E 'docker_runtime_packages|InspectSharedDataTest' "$@"
+  ctest --output-on-failure -j "$(nproc)" -E 'docker_runtime_packages|InspectSharedDataTest|mocap_eval_quick' "$@"
   exit
 fi
 "$repo/scripts/setup.sh"

@@ -1,4 +1,4 @@
-#include "benchmarks/standard_split.h"
+#include "eval/standard_split.h"
 
 #include <algorithm>
 #include <atomic>
@@ -10,7 +10,7 @@
 #include "motion/preprocess/clip_labels.h"
 #include "tests/support/shared_data.h"
 
-namespace mocap::benchmarks {
+namespace mocap::eval {
 
 absl::StatusOr<StandardSplit> LoadStandardSplit() {
   std::string why;
@@ -53,4 +53,4 @@ absl::Status PrepareAll(const std::vector<std::filesystem::path>& files, const R
   return first_error;
 }
 
-}  // namespace mocap::benchmarks
+}  // namespace mocap::eval

@@ -1,4 +1,4 @@
-// The standard evaluation split of shared/data/README for benchmarks: database = bandai-namco-2
+// The standard evaluation split of shared/data/README, for mocap-eval and the benchmarks: database = bandai-namco-2
 // clips whose take is not ≡ 3 (mod 10), test = takes ≡ 3 (mod 10).
 #pragma once
 
@@ -11,7 +11,7 @@
 #include "absl/status/statusor.h"
 #include "motion/preprocess/clip_preprocessor.h"
 
-namespace mocap::benchmarks {
+namespace mocap::eval {
 
 struct StandardSplit {
   std::filesystem::path folder;
@@ -28,4 +28,4 @@ absl::StatusOr<StandardSplit> LoadStandardSplit();
 absl::Status PrepareAll(const std::vector<std::filesystem::path>& files, const RigModel& rig,
                         const std::function<void(size_t, PreparedClip&&)>& consume);
 
-}  // namespace mocap::benchmarks
+}  // namespace mocap::eval

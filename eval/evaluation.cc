@@ -1,0 +1,127 @@
+#include "eval/evaluation.h"
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <random>
+#include <thread>
+
+#include "eval/standard_split.h"
+#include "motion/bvh/bvh_reader.h"
+#include "motion/bvh/bvh_writer.h"
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+#include "motion/preprocess/clip_labels.h"
+#include "motion/reconstruct/reconstruction_export.h"
+
+namespace mocap::eval {
+
+absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(const std::vector<std::filesystem::path>& files) {
+  if (files.empty()) return absl::InvalidArgumentError("no database files");
+  MOCAP_ASSIGN_OR_RETURN(BvhClip first, ReadBvhFile(files.front()));
+  MOCAP_ASSIGN_OR_RETURN(RigModel rig, BuildRigModel(first, {}));
+  std::vector<DatabaseClip> clips(files.size());
+  MOCAP_RETURN_IF_ERROR(PrepareAll(files, rig, [&](size_t i, PreparedClip&& prepared) {
+    clips[i] = {std::move(prepared.features), EncodePoses(prepared.motion, rig)};
+  }));
+  return ReconstructionDatabase::Build(rig, clips);
+}
+
+absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files, const RigModel& rig,
+                                                    int max_frames, const std::string& content_prefix) {
+  std::vector<TestClip> tests(files.size());
+  MOCAP_RETURN_IF_ERROR(PrepareAll(files, rig, [&](size_t i, PreparedClip&& prepared) {
+    TestClip& t = tests[i];
+    t.name = files[i].filename().string();
+    const std::string content = LabelValue(ParseClipLabels(t.name), "content");
+    t.content = content_prefix + (content.empty() ? "other" : content);
+    if (max_frames > 0 && prepared.num_frames() > max_frames) {
+      LocalMotion& m = prepared.motion;
+      for (Eigen::ArrayXXf* a : {&m.qw, &m.qx, &m.qy, &m.qz, &m.tx, &m.ty, &m.tz}) a->conservativeResize(max_frames, Eigen::NoChange);
+      prepared.features.resize(max_frames);
+    }
+    t.truth = ForwardKinematics(prepared.skeleton, prepared.motion);
+    t.clip = std::move(prepared);
+  }));
+  return tests;
+}
+
+namespace {
+
+std::vector<WristSample> NoisyWrists(const TestClip& test, const RigModel& rig, double noise_cm, unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<float> noise(0.0f, static_cast<float>(noise_cm / 100.0));
+  const BodyLandmarks& l = rig.topology.landmarks;
+  std::vector<WristSample> samples;
+  for (int f = 0; f < test.truth.num_frames(); ++f) {
+    WristSample s;
+    s.time = f * test.clip.motion.frame_time;
+    s.left = test.truth.position(f, l.left_wrist);
+    s.right = test.truth.position(f, l.right_wrist);
+    if (noise_cm > 0) {
+      for (int axis = 0; axis < 3; ++axis) {
+        s.left[axis] += noise(random);
+        s.right[axis] += noise(random);
+      }
+    }
+    samples.push_back(s);
+  }
+  return samples;
+}
+
+}  // namespace
+
+absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<const ReconstructionDatabase> database,
+                                                            const std::vector<TestClip>& tests,
+                                                            const std::vector<Experiment>& experiments,
+                                                            const EvaluationConfig& config,
+                                                            const std::function<void(const std::string&)>& progress) {
+  std::vector<ExperimentResult> results;
+  if (!config.bvh_dir.empty()) std::filesystem::create_directories(config.bvh_dir);
+  for (const Experiment& experiment : experiments) {
+    ExperimentResult result{experiment, {}, {}};
+    std::vector<Metrics> per_clip(tests.size());
+    std::atomic<size_t> next{0};
+    std::mutex mutex;
+    absl::Status error = absl::OkStatus();
+    auto work = [&] {
+      for (size_t i = next++; i < tests.size(); i = next++) {
+        // One seed per clip: the same noise whatever the thread count or experiment order.
+        const std::vector<WristSample> wrists = NoisyWrists(tests[i], database->rig(), experiment.noise_cm, config.seed + static_cast<unsigned>(i));
+        const auto start = std::chrono::steady_clock::now();
+        absl::StatusOr<std::vector<ReconstructedFrame>> frames = ReconstructOffline(database, experiment.options, wrists);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (!frames.ok()) {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (error.ok()) error = absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
+          continue;
+        }
+        per_clip[i] = Measure(*database, tests[i].clip, tests[i].truth, *frames);
+        per_clip[i].seconds = seconds;
+        if (experiment.name == "full" && !config.bvh_dir.empty()) {
+          const std::filesystem::path out = config.bvh_dir / tests[i].name;
+          if (absl::Status status = WriteBvhFile(ReconstructionToBvh(*database, *frames), out); !status.ok()) {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (error.ok()) error = status;
+          }
+        }
+      }
+    };
+    std::vector<std::thread> threads;
+    for (int t = 0; t < std::max(1, config.threads); ++t) threads.emplace_back(work);
+    for (std::thread& t : threads) t.join();
+    MOCAP_RETURN_IF_ERROR(error);
+    for (size_t i = 0; i < tests.size(); ++i) {
+      result.overall.Add(per_clip[i]);
+      result.by_content[tests[i].content].Add(per_clip[i]);
+    }
+    if (progress) {
+      progress(StrCat(experiment.name, ": MPJPE ", 100 * result.overall.Mean(result.overall.joint_error_m), " cm over ",
+                      result.overall.frames, " frames, ", result.overall.frames / std::max(1e-9, result.overall.seconds), " frames/s"));
+    }
+    results.push_back(std::move(result));
+  }
+  return results;
+}
+
+}  // namespace mocap::eval

@@ -1,0 +1,49 @@
+// mocap-eval's engine: loads a database and test clips, reconstructs every test clip's wrists
+// (forward kinematics plus Gaussian noise, fixed seed) with every experiment, and measures.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "eval/eval_metrics.h"
+#include "eval/experiments.h"
+
+namespace mocap::eval {
+
+struct TestClip {
+  std::string name;     // file name
+  std::string content;  // content label (e.g. "walk"), prefixed by the set for extra sets
+  PreparedClip clip;
+  GlobalPoses truth;
+};
+
+struct ExperimentResult {
+  Experiment experiment;
+  Metrics overall;
+  std::map<std::string, Metrics> by_content;
+};
+
+// Database from BVH files (all cores). The rig comes from the first file.
+absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(const std::vector<std::filesystem::path>& files);
+// Test clips on `rig`, cut to `max_frames` (0 = whole). Clips on another rig are an error.
+absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files, const RigModel& rig,
+                                                    int max_frames, const std::string& content_prefix);
+
+struct EvaluationConfig {
+  unsigned seed = 1;
+  int threads = 2;
+  std::filesystem::path bvh_dir;  // where the "full" run's reconstructions go; empty = nowhere
+};
+
+absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<const ReconstructionDatabase> database,
+                                                            const std::vector<TestClip>& tests,
+                                                            const std::vector<Experiment>& experiments,
+                                                            const EvaluationConfig& config,
+                                                            const std::function<void(const std::string&)>& progress);
+
+}  // namespace mocap::eval

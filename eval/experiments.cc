@@ -1,0 +1,36 @@
+#include "eval/experiments.h"
+
+#include "motion/core/str_cat.h"
+
+namespace mocap::eval {
+
+std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, double noise_cm, bool ablations) {
+  std::vector<Experiment> runs;
+  auto add = [&](std::string name, std::string group, double x, ReconstructionOptions options, double noise) {
+    runs.push_back({std::move(name), std::move(group), x, options, noise});
+  };
+  add("full", "main", 0, base, noise_cm);
+  ReconstructionOptions nn = base;
+  nn.method = ReconstructionMethod::kNearestNeighbour;
+  nn.joint_smoothing_sigma = 0.0f;  // a plain lookup, as motion matching would return it
+  add("nearest_neighbour", "main", 0, nn, noise_cm);
+  ReconstructionOptions wrists = base;
+  wrists.method = ReconstructionMethod::kWristsOnly;
+  add("wrists_only", "main", 0, wrists, noise_cm);
+  if (!ablations) return runs;
+  for (int window : {10, 50, 100}) {
+    ReconstructionOptions o = base;
+    o.window = window;
+    add(StrCat("window_", window), "window", window, o, noise_cm);
+  }
+  for (double noise : {0.0, 1.0, 2.0}) add(StrCat("noise_", noise, "cm"), "noise", noise, base, noise);
+  for (int lag : {0, 5, 15, 30}) {
+    ReconstructionOptions o = base;
+    o.mode = StreamMode::kFixedLag;
+    o.lag = lag;
+    add(StrCat("lag_", lag), "lag", lag, o, noise_cm);
+  }
+  return runs;
+}
+
+}  // namespace mocap::eval

@@ -1,0 +1,172 @@
+// mocap-eval: the evaluation harness of issue #3. Runs the standard split of shared/data/README
+// (or any database and test clips named on the command line) through the full method, the two
+// baselines and (with --ablations) the window / noise / lag ablations, and writes report.json,
+// report.md, SVG plots and every reconstruction as BVH.
+#include <fstream>
+#include <set>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "eval/evaluation.h"
+#include "eval/report.h"
+#include "eval/standard_split.h"
+#include "motion/core/str_cat.h"
+#include "motion/preprocess/clip_labels.h"
+#include "tests/support/shared_data.h"
+
+namespace {
+
+constexpr int kExitRegression = 1, kExitError = 2, kExitNoData = 77;
+
+std::vector<std::filesystem::path> BvhFiles(const std::vector<std::string>& paths) {
+  std::vector<std::filesystem::path> files;
+  for (const std::string& p : paths) {
+    if (std::filesystem::is_directory(p)) {
+      for (const auto& f : mocap::testing::BvhFilesIn(p)) files.push_back(f);
+    } else {
+      files.emplace_back(p);
+    }
+  }
+  return files;
+}
+
+// --quick: the first held-out take of every content type, cut short.
+std::vector<std::filesystem::path> QuickSubset(const std::vector<std::filesystem::path>& tests) {
+  std::vector<std::filesystem::path> subset;
+  std::set<std::string> seen;
+  for (const auto& file : tests) {
+    const std::string content = mocap::LabelValue(mocap::ParseClipLabels(file.filename().string()), "content");
+    if (seen.insert(content).second) subset.push_back(file);
+  }
+  return subset;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"mocap-eval — accuracy, motion quality and speed of the wrist-to-body reconstruction"};
+  std::string out_dir = "out/eval";
+  std::vector<std::string> database_dirs, test_paths;
+  bool quick = false, ablations = false, generalisation = false, no_bvh = false;
+  double noise_cm = 0.5;
+  unsigned seed = 1;
+  int max_frames = 0, max_clips = 0, threads = 2;
+  mocap::ReconstructionOptions base;
+  std::string thresholds_file = MOCAP_EVAL_THRESHOLDS;
+  app.add_option("--out", out_dir, "output folder (report.json, report.md, plots/, bvh/)");
+  app.add_option("--database-dir", database_dirs, "BVH folders forming the database (default: the standard split)");
+  app.add_option("--test", test_paths, "test BVH files or folders (default: the standard split's held-out takes)");
+  app.add_flag("--quick", quick, "one held-out clip per content type, 120 frames each; fails on regression");
+  app.add_flag("--ablations", ablations, "also run window L ∈ {10,50,100}, noise σ ∈ {0,1,2} cm, lag D ∈ {0,5,15,30}");
+  app.add_flag("--generalisation", generalisation, "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
+  app.add_option("--noise-cm", noise_cm, "wrist noise σ in cm (METHOD.md A8: 0.5)");
+  app.add_option("--seed", seed, "noise seed");
+  app.add_option("--max-frames", max_frames, "cut test clips to this many frames (0 = whole)");
+  app.add_option("--max-clips", max_clips, "use at most this many test clips (0 = all)");
+  app.add_option("--threads", threads, "clips reconstructed at once (each single-threaded)");
+  app.add_option("--k1", base.ankle_candidates, "A3 ankle candidates K1");
+  app.add_option("--k2", base.pose_neighbours, "A5 pose neighbours K2");
+  app.add_option("--window", base.window, "A4 window L for the full run (0 = whole clip)");
+  app.add_flag("--no-bvh", no_bvh, "do not write the reconstructions as BVH");
+  app.add_option("--thresholds", thresholds_file, "regression thresholds for --quick (JSON)");
+  CLI11_PARSE(app, argc, argv);
+
+  nlohmann::json context;
+  std::vector<std::filesystem::path> database_files, test_files;
+  if (database_dirs.empty()) {
+    auto split = mocap::eval::LoadStandardSplit();
+    if (!split.ok()) {
+      std::cerr << "mocap-eval: " << split.status().message() << "\n";
+      return kExitNoData;
+    }
+    database_files = split->database_files;
+    test_files = test_paths.empty() ? split->test_files : BvhFiles(test_paths);
+    context["database"] = "bandai-namco-2 takes not ≡ 3 (mod 10) (standard split)";
+    context["test_set"] = test_paths.empty() ? "bandai-namco-2 takes ≡ 3 (mod 10)" : "named on the command line";
+  } else {
+    database_files = BvhFiles(database_dirs);
+    test_files = BvhFiles(test_paths);
+    context["database"] = database_dirs;
+  }
+  if (quick) {
+    test_files = QuickSubset(test_files);
+    if (max_frames == 0) max_frames = 120;
+  }
+  if (max_clips > 0 && static_cast<int>(test_files.size()) > max_clips) test_files.resize(max_clips);
+  if (test_files.empty()) {
+    std::cerr << "mocap-eval: no test clips\n";
+    return kExitError;
+  }
+  std::cerr << "loading the database (" << database_files.size() << " files)...\n";
+  auto database = mocap::eval::LoadDatabase(database_files);
+  if (!database.ok()) {
+    std::cerr << "mocap-eval: database: " << database.status().message() << "\n";
+    return kExitError;
+  }
+  auto tests = mocap::eval::LoadTestClips(test_files, (*database)->rig(), max_frames, "");
+  if (!tests.ok()) {
+    std::cerr << "mocap-eval: test clips: " << tests.status().message() << "\n";
+    return kExitError;
+  }
+  if (generalisation) {
+    std::string why;
+    auto folder = mocap::testing::SharedDataSet("bandai-namco-1", &why);
+    if (!folder) {
+      std::cerr << "mocap-eval: --generalisation needs bandai-namco-1: " << why << "\n";
+      return kExitNoData;
+    }
+    std::vector<std::filesystem::path> extra;
+    for (const auto& f : mocap::testing::BvhFilesIn(*folder)) {
+      const std::string c = mocap::LabelValue(mocap::ParseClipLabels(f.filename().string()), "content");
+      if (c == "walk" || c == "walk-back" || c == "walk-left" || c == "walk-right" || c == "run" || c == "dash") extra.push_back(f);
+    }
+    auto more = mocap::eval::LoadTestClips(extra, (*database)->rig(), max_frames, "bn1:");
+    if (!more.ok()) {
+      std::cerr << "mocap-eval: bandai-namco-1: " << more.status().message() << "\n";
+      return kExitError;
+    }
+    for (auto& t : *more) tests->push_back(std::move(t));
+  }
+  context["database_frames"] = (*database)->num_frames();
+  context["test_clips"] = tests->size();
+  context["seed"] = seed;
+  context["noise_cm"] = noise_cm;
+  context["k1"] = base.ankle_candidates;
+  context["k2"] = base.pose_neighbours;
+  context["quick"] = quick;
+  const auto experiments = mocap::eval::MakeExperiments(base, noise_cm, ablations);
+  mocap::eval::EvaluationConfig config{.seed = seed, .threads = threads, .bvh_dir = no_bvh ? "" : std::filesystem::path(out_dir) / "bvh"};
+  std::cerr << "reconstructing " << tests->size() << " clips with " << experiments.size() << " runs...\n";
+  auto results = mocap::eval::RunEvaluation(*database, *tests, experiments, config, [](const std::string& line) { std::cerr << "  " << line << "\n"; });
+  if (!results.ok()) {
+    std::cerr << "mocap-eval: " << results.status().message() << "\n";
+    return kExitError;
+  }
+  if (absl::Status status = mocap::eval::WriteReport(out_dir, context, *results); !status.ok()) {
+    std::cerr << "mocap-eval: " << status.message() << "\n";
+    return kExitError;
+  }
+  std::cout << "wrote " << out_dir << "/report.md, report.json, plots/" << (no_bvh ? "" : ", bvh/") << "\n";
+  if (!quick) return 0;
+  // Regression check against stored thresholds.
+  std::ifstream in(thresholds_file);
+  if (!in) {
+    std::cerr << "mocap-eval: cannot read thresholds " << thresholds_file << "\n";
+    return kExitError;
+  }
+  const nlohmann::json limits = nlohmann::json::parse(in, nullptr, false);
+  const nlohmann::json full = mocap::eval::MetricsJson(results->front().overall);
+  const nlohmann::json nn = mocap::eval::MetricsJson((*results)[1].overall);
+  bool ok = true;
+  auto check = [&](const char* what, double value, double limit) {
+    const bool pass = value <= limit;
+    std::cout << (pass ? "ok   " : "FAIL ") << what << " = " << value << " (limit " << limit << ")\n";
+    ok = ok && pass;
+  };
+  check("full MPJPE cm", full["mpjpe_cm"], limits.value("full_mpjpe_cm_max", 1e9));
+  check("full / nearest-neighbour MPJPE", full["mpjpe_cm"].get<double>() / nn["mpjpe_cm"].get<double>(), limits.value("full_over_nn_mpjpe_max", 1e9));
+  check("full jitter / truth jitter", full["jitter_m_per_s3"].get<double>() / full["truth_jitter_m_per_s3"].get<double>(), limits.value("jitter_over_truth_max", 1e9));
+  return ok ? 0 : kExitRegression;
+}
