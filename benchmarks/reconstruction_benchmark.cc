@@ -1,0 +1,100 @@
+// The whole reconstruction pipeline (METHOD.md A2–A7) on the standard split, single thread,
+// K1 = 1000, K2 = 200: frames per second and time per stage per frame, plus the resident memory
+// of the loaded database and indices per database frame.
+//   build/benchmarks/mocap_reconstruction_benchmark --benchmark_counters_tabular=true
+#include <fstream>
+#include <unistd.h>
+
+#include <benchmark/benchmark.h>
+
+#include "eval/evaluation.h"
+#include "eval/standard_split.h"
+#include "motion/preprocess/clip_labels.h"
+
+namespace mocap {
+namespace {
+
+double ResidentBytes() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE));
+}
+
+struct Fixture {
+  std::shared_ptr<const ReconstructionDatabase> database;
+  std::vector<eval::TestClip> tests;
+  double bytes_per_frame = 0;
+  bool ok = false;
+};
+
+const Fixture& Shared() {
+  static const Fixture fixture = [] {
+    Fixture f;
+    auto split = eval::LoadStandardSplit();
+    if (!split.ok()) return f;
+    const double before = ResidentBytes();
+    auto database = eval::LoadDatabase(split->database_files);
+    if (!database.ok()) return f;
+    f.database = *database;
+    f.bytes_per_frame = (ResidentBytes() - before) / f.database->num_frames();
+    // One held-out walk and one wave, 150 frames each.
+    std::vector<std::filesystem::path> files;
+    for (const char* content : {"walk", "wave-both-hands"}) {
+      for (const auto& file : split->test_files) {
+        if (LabelValue(ParseClipLabels(file.filename().string()), "content") == content) {
+          files.push_back(file);
+          break;
+        }
+      }
+    }
+    auto tests = eval::LoadTestClips(files, f.database->rig(), 150, "");
+    if (!tests.ok()) return f;
+    f.tests = std::move(*tests);
+    f.ok = true;
+    return f;
+  }();
+  return fixture;
+}
+
+void BM_ReconstructionPipeline(benchmark::State& state) {
+  const Fixture& f = Shared();
+  if (!f.ok) {
+    state.SkipWithError("shared data unavailable");
+    return;
+  }
+  ReconstructionOptions options;
+  options.method = static_cast<ReconstructionMethod>(state.range(0));
+  const BodyLandmarks& l = f.database->rig().topology.landmarks;
+  SessionStatistics total;
+  long frames = 0;
+  for (auto _ : state) {
+    for (const eval::TestClip& test : f.tests) {
+      auto session = ReconstructionSession::Create(f.database, options);
+      std::vector<ReconstructedFrame> out;
+      for (int t = 0; t < test.truth.num_frames(); ++t) {
+        (void)(*session)->Push({t * f.database->frame_time(), test.truth.position(t, l.left_wrist), test.truth.position(t, l.right_wrist)}, &out);
+      }
+      (void)(*session)->Finish(&out);
+      const SessionStatistics& s = (*session)->statistics();
+      total.cloud_seconds += s.cloud_seconds;
+      total.path_seconds += s.path_seconds;
+      total.pose_seconds += s.pose_seconds;
+      total.post_seconds += s.post_seconds;
+      frames += static_cast<long>(out.size());
+    }
+  }
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
+  state.counters["A2A3_ms"] = 1e3 * total.cloud_seconds / frames;
+  state.counters["A4_ms"] = 1e3 * total.path_seconds / frames;
+  state.counters["A5A6_ms"] = 1e3 * total.pose_seconds / frames;
+  state.counters["A7_ms"] = 1e3 * total.post_seconds / frames;
+  state.counters["db_bytes_per_frame"] = f.bytes_per_frame;
+}
+// 0 = full method, 1 = wrists-only pose model, 2 = nearest neighbour.
+BENCHMARK(BM_ReconstructionPipeline)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+}  // namespace
+}  // namespace mocap
+
+BENCHMARK_MAIN();
