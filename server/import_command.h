@@ -15,6 +15,7 @@ namespace mocap {
 
 struct ImportOptions {
   std::filesystem::path store;
+  std::string tenant;               // tenant name; empty: the default tenant
   std::string database;
   std::vector<std::string> inputs;  // files and folders (searched recursively for *.bvh)
   double frame_rate = 30.0;         // used when the database is created
