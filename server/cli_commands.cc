@@ -268,6 +268,7 @@ void RegisterCommands(CLI::App& app) {
   RegisterDatabases(app);
   RegisterSimilar(app);
   RegisterTenantCommands(app);
+  RegisterServeCommand(app);
 
 }
 

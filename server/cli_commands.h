@@ -22,6 +22,7 @@ int ReportError(const absl::Status& status);
 
 // In their own files.
 void RegisterTenantCommands(CLI::App& app);
+void RegisterServeCommand(CLI::App& app);
 
 
 }  // namespace mocap
