@@ -12,7 +12,7 @@
 #include "motion/core/str_cat.h"
 #include "server/import_command.h"
 #include "server/inspect_command.h"
-#include "server/progress_bar.h"
+#include "cli_util/progress_bar.h"
 #include "server/similar_command.h"
 #include "storage/motion_store.h"
 #include "storage/tenant_directory.h"
