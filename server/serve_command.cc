@@ -29,6 +29,8 @@ int Serve(const ServeOptions& options) {
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
+  // A server's log lines carry their time.
+  spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %l %v");
   auto server = MocapServer::Start(options);
   if (!server.ok()) return ReportError(server.status());
   // The one line on stdout: scripts and tests read the port from it.
@@ -44,6 +46,8 @@ int Serve(const ServeOptions& options) {
   });
   (*server)->Wait();
   waiter.join();
+  server->reset();
+  spdlog::info("stopped");
   return 0;
 }
 
