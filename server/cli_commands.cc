@@ -12,9 +12,10 @@
 #include "motion/core/str_cat.h"
 #include "server/import_command.h"
 #include "server/inspect_command.h"
-#include "server/progress_bar.h"
+#include "cli_util/progress_bar.h"
 #include "server/similar_command.h"
 #include "storage/motion_store.h"
+#include "storage/tenant_directory.h"
 
 namespace mocap {
 namespace {
@@ -26,12 +27,6 @@ struct Command {
 std::vector<Command>& Commands() {
   static std::vector<Command> commands;
   return commands;
-}
-
-// Exit codes: 0 success, 1 a file or store error, 2 bad usage (CLI11).
-int ReportError(const absl::Status& status) {
-  spdlog::error("{}", std::string(status.message()));
-  return 1;
 }
 
 std::optional<LengthUnit> ParseUnitOption(const std::string& text) {
@@ -51,7 +46,7 @@ void RegisterInspect(CLI::App& app) {
   command->add_option("files", options->files, "BVH files")->required()->check(CLI::ExistingFile);
   command->add_flag("--json", options->json, "Print JSON (one array of reports)");
   command->add_option("--units", options->unit, "Override unit detection")->check(CLI::IsMember({"m", "cm", "mm", "in"}));
-  Commands().push_back({command, [options] {
+  AddCommand(command, [options] {
     nlohmann::json all = nlohmann::json::array();
     int failures = 0;
     for (const std::string& file : options->files) {
@@ -69,7 +64,7 @@ void RegisterInspect(CLI::App& app) {
     }
     if (options->json) std::cout << all.dump(2) << "\n";
     return failures == 0 ? 0 : 1;
-  }});
+  });
 }
 
 std::string Thousands(double value) {
@@ -91,6 +86,7 @@ void RegisterImport(CLI::App& app) {
                                                    "file's rig when missing); atomic per batch");
   command->add_option("--store", options->store, "Motion store file (created when missing)")->required();
   command->add_option("--database", options->import.database, "Motion database name")->required();
+  command->add_option("--tenant", options->import.tenant, "Tenant owning the database (default: 'default')");
   command->add_option("inputs", options->import.inputs, "BVH files or folders (searched recursively)")->required();
   command->add_option("--frame-rate", options->import.frame_rate, "Database frame rate when creating it (fps)")
       ->check(CLI::Range(1.0, 1000.0));
@@ -102,7 +98,7 @@ void RegisterImport(CLI::App& app) {
   command->add_option("--threads", options->import.threads, "Worker threads (0: one per core)")->check(CLI::NonNegativeNumber);
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->add_flag("--quiet", options->quiet, "No progress bar");
-  Commands().push_back({command, [options] {
+  AddCommand(command, [options] {
     options->import.store = options->store;
     options->import.unit = ParseUnitOption(options->unit);
     std::optional<ProgressBar> bar;
@@ -135,22 +131,26 @@ void RegisterImport(CLI::App& app) {
                 << " frames/s (file frames)\n";
     }
     return 0;
-  }});
+  });
 }
 
 void RegisterDatabases(CLI::App& app) {
   struct Options {
     std::string store;
+    std::string tenant;
     bool json = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* command = app.add_subcommand("databases", "List the motion databases of a store");
   command->add_option("--store", options->store, "Motion store file")->required();
+  command->add_option("--tenant", options->tenant, "Tenant whose databases to list (default: 'default')");
   command->add_flag("--json", options->json, "Print JSON");
-  Commands().push_back({command, [options] {
-    auto store = MotionStore::Open(options->store, StoreOpenOptions{.create_if_missing = false, .read_only = true});
+  AddCommand(command, [options] {
+    auto store = MotionStore::Open(options->store, StoreOpenOptions{.create_if_missing = false});
     if (!store.ok()) return ReportError(store.status());
-    auto databases = (*store)->ListDatabases();
+    auto tenant = ResolveTenant(**store, options->tenant);
+    if (!tenant.ok()) return ReportError(tenant.status());
+    auto databases = (*store)->ListDatabases(*tenant);
     if (!databases.ok()) return ReportError(databases.status());
     if (options->json) {
       nlohmann::json out = nlohmann::json::array();
@@ -164,12 +164,16 @@ void RegisterDatabases(CLI::App& app) {
     }
     if (databases->empty()) std::cout << "no motion databases in " << options->store << "\n";
     for (const DatabaseSummary& d : *databases) {
+      if (!d.has_rig) {
+        std::cout << d.name << ": empty (its rig comes with the first import) at " << d.frame_rate << " fps\n";
+        continue;
+      }
       std::cout << d.name << ": " << d.num_clips << " clips, " << Thousands(d.num_frames) << " frames ("
                 << d.seconds() / 60.0 << " min) at " << d.frame_rate << " fps; rig of " << d.num_joints
                 << " joints rooted at " << d.root_joint << ", imported from " << UnitName(d.unit) << "\n";
     }
     return 0;
-  }});
+  });
 }
 
 void RegisterSimilar(CLI::App& app) {
@@ -183,6 +187,7 @@ void RegisterSimilar(CLI::App& app) {
                                                     "(any rig: no joint mapping needed)");
   command->add_option("--store", options->store, "Motion store file")->required();
   command->add_option("--database", options->similar.databases, "Database(s) to search (repeat for several)")->required();
+  command->add_option("--tenant", options->similar.tenant, "Tenant owning the databases (default: 'default')");
   auto* query = command->add_option("--query", options->query, "BVH file with the query pose(s)")->check(CLI::ExistingFile);
   auto* pose = command->add_option("--query-pose", options->pose_file,
                                    "JSON file with one pose as named joint positions and landmarks (see README)")
@@ -201,7 +206,7 @@ void RegisterSimilar(CLI::App& app) {
                       "Drop matches within N frames of a better match in the same clip");
   command->add_flag("--exact", options->similar.search.exact, "Compare with every frame (no prefilter)");
   command->add_flag("--json", options->json, "Print JSON");
-  Commands().push_back({command, [options] {
+  AddCommand(command, [options] {
     SimilarOptions& similar = options->similar;
     similar.store = options->store;
     similar.query = options->query;
@@ -244,16 +249,27 @@ void RegisterSimilar(CLI::App& app) {
       }
     }
     return 0;
-  }});
+  });
 }
 
 }  // namespace
+
+void AddCommand(CLI::App* command, std::function<int()> run) { Commands().push_back({command, std::move(run)}); }
+
+// Exit codes: 0 success, 1 a file or store error, 2 bad usage (CLI11).
+int ReportError(const absl::Status& status) {
+  spdlog::error("{}", std::string(status.message()));
+  return 1;
+}
 
 void RegisterCommands(CLI::App& app) {
   RegisterInspect(app);
   RegisterImport(app);
   RegisterDatabases(app);
   RegisterSimilar(app);
+  RegisterTenantCommands(app);
+  RegisterServeCommand(app);
+
 }
 
 int RunSelectedCommand(CLI::App& app) {

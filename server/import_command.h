@@ -15,6 +15,7 @@ namespace mocap {
 
 struct ImportOptions {
   std::filesystem::path store;
+  std::string tenant;               // tenant name; empty: the default tenant
   std::string database;
   std::vector<std::string> inputs;  // files and folders (searched recursively for *.bvh)
   double frame_rate = 30.0;         // used when the database is created
@@ -41,9 +42,6 @@ struct ImportSummary {
 
 // Called after each file with (files done, total files, summary so far).
 using ImportProgress = std::function<void(int, int, const ImportSummary&)>;
-
-// Sorted *.bvh files under `inputs`; InvalidArgument when an input does not exist or none found.
-absl::StatusOr<std::vector<std::filesystem::path>> CollectBvhFiles(const std::vector<std::string>& inputs);
 
 // Imports; on a bad file without keep_going, the current batch is rolled back (the store is as
 // it was before that batch) and the error names the file.

@@ -8,6 +8,7 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/skeleton/forward_kinematics.h"
 #include "storage/motion_store.h"
+#include "storage/tenant_directory.h"
 
 namespace mocap {
 namespace {
@@ -18,9 +19,10 @@ struct LoadedDatabase {
   PoseIndex index;
 };
 
-absl::StatusOr<LoadedDatabase> LoadDatabase(MotionStore& store, const std::string& name, const BodyPointOptions& points) {
+absl::StatusOr<LoadedDatabase> LoadDatabase(MotionStore& store, TenantId tenant, const std::string& name,
+                                            const BodyPointOptions& points) {
   LoadedDatabase loaded;
-  MOCAP_ASSIGN_OR_RETURN(loaded.summary, store.FindDatabase(name));
+  MOCAP_ASSIGN_OR_RETURN(loaded.summary, store.FindDatabase(name, tenant));
   MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(loaded.summary.id));
   MOCAP_ASSIGN_OR_RETURN(loaded.clips, store.ListClips(loaded.summary.id));
   loaded.index = PoseIndex(points);
@@ -138,7 +140,8 @@ absl::StatusOr<nlohmann::json> RunSimilar(const SimilarOptions& options) {
   if (options.databases.empty()) return absl::InvalidArgumentError("name at least one database");
   if (options.frame_step < 1) return absl::InvalidArgumentError("frame step must be at least 1");
   MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<MotionStore> store,
-                         MotionStore::Open(options.store, StoreOpenOptions{.create_if_missing = false, .read_only = true}));
+                         MotionStore::Open(options.store, StoreOpenOptions{.create_if_missing = false}));
+  MOCAP_ASSIGN_OR_RETURN(const TenantId tenant, ResolveTenant(*store, options.tenant));
   std::optional<ClipPoints> pose_points;
   if (options.pose) {
     if (options.search.window != 1) return absl::InvalidArgumentError("a single pose has no window: use --window 1");
@@ -151,7 +154,7 @@ absl::StatusOr<nlohmann::json> RunSimilar(const SimilarOptions& options) {
 
   std::vector<LoadedDatabase> databases;
   for (const std::string& name : options.databases) {
-    MOCAP_ASSIGN_OR_RETURN(LoadedDatabase loaded, LoadDatabase(*store, name, options.points));
+    MOCAP_ASSIGN_OR_RETURN(LoadedDatabase loaded, LoadDatabase(*store, tenant, name, options.points));
     databases.push_back(std::move(loaded));
   }
   if (pose_points) {

@@ -15,6 +15,7 @@ namespace mocap {
 
 struct SimilarOptions {
   std::filesystem::path store;
+  std::string tenant;                   // tenant name; empty: the default tenant
   std::vector<std::string> databases;   // searched together; matches merged by distance
   std::filesystem::path query;          // a BVH file on any humanoid rig, or
   std::optional<nlohmann::json> pose;   // one pose as joint positions with the landmarks named:

@@ -12,25 +12,12 @@
 #include "motion/core/str_cat.h"
 #include "storage/rig_codec.h"
 #include "storage/schema.h"
+#include "storage/sqlite_status.h"
 
 namespace mocap {
 namespace {
 
-// SQLiteCpp throws SQLite::Exception; every public method converts it here.
-absl::Status FromException(const std::exception& error, std::string_view what) {
-  const auto* sqlite_error = dynamic_cast<const SQLite::Exception*>(&error);
-  const std::string message = StrCat(what, ": ", error.what());
-  if (sqlite_error != nullptr) {
-    const int code = sqlite_error->getErrorCode();
-    if (code == SQLITE_BUSY || code == SQLITE_LOCKED) return absl::UnavailableError(message);
-    if (code == SQLITE_CORRUPT || code == SQLITE_NOTADB) return absl::DataLossError(message);
-    if (code == SQLITE_READONLY || code == SQLITE_CANTOPEN || code == SQLITE_PERM) {
-      return absl::PermissionDeniedError(message);
-    }
-    if (code == SQLITE_FULL) return absl::ResourceExhaustedError(message);
-  }
-  return absl::InternalError(message);
-}
+using storage::FromException;
 
 template <typename T>
 void BindFloats(SQLite::Statement& statement, int index, const std::vector<T>& values) {
@@ -49,7 +36,7 @@ absl::Status ReadFloats(const SQLite::Column& column, size_t expected_count, std
 }
 
 constexpr const char* kSummarySelect = R"sql(
-  SELECT d.id, d.name, d.frame_rate, d.unit, d.rig,
+  SELECT d.id, d.name, d.frame_rate, d.unit, d.rig, d.tenant_id,
          (SELECT COUNT(*) FROM clips c WHERE c.database_id = d.id),
          (SELECT COALESCE(SUM(num_frames), 0) FROM clips c WHERE c.database_id = d.id)
   FROM databases d)sql";
@@ -59,15 +46,30 @@ absl::StatusOr<DatabaseSummary> SummaryFromRow(SQLite::Statement& query) {
   summary.id = query.getColumn(0).getInt64();
   summary.name = query.getColumn(1).getString();
   summary.frame_rate = query.getColumn(2).getDouble();
+  summary.tenant_id = query.getColumn(5).getInt64();
+  summary.num_clips = query.getColumn(6).getInt64();
+  summary.num_frames = query.getColumn(7).getInt64();
+  summary.has_rig = !query.getColumn(4).isNull();
+  if (!summary.has_rig) return summary;
   auto unit = ParseUnit(query.getColumn(3).getString());
   if (!unit) return absl::DataLossError("database has an unknown unit");
   summary.unit = *unit;
   MOCAP_ASSIGN_OR_RETURN(RigModel rig, storage::DecodeRig(query.getColumn(4).getString()));
   summary.num_joints = rig.skeleton.num_joints();
   summary.root_joint = rig.skeleton.joint(0).name;
-  summary.num_clips = query.getColumn(5).getInt64();
-  summary.num_frames = query.getColumn(6).getInt64();
   return summary;
+}
+
+// Columns: id, source_name, content_hash, num_frames, source_frame_rate, source_frames.
+ClipSummary ClipFromRow(SQLite::Statement& query) {
+  ClipSummary clip;
+  clip.id = query.getColumn(0).getInt64();
+  clip.source_name = query.getColumn(1).getString();
+  clip.content_hash = query.getColumn(2).getString();
+  clip.num_frames = query.getColumn(3).getInt();
+  clip.source_frame_rate = query.getColumn(4).getDouble();
+  clip.source_frames = query.getColumn(5).getInt();
+  return clip;
 }
 
 }  // namespace
@@ -126,10 +128,11 @@ absl::StatusOr<std::unique_ptr<MotionStore::WriteBatch>> MotionStore::BeginWrite
   }
 }
 
-absl::StatusOr<DatabaseSummary> MotionStore::FindDatabase(const std::string& name) {
+absl::StatusOr<DatabaseSummary> MotionStore::FindDatabase(const std::string& name, TenantId tenant) {
   try {
-    SQLite::Statement query(*db_, StrCat(kSummarySelect, " WHERE d.name = ?"));
-    query.bind(1, name);
+    SQLite::Statement query(*db_, StrCat(kSummarySelect, " WHERE d.tenant_id = ? AND d.name = ?"));
+    query.bind(1, tenant);
+    query.bind(2, name);
     if (!query.executeStep()) return absl::NotFoundError(StrCat("no motion database named '", name, "'"));
     return SummaryFromRow(query);
   } catch (const std::exception& error) {
@@ -137,9 +140,10 @@ absl::StatusOr<DatabaseSummary> MotionStore::FindDatabase(const std::string& nam
   }
 }
 
-absl::StatusOr<std::vector<DatabaseSummary>> MotionStore::ListDatabases() {
+absl::StatusOr<std::vector<DatabaseSummary>> MotionStore::ListDatabases(TenantId tenant) {
   try {
-    SQLite::Statement query(*db_, StrCat(kSummarySelect, " ORDER BY d.name"));
+    SQLite::Statement query(*db_, StrCat(kSummarySelect, " WHERE d.tenant_id = ? ORDER BY d.name"));
+    query.bind(1, tenant);
     std::vector<DatabaseSummary> out;
     while (query.executeStep()) {
       MOCAP_ASSIGN_OR_RETURN(DatabaseSummary summary, SummaryFromRow(query));
@@ -152,7 +156,17 @@ absl::StatusOr<std::vector<DatabaseSummary>> MotionStore::ListDatabases() {
 }
 
 absl::StatusOr<DatabaseSummary> MotionStore::CreateDatabase(const std::string& name, const RigModel& rig,
-                                                            double frame_rate) {
+                                                            double frame_rate, TenantId tenant) {
+  return InsertDatabase(tenant, name, &rig, frame_rate);
+}
+
+absl::StatusOr<DatabaseSummary> MotionStore::CreateEmptyDatabase(const std::string& name, double frame_rate,
+                                                                 TenantId tenant) {
+  return InsertDatabase(tenant, name, nullptr, frame_rate);
+}
+
+absl::StatusOr<DatabaseSummary> MotionStore::InsertDatabase(TenantId tenant, const std::string& name,
+                                                            const RigModel* rig, double frame_rate) {
   if (name.empty() || name.size() > 128) {
     return absl::InvalidArgumentError("database name must have 1 to 128 characters");
   }
@@ -160,26 +174,47 @@ absl::StatusOr<DatabaseSummary> MotionStore::CreateDatabase(const std::string& n
     return absl::InvalidArgumentError(StrCat("database frame rate ", frame_rate, " is outside (0, 1000]"));
   }
   try {
-    SQLite::Statement exists(*db_, "SELECT 1 FROM databases WHERE name = ?");
-    exists.bind(1, name);
+    SQLite::Statement exists(*db_, "SELECT 1 FROM databases WHERE tenant_id = ? AND name = ?");
+    exists.bind(1, tenant);
+    exists.bind(2, name);
     if (exists.executeStep()) return absl::AlreadyExistsError(StrCat("motion database '", name, "' already exists"));
-    SQLite::Statement insert(*db_, "INSERT INTO databases (name, frame_rate, unit, rig) VALUES (?, ?, ?, ?)");
-    insert.bind(1, name);
-    insert.bind(2, frame_rate);
-    insert.bind(3, std::string(UnitName(rig.unit)));
-    insert.bind(4, storage::EncodeRig(rig));
+    SQLite::Statement insert(*db_, "INSERT INTO databases (tenant_id, name, frame_rate, unit, rig) VALUES (?, ?, ?, ?, ?)");
+    insert.bind(1, tenant);
+    insert.bind(2, name);
+    insert.bind(3, frame_rate);
+    if (rig != nullptr) {
+      insert.bind(4, std::string(UnitName(rig->unit)));
+      insert.bind(5, storage::EncodeRig(*rig));
+    }
     insert.exec();
   } catch (const std::exception& error) {
     return FromException(error, "creating database");
   }
-  return FindDatabase(name);
+  return FindDatabase(name, tenant);
+}
+
+absl::Status MotionStore::SetRig(std::int64_t database_id, const RigModel& rig) {
+  try {
+    SQLite::Statement update(*db_, "UPDATE databases SET unit = ?, rig = ? WHERE id = ? AND rig IS NULL");
+    update.bind(1, std::string(UnitName(rig.unit)));
+    update.bind(2, storage::EncodeRig(rig));
+    update.bind(3, database_id);
+    if (update.exec() == 0) return absl::FailedPreconditionError(StrCat("motion database ", database_id, " has a rig already"));
+    return absl::OkStatus();
+  } catch (const std::exception& error) {
+    return FromException(error, "setting the rig");
+  }
 }
 
 absl::StatusOr<RigModel> MotionStore::LoadRig(std::int64_t database_id) {
   try {
-    SQLite::Statement query(*db_, "SELECT rig FROM databases WHERE id = ?");
+    SQLite::Statement query(*db_, "SELECT rig, name FROM databases WHERE id = ?");
     query.bind(1, database_id);
     if (!query.executeStep()) return absl::NotFoundError(StrCat("no motion database with id ", database_id));
+    if (query.getColumn(0).isNull()) {
+      return absl::FailedPreconditionError(
+          StrCat("motion database '", query.getColumn(1).getString(), "' has no rig yet (nothing imported)"));
+    }
     return storage::DecodeRig(query.getColumn(0).getString());
   } catch (const std::exception& error) {
     return FromException(error, "loading rig");
@@ -272,16 +307,7 @@ absl::StatusOr<std::vector<ClipSummary>> MotionStore::ListClips(std::int64_t dat
       SELECT id, source_name, content_hash, num_frames, source_frame_rate, source_frames
       FROM clips WHERE database_id = ? ORDER BY id)sql");
     query.bind(1, database_id);
-    while (query.executeStep()) {
-      ClipSummary clip;
-      clip.id = query.getColumn(0).getInt64();
-      clip.source_name = query.getColumn(1).getString();
-      clip.content_hash = query.getColumn(2).getString();
-      clip.num_frames = query.getColumn(3).getInt();
-      clip.source_frame_rate = query.getColumn(4).getDouble();
-      clip.source_frames = query.getColumn(5).getInt();
-      clips.push_back(std::move(clip));
-    }
+    while (query.executeStep()) clips.push_back(ClipFromRow(query));
     SQLite::Statement labels(*db_, R"sql(
       SELECT l.clip_id, l.key, l.value FROM clip_labels l JOIN clips c ON c.id = l.clip_id
       WHERE c.database_id = ? ORDER BY l.clip_id, l.key)sql");
@@ -297,6 +323,32 @@ absl::StatusOr<std::vector<ClipSummary>> MotionStore::ListClips(std::int64_t dat
     return clips;
   } catch (const std::exception& error) {
     return FromException(error, "listing clips");
+  }
+}
+
+absl::StatusOr<ClipSummary> MotionStore::FindClip(std::int64_t database_id, std::int64_t clip_id) {
+  try {
+    SQLite::Statement query(*db_, R"sql(
+      SELECT id, source_name, content_hash, num_frames, source_frame_rate, source_frames
+      FROM clips WHERE database_id = ? AND id = ?)sql");
+    query.bind(1, database_id);
+    query.bind(2, clip_id);
+    if (!query.executeStep()) return absl::NotFoundError(StrCat("no clip ", clip_id, " in this database"));
+    return ClipFromRow(query);
+  } catch (const std::exception& error) {
+    return FromException(error, "finding clip");
+  }
+}
+
+absl::Status MotionStore::DeleteClip(std::int64_t database_id, std::int64_t clip_id) {
+  try {
+    SQLite::Statement remove(*db_, "DELETE FROM clips WHERE database_id = ? AND id = ?");
+    remove.bind(1, database_id);
+    remove.bind(2, clip_id);
+    if (remove.exec() == 0) return absl::NotFoundError(StrCat("no clip ", clip_id, " in this database"));
+    return absl::OkStatus();
+  } catch (const std::exception& error) {
+    return FromException(error, "deleting clip");
   }
 }
 

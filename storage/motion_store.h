@@ -23,11 +23,18 @@ class Transaction;
 
 namespace mocap {
 
+// Every database belongs to a tenant (storage/tenant_directory.h); names are unique per tenant.
+using TenantId = std::int64_t;
+// The tenant of databases from version 1 stores, and the one the local admin commands act as.
+inline constexpr TenantId kDefaultTenantId = 1;
+
 struct DatabaseSummary {
   std::int64_t id = 0;
+  TenantId tenant_id = kDefaultTenantId;
   std::string name;
   double frame_rate = 0.0;
-  LengthUnit unit = LengthUnit::kCentimetre;
+  bool has_rig = false;  // false for a database created empty, until its first import
+  LengthUnit unit = LengthUnit::kCentimetre;  // meaningful only with has_rig
   int num_joints = 0;
   std::string root_joint;
   std::int64_t num_clips = 0;
@@ -84,11 +91,22 @@ class MotionStore {
   };
   absl::StatusOr<std::unique_ptr<WriteBatch>> BeginWrite();
 
-  // NotFound when there is no database called `name`.
-  absl::StatusOr<DatabaseSummary> FindDatabase(const std::string& name);
-  absl::StatusOr<std::vector<DatabaseSummary>> ListDatabases();
-  // AlreadyExists when the name is taken; InvalidArgument for an empty or over-long name.
-  absl::StatusOr<DatabaseSummary> CreateDatabase(const std::string& name, const RigModel& rig, double frame_rate);
+  // Databases are looked up by name within one tenant (default: kDefaultTenantId). Calls taking
+  // a database or clip id do not check the tenant: get the id from a tenant's lookup first.
+
+  // NotFound when the tenant has no database called `name`.
+  absl::StatusOr<DatabaseSummary> FindDatabase(const std::string& name, TenantId tenant = kDefaultTenantId);
+  absl::StatusOr<std::vector<DatabaseSummary>> ListDatabases(TenantId tenant = kDefaultTenantId);
+  // AlreadyExists when the tenant has the name already; InvalidArgument for an empty or
+  // over-long name or a frame rate outside (0, 1000].
+  absl::StatusOr<DatabaseSummary> CreateDatabase(const std::string& name, const RigModel& rig, double frame_rate,
+                                                 TenantId tenant = kDefaultTenantId);
+  // A database without a rig yet: the first import fixes it (SetRig).
+  absl::StatusOr<DatabaseSummary> CreateEmptyDatabase(const std::string& name, double frame_rate,
+                                                      TenantId tenant = kDefaultTenantId);
+  // FailedPrecondition when the database has a rig already.
+  absl::Status SetRig(std::int64_t database_id, const RigModel& rig);
+  // FailedPrecondition when the database has no rig yet.
   absl::StatusOr<RigModel> LoadRig(std::int64_t database_id);
   absl::Status DeleteDatabase(std::int64_t database_id);
 
@@ -99,11 +117,18 @@ class MotionStore {
                                           const std::string& content_hash, const ClipLabels& labels,
                                           const PreparedClip& clip, const RigModel& rig);
   absl::StatusOr<std::vector<ClipSummary>> ListClips(std::int64_t database_id);
+  // NotFound when the database has no clip with that id (labels not filled).
+  absl::StatusOr<ClipSummary> FindClip(std::int64_t database_id, std::int64_t clip_id);
+  // NotFound when the database has no clip with that id.
+  absl::Status DeleteClip(std::int64_t database_id, std::int64_t clip_id);
   // DataLoss when a blob does not have the size its row declares.
   absl::StatusOr<StoredClip> LoadClip(std::int64_t clip_id, const RigModel& rig);
 
  private:
+  friend class TenantDirectory;  // tenants and keys share the connection
   MotionStore(std::filesystem::path path, std::unique_ptr<SQLite::Database> db);
+  absl::StatusOr<DatabaseSummary> InsertDatabase(TenantId tenant, const std::string& name, const RigModel* rig,
+                                                 double frame_rate);
   std::filesystem::path path_;
   std::unique_ptr<SQLite::Database> db_;
 };

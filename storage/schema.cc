@@ -1,5 +1,6 @@
 #include "storage/schema.h"
 
+#include <SQLiteCpp/Statement.h>
 #include <SQLiteCpp/Transaction.h>
 
 #include "motion/core/str_cat.h"
@@ -44,6 +45,42 @@ CREATE TABLE clip_labels (
 );
 CREATE INDEX clip_labels_by_value ON clip_labels(key, value);
 )sql",
+    // 2: tenants and their API keys; every database belongs to a tenant (names unique per
+    // tenant); a database may exist before its first import (rig and unit NULL until then).
+    // Version 1 databases go to tenant 1, 'default'. SQLite cannot drop the old UNIQUE (name),
+    // so the table is rebuilt (https://sqlite.org/lang_altertable.html, "other kinds of table
+    // schema changes"); MigrateSchema turns foreign keys off around it.
+    R"sql(
+CREATE TABLE tenants (
+  id          INTEGER PRIMARY KEY,
+  name        TEXT NOT NULL UNIQUE,
+  created_at  TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))
+);
+INSERT INTO tenants (id, name) VALUES (1, 'default');
+CREATE TABLE api_keys (
+  id          INTEGER PRIMARY KEY,
+  tenant_id   INTEGER NOT NULL REFERENCES tenants(id) ON DELETE CASCADE,
+  key_id      TEXT NOT NULL UNIQUE,       -- public part of the key ("mk_" + 8 hex), safe to show
+  key_sha256  TEXT NOT NULL UNIQUE,       -- SHA-256 of the whole key, hex; the key is never stored
+  created_at  TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now')),
+  revoked_at  TEXT
+);
+CREATE INDEX api_keys_by_tenant ON api_keys(tenant_id);
+CREATE TABLE databases_v2 (
+  id          INTEGER PRIMARY KEY,
+  tenant_id   INTEGER NOT NULL REFERENCES tenants(id),
+  name        TEXT NOT NULL,
+  frame_rate  REAL NOT NULL CHECK (frame_rate > 0),
+  unit        TEXT,                       -- NULL until the first import fixes the rig
+  rig         TEXT,                       -- JSON: skeleton, topology, reference rotations
+  created_at  TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now')),
+  UNIQUE (tenant_id, name)
+);
+INSERT INTO databases_v2 (id, tenant_id, name, frame_rate, unit, rig, created_at)
+  SELECT id, 1, name, frame_rate, unit, rig, created_at FROM databases;
+DROP TABLE databases;
+ALTER TABLE databases_v2 RENAME TO databases;
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion);
 
@@ -51,21 +88,39 @@ static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion);
 
 int SchemaVersion(SQLite::Database& db) { return db.execAndGet("PRAGMA user_version").getInt(); }
 
-absl::Status MigrateSchema(SQLite::Database& db) {
+absl::Status MigrateSchema(SQLite::Database& db, int target_version) {
   int version = SchemaVersion(db);
   if (version > kSchemaVersion) {
     return absl::FailedPreconditionError(StrCat("store schema version ", version,
                                                 " is newer than this build supports (", kSchemaVersion,
                                                 "); upgrade mocapd"));
   }
-  while (version < kSchemaVersion) {
-    SQLite::Transaction transaction(db);
-    db.exec(kMigrations[version]);
-    ++version;
-    db.exec(StrCat("PRAGMA user_version = ", version));
-    transaction.commit();
+  if (version >= target_version) return absl::OkStatus();
+  // Table rebuilds (migration 2) need foreign keys off; the pragma is a no-op inside a
+  // transaction, so it is set around them and the keys are checked before each commit.
+  const bool foreign_keys = db.execAndGet("PRAGMA foreign_keys").getInt() != 0;
+  db.exec("PRAGMA foreign_keys = OFF");
+  absl::Status status = absl::OkStatus();
+  try {
+    while (version < target_version) {
+      SQLite::Transaction transaction(db);
+      db.exec(kMigrations[version]);
+      ++version;
+      SQLite::Statement check(db, "PRAGMA foreign_key_check");
+      if (check.executeStep()) {
+        status = absl::DataLossError(StrCat("store schema migration to version ", version, " found rows of table '",
+                                            check.getColumn(0).getString(), "' with a broken reference"));
+        break;  // rolled back
+      }
+      db.exec(StrCat("PRAGMA user_version = ", version));
+      transaction.commit();
+    }
+  } catch (...) {
+    if (foreign_keys) db.exec("PRAGMA foreign_keys = ON");
+    throw;
   }
-  return absl::OkStatus();
+  if (foreign_keys) db.exec("PRAGMA foreign_keys = ON");
+  return status;
 }
 
 }  // namespace mocap::storage

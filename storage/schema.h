@@ -7,11 +7,12 @@
 
 namespace mocap::storage {
 
-inline constexpr int kSchemaVersion = 1;
+inline constexpr int kSchemaVersion = 2;
 
-// Brings the schema up to kSchemaVersion, one migration per transaction. FailedPrecondition when
-// the file was written by a newer build (its version is higher than ours).
-absl::Status MigrateSchema(SQLite::Database& db);
+// Brings the schema up to `target_version` (tests stop early to write older stores), one
+// migration per transaction. FailedPrecondition when the file was written by a newer build (its
+// version is higher than ours).
+absl::Status MigrateSchema(SQLite::Database& db, int target_version = kSchemaVersion);
 
 int SchemaVersion(SQLite::Database& db);
 

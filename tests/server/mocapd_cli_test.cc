@@ -79,6 +79,34 @@ TEST_F(MocapdCliTest, ImportThenListDatabases) {
   EXPECT_EQ(databases[0]["joints"], 22);
 }
 
+TEST_F(MocapdCliTest, TenantsKeysAndPerTenantDatabases) {
+  const std::string store = "--store " + (dir_ / "var" / "mocap.db").string();
+  ASSERT_EQ(RunMocapd("tenant create acme " + store).exit_code, 0);
+  EXPECT_NE(RunMocapd("tenant create acme " + store).exit_code, 0);  // exists
+  const RunResult key = RunMocapd("tenant add-key acme --json " + store);
+  ASSERT_EQ(key.exit_code, 0);
+  const auto made = nlohmann::json::parse(key.out);
+  EXPECT_EQ(made["tenant"], "acme");
+  const std::string key_id = made["key_id"];
+  EXPECT_EQ(made["key"].get<std::string>().rfind(key_id, 0), 0u);
+
+  ASSERT_EQ(RunMocapd("import --quiet --tenant acme --database walks " + store + " " + (dir_ / "clips").string()).exit_code, 0);
+  EXPECT_EQ(nlohmann::json::parse(RunMocapd("databases --json --tenant acme " + store).out).size(), 1u);
+  EXPECT_EQ(nlohmann::json::parse(RunMocapd("databases --json " + store).out).size(), 0u);
+  EXPECT_NE(RunMocapd("databases --tenant nobody " + store).exit_code, 0);
+
+  auto tenants = nlohmann::json::parse(RunMocapd("tenant list --json " + store).out);
+  ASSERT_EQ(tenants.size(), 2u);  // acme and default
+  EXPECT_EQ(tenants[0]["name"], "acme");
+  EXPECT_EQ(tenants[0]["databases"], 1);
+  EXPECT_EQ(tenants[0]["active_keys"], 1);
+  ASSERT_EQ(RunMocapd("tenant revoke-key acme " + key_id + " " + store).exit_code, 0);
+  EXPECT_NE(RunMocapd("tenant revoke-key acme " + key_id + " " + store).exit_code, 0);
+  tenants = nlohmann::json::parse(RunMocapd("tenant list --json " + store).out);
+  EXPECT_EQ(tenants[0]["active_keys"], 0);
+  EXPECT_FALSE(tenants[0]["keys"][0]["revoked_at"].is_null());
+}
+
 TEST_F(MocapdCliTest, BadInputsFailWithNonZeroExit) {
   EXPECT_NE(RunMocapd("inspect " + (dir_ / "missing.bvh").string()).exit_code, 0);
   EXPECT_NE(RunMocapd("import --store " + (dir_ / "s.db").string() + " --database x " + (dir_ / "missing").string()).exit_code, 0);

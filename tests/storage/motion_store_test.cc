@@ -4,10 +4,12 @@
 #include <fstream>
 
 #include <SQLiteCpp/Database.h>
+#include <SQLiteCpp/Statement.h>
 #include <gtest/gtest.h>
 
 #include "motion/preprocess/clip_preprocessor.h"
 #include "storage/schema.h"
+#include "storage/tenant_directory.h"
 #include "tests/support/synthetic_clip.h"
 #include "tests/support/temp_dir.h"
 
@@ -156,6 +158,118 @@ TEST_F(MotionStoreTest, DeletingADatabaseRemovesItsClips) {
   EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clips").getInt(), 0);
   EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clip_labels").getInt(), 0);
   EXPECT_EQ(store->DeleteDatabase(database->id).code(), absl::StatusCode::kNotFound);
+}
+
+// A store written by schema version 1 (one namespace of databases) opens as version 2 with its
+// databases, clips and labels in the 'default' tenant.
+TEST_F(MotionStoreTest, MigratesVersionOneStoreToTheDefaultTenant) {
+  std::filesystem::create_directories(path_.parent_path());
+  {
+    SQLite::Database raw(path_.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    ASSERT_TRUE(storage::MigrateSchema(raw, 1).ok());
+    raw.exec("PRAGMA foreign_keys = ON");
+    raw.exec("INSERT INTO databases (id, name, frame_rate, unit, rig) VALUES (7, 'walks', 30, 'cm', '{}')");
+    raw.exec(R"sql(INSERT INTO clips (id, database_id, source_name, content_hash, source_frame_rate, source_frames,
+                                       num_frames, offsets, poses, features) VALUES (3, 7, 'a.bvh', 'h', 30, 2, 2,
+                                       x'', x'', x''))sql");
+    raw.exec("INSERT INTO clip_labels (clip_id, key, value) VALUES (3, 'content', 'walk')");
+  }
+  {
+    auto store = MotionStore::Open(path_);
+    ASSERT_TRUE(store.ok()) << store.status();
+  }
+  SQLite::Database raw(path_.string());
+  EXPECT_EQ(storage::SchemaVersion(raw), 2);
+  EXPECT_EQ(raw.execAndGet("SELECT tenant_id FROM databases WHERE id = 7").getInt(), kDefaultTenantId);
+  EXPECT_EQ(raw.execAndGet("SELECT name FROM tenants WHERE id = 1").getString(), "default");
+  EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clips WHERE database_id = 7").getInt(), 1);
+  EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clip_labels").getInt(), 1);
+  EXPECT_FALSE(SQLite::Statement(raw, "PRAGMA foreign_key_check").executeStep());
+}
+
+TEST_F(MotionStoreTest, DatabaseNamesAreUniquePerTenant) {
+  auto store = std::move(MotionStore::Open(path_)).value();
+  TenantDirectory tenants(*store);
+  auto acme = tenants.CreateTenant("acme");
+  ASSERT_TRUE(acme.ok()) << acme.status();
+  ASSERT_TRUE(store->CreateDatabase("walks", rig_, 30.0).ok());
+  auto theirs = store->CreateDatabase("walks", rig_, 30.0, acme->id);
+  ASSERT_TRUE(theirs.ok()) << theirs.status();
+  EXPECT_EQ(theirs->tenant_id, acme->id);
+  EXPECT_EQ(store->ListDatabases(acme->id)->size(), 1u);
+  EXPECT_EQ(store->ListDatabases()->size(), 1u);
+  EXPECT_NE(store->FindDatabase("walks", acme->id)->id, store->FindDatabase("walks")->id);
+  EXPECT_EQ(store->FindDatabase("walks", acme->id + 1).status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST_F(MotionStoreTest, EmptyDatabaseGetsItsRigOnce) {
+  auto store = std::move(MotionStore::Open(path_)).value();
+  auto empty = store->CreateEmptyDatabase("later", 60.0);
+  ASSERT_TRUE(empty.ok()) << empty.status();
+  EXPECT_FALSE(empty->has_rig);
+  EXPECT_EQ(empty->num_joints, 0);
+  EXPECT_EQ(store->LoadRig(empty->id).status().code(), absl::StatusCode::kFailedPrecondition);
+  ASSERT_TRUE(store->SetRig(empty->id, rig_).ok());
+  EXPECT_EQ(store->SetRig(empty->id, rig_).code(), absl::StatusCode::kFailedPrecondition);
+  auto found = store->FindDatabase("later");
+  ASSERT_TRUE(found.ok());
+  EXPECT_TRUE(found->has_rig);
+  EXPECT_EQ(found->num_joints, rig_.skeleton.num_joints());
+  EXPECT_EQ(found->frame_rate, 60.0);
+}
+
+TEST_F(MotionStoreTest, ClipsAreFoundAndDeletedOnlyInTheirDatabase) {
+  auto store = std::move(MotionStore::Open(path_)).value();
+  auto walks = store->CreateDatabase("walks", rig_, 30.0);
+  auto other = store->CreateDatabase("other", rig_, 30.0);
+  auto id = store->InsertClip(walks->id, "a.bvh", "h", {}, prepared_, rig_);
+  ASSERT_TRUE(id.ok());
+  EXPECT_EQ(store->FindClip(walks->id, *id)->source_name, "a.bvh");
+  EXPECT_EQ(store->FindClip(other->id, *id).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->DeleteClip(other->id, *id).code(), absl::StatusCode::kNotFound);
+  ASSERT_TRUE(store->DeleteClip(walks->id, *id).ok());
+  EXPECT_EQ(store->FindDatabase("walks")->num_clips, 0);
+}
+
+TEST_F(MotionStoreTest, ApiKeysAuthenticateUntilRevokedAndAreStoredHashed) {
+  auto store = std::move(MotionStore::Open(path_)).value();
+  TenantDirectory tenants(*store);
+  auto acme = tenants.CreateTenant("acme");
+  ASSERT_TRUE(acme.ok());
+  EXPECT_EQ(tenants.CreateTenant("acme").status().code(), absl::StatusCode::kAlreadyExists);
+  EXPECT_EQ(tenants.CreateTenant("no spaces").status().code(), absl::StatusCode::kInvalidArgument);
+  auto key = tenants.AddKey(acme->id);
+  ASSERT_TRUE(key.ok()) << key.status();
+  EXPECT_EQ(key->key.substr(0, 11), key->key_id);
+  auto other_key = tenants.AddKey(acme->id);
+  ASSERT_TRUE(other_key.ok());
+  EXPECT_NE(key->key, other_key->key);
+
+  auto who = tenants.Authenticate(key->key);
+  ASSERT_TRUE(who.ok()) << who.status();
+  EXPECT_EQ(who->name, "acme");
+  EXPECT_EQ(who->active_keys, 2);
+  EXPECT_EQ(tenants.Authenticate(key->key + "x").status().code(), absl::StatusCode::kUnauthenticated);
+  EXPECT_EQ(tenants.Authenticate("").status().code(), absl::StatusCode::kUnauthenticated);
+  {
+    SQLite::Database raw(path_.string());
+    SQLite::Statement keys(raw, "SELECT key_sha256 FROM api_keys");
+    while (keys.executeStep()) {
+      EXPECT_EQ(keys.getColumn(0).getString().size(), 64u);
+      EXPECT_NE(keys.getColumn(0).getString(), key->key);
+    }
+  }
+  ASSERT_TRUE(tenants.RevokeKey(acme->id, key->key_id).ok());
+  EXPECT_EQ(tenants.RevokeKey(acme->id, key->key_id).code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(tenants.Authenticate(key->key).status().code(), absl::StatusCode::kUnauthenticated);
+  EXPECT_TRUE(tenants.Authenticate(other_key->key).ok());
+  auto listed = tenants.ListKeys(acme->id);
+  ASSERT_TRUE(listed.ok());
+  ASSERT_EQ(listed->size(), 2u);
+  EXPECT_TRUE((*listed)[0].revoked_at.has_value());
+  EXPECT_EQ(*ResolveTenant(*store, "acme"), acme->id);
+  EXPECT_EQ(*ResolveTenant(*store, ""), kDefaultTenantId);
+  EXPECT_EQ(ResolveTenant(*store, "nobody").status().code(), absl::StatusCode::kNotFound);
 }
 
 }  // namespace

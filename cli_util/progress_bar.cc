@@ -1,4 +1,4 @@
-#include "server/progress_bar.h"
+#include "cli_util/progress_bar.h"
 
 #include <unistd.h>
 

@@ -1,4 +1,5 @@
-// A one-line progress bar on stderr, drawn only when stderr is a terminal.
+// A one-line progress bar on stderr, drawn only when stderr is a terminal. Shared by the command
+// line tools (mocapd, mocap).
 #pragma once
 
 #include <chrono>
@@ -12,6 +13,7 @@ class ProgressBar {
   ~ProgressBar();
   // Redraws at most ~10 times a second; `detail` follows the counts (e.g. "48,000 frames/s").
   void Update(long done, const std::string& detail);
+  void SetTotal(long total) { total_ = total; }
   void Finish();
 
  private:

@@ -1,0 +1,34 @@
+#include "cli_util/bvh_files.h"
+
+#include <algorithm>
+
+#include "motion/core/str_cat.h"
+
+namespace mocap {
+
+absl::StatusOr<std::vector<std::filesystem::path>> CollectBvhFiles(const std::vector<std::string>& inputs) {
+  std::vector<std::filesystem::path> files;
+  for (const std::string& input : inputs) {
+    std::error_code error;
+    const std::filesystem::path path(input);
+    if (std::filesystem::is_directory(path, error)) {
+      for (auto it = std::filesystem::recursive_directory_iterator(path, error);
+           !error && it != std::filesystem::recursive_directory_iterator(); it.increment(error)) {
+        std::string extension = it->path().extension().string();
+        std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
+        if (it->is_regular_file() && extension == ".bvh") files.push_back(it->path());
+      }
+      if (error) return absl::InvalidArgumentError(StrCat(input, ": ", error.message()));
+    } else if (std::filesystem::is_regular_file(path, error)) {
+      files.push_back(path);
+    } else {
+      return absl::InvalidArgumentError(StrCat(input, ": no such file or folder"));
+    }
+  }
+  if (files.empty()) return absl::InvalidArgumentError("no .bvh files found in the given inputs");
+  std::sort(files.begin(), files.end());
+  files.erase(std::unique(files.begin(), files.end()), files.end());
+  return files;
+}
+
+}  // namespace mocap

@@ -1,0 +1,105 @@
+// The mocap C++ client SDK: the one header to include.
+//
+//   auto client = mocap::client::Client::Connect("127.0.0.1:50051", {.api_key = key});
+//   auto result = (*client)->ImportFiles("walks", {"a.bvh", "b.bvh"});
+//   auto bvh = (*client)->ExportClip("walks", result->files(0).clip_id());
+//
+// Payloads are the generated mocap.v1 messages (proto/mocap/v1/*.proto document every field:
+// metres, seconds, Y up). Errors are absl::Status with gRPC's codes: UNAUTHENTICATED (no or bad
+// key), NOT_FOUND (no such database or clip for this key's tenant), RESOURCE_EXHAUSTED (a server
+// limit; the message says which), UNAVAILABLE (no server; unary calls retried first), ...
+//
+// Thread safety: a Client may be shared by threads; each call is independent. Cost: Connect
+// makes a channel (no network traffic until the first call); calls reuse it.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "mocap/v1/motion_store.pb.h"
+
+namespace mocap::client {
+
+struct ConnectOptions {
+  // Tenant API key (from `mocapd tenant add-key`), sent as "authorization: Bearer <key>".
+  std::string api_key;
+  // TLS: use it, trusting these PEM root certificates (empty: the system's roots).
+  bool tls = false;
+  std::string tls_root_certs_pem;
+  // Deadline of each unary call attempt.
+  std::chrono::milliseconds deadline{30000};
+  // Unary calls answered UNAVAILABLE are tried up to this many times in all, waiting
+  // retry_backoff, then twice that, and so on.
+  int max_attempts = 4;
+  std::chrono::milliseconds retry_backoff{100};
+  // Largest message accepted from the server.
+  int max_receive_message_bytes = 4 << 20;
+};
+
+struct ImportOptions {
+  // Frame rate for a database the import creates (0: 30 fps).
+  double frame_rate = 0.0;
+  // Unit of the files ("m", "cm", "mm", "in"); empty: the server detects it.
+  std::string source_unit;
+  // Files per atomic batch (0: the whole import is one batch).
+  int batch_size = 0;
+  // Skip bad files (reported per file) instead of failing the import at the first.
+  bool keep_going = false;
+  // Bytes per message (the server accepts up to 1 MiB of file data per message).
+  std::size_t chunk_bytes = 1 << 20;
+};
+
+struct ImportProgress {
+  int files_sent = 0;  // files whose every byte has been sent
+  int files_total = 0;
+  std::int64_t bytes_sent = 0;
+  std::int64_t bytes_total = 0;
+  std::string current_file;
+};
+// Called on the importing thread after every message sent.
+using ImportProgressCallback = std::function<void(const ImportProgress&)>;
+
+class Client {
+ public:
+  // InvalidArgument for an empty address.
+  static absl::StatusOr<std::unique_ptr<Client>> Connect(const std::string& address, const ConnectOptions& options = {});
+  ~Client();
+  Client(const Client&) = delete;
+  Client& operator=(const Client&) = delete;
+
+  // Databases of this key's tenant.
+  absl::StatusOr<v1::DatabaseSummary> CreateDatabase(const std::string& name, double frame_rate = 0.0);
+  absl::StatusOr<std::vector<v1::DatabaseSummary>> ListDatabases();
+  absl::StatusOr<v1::DatabaseInfo> DescribeDatabase(const std::string& name);
+  absl::Status DeleteDatabase(const std::string& name);
+
+  // Streams BVH files to the server (one ImportBvh call, not retried). OK: every file has a
+  // result in the response (imported, duplicate, or failed with keep_going). An error status
+  // names the bad file and line; nothing of its batch was stored.
+  absl::StatusOr<v1::ImportBvhResponse> ImportFiles(const std::string& database,
+                                                    const std::vector<std::filesystem::path>& files,
+                                                    const ImportOptions& options = {},
+                                                    const ImportProgressCallback& progress = nullptr);
+
+  absl::StatusOr<std::vector<v1::Clip>> ListClips(const std::string& database);
+  // The clip as BVH text (metres, Y up, the database's frame rate).
+  absl::StatusOr<std::string> ExportClip(const std::string& database, std::int64_t clip_id);
+  absl::Status DeleteClip(const std::string& database, std::int64_t clip_id);
+
+  // Server counters in the Prometheus text format.
+  absl::StatusOr<std::string> GetMetrics();
+
+ private:
+  struct Impl;
+  explicit Client(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mocap::client

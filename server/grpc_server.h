@@ -1,0 +1,45 @@
+// MocapServer: the gRPC server of `mocapd serve` — MotionStore and ServerStatus services, health
+// checking, reflection, TLS, limits — over one store file.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "absl/status/statusor.h"
+#include "server/service_context.h"
+
+namespace mocap {
+
+struct ServeOptions {
+  std::filesystem::path store = "var/mocap.db";  // created on first start
+  std::string listen = "127.0.0.1:50051";         // host:port; port 0 picks a free one
+  std::filesystem::path tls_cert;                 // PEM; with tls_key, serve TLS only
+  std::filesystem::path tls_key;
+  int workers = 0;                                // store/parse threads; 0: 2 per core (min 4)
+  ServerLimits limits;
+  std::chrono::milliseconds drain_timeout{10000};  // on shutdown, calls get this long to finish
+};
+
+class MocapServer {
+ public:
+  // Opens the store (creating it) and starts listening.
+  static absl::StatusOr<std::unique_ptr<MocapServer>> Start(const ServeOptions& options);
+  ~MocapServer();
+
+  int port() const { return port_; }
+  // Stops accepting calls, lets running ones finish until the drain timeout, cancels the rest.
+  // Thread-safe; returns when every call has finished.
+  void Shutdown();
+  // Blocks until Shutdown has finished.
+  void Wait();
+
+ private:
+  struct State;
+  explicit MocapServer(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+  int port_ = 0;
+};
+
+}  // namespace mocap

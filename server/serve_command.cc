@@ -1,0 +1,86 @@
+// `mocapd serve`: the gRPC server until SIGTERM or SIGINT, which drain the calls, then exit.
+#include <pthread.h>
+#include <signal.h>
+
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "server/cli_commands.h"
+#include "server/grpc_server.h"
+
+namespace mocap {
+namespace {
+
+// "host:port" with the port replaced (the chosen one when listening on port 0).
+std::string WithPort(const std::string& listen, int port) {
+  const size_t colon = listen.rfind(':');
+  return (colon == std::string::npos ? listen : listen.substr(0, colon)) + ":" + std::to_string(port);
+}
+
+int Serve(const ServeOptions& options) {
+  // Signals are taken by one thread with sigwait; every other thread (gRPC's and ours, created
+  // after this) has them blocked.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  // A server's log lines carry their time.
+  spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %l %v");
+  auto server = MocapServer::Start(options);
+  if (!server.ok()) return ReportError(server.status());
+  // The one line on stdout: scripts and tests read the port from it.
+  std::cout << "listening on " << WithPort(options.listen, (*server)->port()) << std::endl;
+  spdlog::info("serving store {} on {} ({})", options.store.string(), WithPort(options.listen, (*server)->port()),
+               options.tls_cert.empty() ? "plaintext" : "TLS");
+
+  std::thread waiter([&signals, &server] {
+    int signal = 0;
+    sigwait(&signals, &signal);
+    spdlog::info("received {}", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+    (*server)->Shutdown();
+  });
+  (*server)->Wait();
+  waiter.join();
+  server->reset();
+  spdlog::info("stopped");
+  return 0;
+}
+
+}  // namespace
+
+void RegisterServeCommand(CLI::App& app) {
+  auto options = std::make_shared<ServeOptions>();
+  auto drain_seconds = std::make_shared<double>(10.0);
+  CLI::App* command = app.add_subcommand("serve", "Run the gRPC server (MotionStore, ServerStatus, health, reflection)");
+  command->add_option("--store", options->store, "Motion store file (created on first start)")->capture_default_str();
+  command->add_option("--listen", options->listen, "Address to listen on; port 0 picks a free port (printed)")
+      ->capture_default_str();
+  auto* cert = command->add_option("--tls-cert", options->tls_cert, "TLS certificate chain (PEM)")->check(CLI::ExistingFile);
+  auto* key = command->add_option("--tls-key", options->tls_key, "TLS private key (PEM)")->check(CLI::ExistingFile);
+  cert->needs(key);
+  key->needs(cert);
+  command->add_option("--workers", options->workers, "Worker threads for store and parsing work (0: 2 per core, min 4)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--max-message-bytes", options->limits.max_message_bytes, "Largest message either way")
+      ->capture_default_str()->check(CLI::Range(64 << 10, 1 << 30));
+  command->add_option("--max-calls-per-tenant", options->limits.max_calls_per_tenant, "Calls in progress per tenant")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  command->add_option("--max-file-bytes", options->limits.max_file_bytes, "Largest imported BVH file")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  command->add_option("--max-batch-frames", options->limits.max_batch_frames,
+                      "Frames an import may hold before its batch commits")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  command->add_option("--drain-seconds", *drain_seconds, "On SIGTERM/SIGINT, how long running calls may finish")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  AddCommand(command, [options, drain_seconds] {
+    options->drain_timeout = std::chrono::milliseconds(static_cast<long>(*drain_seconds * 1000));
+    return Serve(*options);
+  });
+}
+
+}  // namespace mocap

@@ -1,0 +1,45 @@
+#include "server/server_metrics.h"
+
+#include <sstream>
+
+namespace mocap {
+
+void ServerMetrics::CallFinished(const std::string& method, const std::string& code, double seconds) {
+  in_flight_.fetch_sub(1);
+  std::lock_guard lock(mutex_);
+  ++calls_[{method, code}];
+  call_seconds_[method] += seconds;
+}
+
+void ServerMetrics::Rejected(const std::string& reason) {
+  std::lock_guard lock(mutex_);
+  ++rejected_[reason];
+}
+
+std::string ServerMetrics::PrometheusText() const {
+  std::ostringstream out;
+  auto gauge = [&](const char* name, const char* type, const char* help, std::int64_t value) {
+    out << "# HELP " << name << " " << help << "\n# TYPE " << name << " " << type << "\n" << name << " " << value << "\n";
+  };
+  gauge("mocap_calls_in_flight", "gauge", "Calls being served.", in_flight_.load());
+  gauge("mocap_imported_files_total", "counter", "BVH files stored by ImportBvh.", imported_files_.load());
+  gauge("mocap_imported_frames_total", "counter", "Frames stored by ImportBvh, at the database rate.",
+        imported_frames_.load());
+  gauge("mocap_received_bytes_total", "counter", "BVH bytes received by ImportBvh.", received_bytes_.load());
+  gauge("mocap_sent_bytes_total", "counter", "BVH bytes sent by ExportClip.", sent_bytes_.load());
+  std::lock_guard lock(mutex_);
+  out << "# HELP mocap_calls_total Finished calls by method and status code.\n# TYPE mocap_calls_total counter\n";
+  for (const auto& [key, count] : calls_) {
+    out << "mocap_calls_total{method=\"" << key.first << "\",code=\"" << key.second << "\"} " << count << "\n";
+  }
+  out << "# HELP mocap_call_seconds_total Time spent in finished calls by method.\n"
+         "# TYPE mocap_call_seconds_total counter\n";
+  for (const auto& [method, seconds] : call_seconds_) {
+    out << "mocap_call_seconds_total{method=\"" << method << "\"} " << seconds << "\n";
+  }
+  out << "# HELP mocap_rejected_total Calls refused by a limit, by limit.\n# TYPE mocap_rejected_total counter\n";
+  for (const auto& [reason, count] : rejected_) out << "mocap_rejected_total{limit=\"" << reason << "\"} " << count << "\n";
+  return out.str();
+}
+
+}  // namespace mocap

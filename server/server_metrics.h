@@ -1,0 +1,41 @@
+// Server-wide counters, rendered in the Prometheus text format (ServerStatus.GetMetrics).
+// Thread-safe.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+#include <utility>
+
+namespace mocap {
+
+class ServerMetrics {
+ public:
+  void CallStarted() { in_flight_.fetch_add(1); }
+  // One finished call: its method, gRPC status code name (e.g. "OK", "NOT_FOUND") and duration.
+  void CallFinished(const std::string& method, const std::string& code, double seconds);
+  void FilesImported(std::int64_t files, std::int64_t frames) {
+    imported_files_.fetch_add(files);
+    imported_frames_.fetch_add(frames);
+  }
+  void BytesReceived(std::int64_t bytes) { received_bytes_.fetch_add(bytes); }
+  void BytesSent(std::int64_t bytes) { sent_bytes_.fetch_add(bytes); }
+  void Rejected(const std::string& reason);
+
+  std::string PrometheusText() const;
+
+ private:
+  std::atomic<std::int64_t> in_flight_{0};
+  std::atomic<std::int64_t> imported_files_{0};
+  std::atomic<std::int64_t> imported_frames_{0};
+  std::atomic<std::int64_t> received_bytes_{0};
+  std::atomic<std::int64_t> sent_bytes_{0};
+  mutable std::mutex mutex_;
+  std::map<std::pair<std::string, std::string>, std::int64_t> calls_;  // (method, code)
+  std::map<std::string, double> call_seconds_;                         // per method
+  std::map<std::string, std::int64_t> rejected_;                       // per reason
+};
+
+}  // namespace mocap

@@ -1,0 +1,32 @@
+#include "server/store_pool.h"
+
+#include "motion/core/status_macros.h"
+
+namespace mocap {
+
+absl::StatusOr<std::unique_ptr<StorePool>> StorePool::Open(const std::filesystem::path& path) {
+  std::unique_ptr<StorePool> pool(new StorePool(path));
+  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<MotionStore> first, MotionStore::Open(path));
+  pool->idle_.push_back(std::move(first));
+  return pool;
+}
+
+absl::StatusOr<StorePool::Lease> StorePool::Acquire() {
+  std::unique_ptr<MotionStore> store;
+  {
+    std::lock_guard lock(mutex_);
+    if (!idle_.empty()) {
+      store = std::move(idle_.back());
+      idle_.pop_back();
+    }
+  }
+  if (!store) {
+    MOCAP_ASSIGN_OR_RETURN(store, MotionStore::Open(path_, StoreOpenOptions{.create_if_missing = false}));
+  }
+  return Lease(store.release(), [this](MotionStore* returned) {
+    std::lock_guard lock(mutex_);
+    idle_.emplace_back(returned);
+  });
+}
+
+}  // namespace mocap

@@ -1,0 +1,23 @@
+#include "server/tenant_admission.h"
+
+#include "motion/core/str_cat.h"
+
+namespace mocap {
+
+absl::StatusOr<TenantAdmission::Ticket> TenantAdmission::Admit(TenantId tenant) {
+  {
+    std::lock_guard lock(mutex_);
+    int& active = active_[tenant];
+    if (active >= max_calls_) {
+      return absl::ResourceExhaustedError(StrCat("this tenant has ", active, " calls in progress, the most allowed (",
+                                                 max_calls_, "); retry when one has finished"));
+    }
+    ++active;
+  }
+  return Ticket(nullptr, [this, tenant](void*) {
+    std::lock_guard lock(mutex_);
+    if (--active_[tenant] == 0) active_.erase(tenant);
+  });
+}
+
+}  // namespace mocap

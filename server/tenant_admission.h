@@ -1,0 +1,29 @@
+// TenantAdmission: at most N calls at once per tenant; the rest are refused (RESOURCE_EXHAUSTED)
+// rather than queued, so one tenant cannot take every worker. Thread-safe.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "absl/status/statusor.h"
+#include "storage/motion_store.h"
+
+namespace mocap {
+
+class TenantAdmission {
+ public:
+  explicit TenantAdmission(int max_calls_per_tenant) : max_calls_(max_calls_per_tenant) {}
+
+  // Holding a ticket counts one call of its tenant; dropping it ends the call.
+  using Ticket = std::shared_ptr<void>;
+  // ResourceExhausted when the tenant has max_calls_per_tenant calls already.
+  absl::StatusOr<Ticket> Admit(TenantId tenant);
+
+ private:
+  const int max_calls_;
+  std::mutex mutex_;
+  std::map<TenantId, int> active_;
+};
+
+}  // namespace mocap
