@@ -63,9 +63,28 @@ class MotionStoreServiceTest : public ::testing::Test {
     auto store = std::move(MotionStore::Open(store_)).value();
     return store->ListDatabases(*ResolveTenant(*store, tenant))->size();
   }
-  // A raw stub context with a tenant's key.
-  void Authorize(grpc::ClientContext& context, const std::string& tenant) {
-    context.AddMetadata("authorization", "Bearer " + keys_[tenant]);
+  // An ImportBvh call on the raw stub (for tests that misbehave as a client), its start sent.
+  struct RawImport {
+    grpc::ClientContext context;
+    v1::ImportBvhResponse response;
+    std::unique_ptr<grpc::ClientWriter<v1::ImportBvhRequest>> writer;
+    bool WriteChunk(const std::string& file_name, const std::string& data, bool end_of_file) {
+      v1::ImportBvhRequest message;
+      message.mutable_chunk()->set_file_name(file_name);
+      message.mutable_chunk()->set_data(data);
+      message.mutable_chunk()->set_end_of_file(end_of_file);
+      return writer->Write(message);
+    }
+  };
+  std::unique_ptr<RawImport> OpenRawImport(const std::string& tenant) {
+    if (!stub_) stub_ = v1::MotionStore::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
+    auto call = std::make_unique<RawImport>();
+    call->context.AddMetadata("authorization", "Bearer " + keys_[tenant]);
+    call->writer = stub_->ImportBvh(&call->context, &call->response);
+    v1::ImportBvhRequest start;
+    start.mutable_start()->set_database("walks");
+    EXPECT_TRUE(call->writer->Write(start));
+    return call;
   }
 
   testing::ScopedTempDir temp_;
@@ -73,6 +92,7 @@ class MotionStoreServiceTest : public ::testing::Test {
   fs::path store_;
   std::map<std::string, std::string> keys_;
   std::unique_ptr<testing::ServerProcess> server_;
+  std::unique_ptr<v1::MotionStore::Stub> stub_;
 };
 
 TEST_F(MotionStoreServiceTest, EveryCallSucceeds) {
@@ -205,14 +225,7 @@ TEST_F(MotionStoreServiceTest, OversizeMessageIsResourceExhausted) {
 
 TEST_F(MotionStoreServiceTest, TooManyCallsPerTenantAreRefused) {
   StartServer({"--max-calls-per-tenant", "1"});
-  auto stub = v1::MotionStore::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
-  grpc::ClientContext context;
-  Authorize(context, "acme");
-  v1::ImportBvhResponse response;
-  auto writer = stub->ImportBvh(&context, &response);
-  v1::ImportBvhRequest start;
-  start.mutable_start()->set_database("walks");
-  ASSERT_TRUE(writer->Write(start));
+  auto import = OpenRawImport("acme");
   // The open import holds acme's one call; wait until the server has admitted it.
   auto client = Connect(keys_["acme"]);
   absl::Status refused;
@@ -223,35 +236,24 @@ TEST_F(MotionStoreServiceTest, TooManyCallsPerTenantAreRefused) {
   EXPECT_EQ(refused.code(), absl::StatusCode::kResourceExhausted);
   EXPECT_NE(refused.message().find("calls in progress"), std::string_view::npos) << refused;
   EXPECT_TRUE(Connect(keys_["other"])->ListDatabases().ok());  // other tenants are not affected
-  context.TryCancel();
-  writer->Finish();
+  import->context.TryCancel();
+  import->writer->Finish();
 }
 
 // A client that goes away (or ends its stream without `end`) mid-import stores nothing.
 TEST_F(MotionStoreServiceTest, ClientVanishingMidImportStoresNothing) {
   StartServer();
-  auto stub = v1::MotionStore::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
   std::ifstream in(WriteClip("a.bvh", 40));
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (bool cancel : {true, false}) {
-    grpc::ClientContext context;
-    Authorize(context, "acme");
-    v1::ImportBvhResponse response;
-    auto writer = stub->ImportBvh(&context, &response);
-    v1::ImportBvhRequest message;
-    message.mutable_start()->set_database("walks");
-    ASSERT_TRUE(writer->Write(message));
-    message.Clear();
-    message.mutable_chunk()->set_file_name("a.bvh");
-    message.mutable_chunk()->set_data(bytes);
-    message.mutable_chunk()->set_end_of_file(true);
-    ASSERT_TRUE(writer->Write(message));
+    auto import = OpenRawImport("acme");
+    ASSERT_TRUE(import->WriteChunk("a.bvh", bytes, true));
     if (cancel) {
-      context.TryCancel();
+      import->context.TryCancel();
     } else {
-      writer->WritesDone();
+      import->writer->WritesDone();
     }
-    const grpc::Status status = writer->Finish();
+    const grpc::Status status = import->writer->Finish();
     EXPECT_EQ(status.error_code(), cancel ? grpc::StatusCode::CANCELLED : grpc::StatusCode::INVALID_ARGUMENT)
         << status.error_message();
   }
@@ -263,22 +265,13 @@ TEST_F(MotionStoreServiceTest, ClientVanishingMidImportStoresNothing) {
 
 TEST_F(MotionStoreServiceTest, ServerStoppingMidStreamStoresNothingAndExitsCleanly) {
   StartServer({"--drain-seconds", "0.2"});
-  auto stub = v1::MotionStore::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
-  grpc::ClientContext context;
-  Authorize(context, "acme");
-  v1::ImportBvhResponse response;
-  auto writer = stub->ImportBvh(&context, &response);
-  v1::ImportBvhRequest message;
-  message.mutable_start()->set_database("walks");
-  ASSERT_TRUE(writer->Write(message));
-  message.Clear();
-  message.mutable_chunk()->set_file_name("a.bvh");
-  message.mutable_chunk()->set_data("HIERARCHY\n");
-  ASSERT_TRUE(writer->Write(message));
+  auto import = OpenRawImport("acme");
+  ASSERT_TRUE(import->WriteChunk("a.bvh", "HIERARCHY\n", false));
   EXPECT_EQ(server_->Stop(), 0);  // SIGTERM: drains for 0.2 s, cancels the import, exits 0
-  EXPECT_FALSE(writer->Finish().ok());
+  EXPECT_FALSE(import->writer->Finish().ok());
   EXPECT_EQ(StoredDatabases("acme"), 0u);
   // The store opens for the next server.
+  stub_.reset();
   StartServer();
   EXPECT_TRUE(Connect(keys_["acme"])->ListDatabases().ok());
 }
