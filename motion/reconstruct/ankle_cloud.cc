@@ -4,15 +4,7 @@
 
 namespace mocap {
 
-absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<FrameFeatures>& database,
-                            const WristFeatureOptions& feature_options, const SmoothedWrists& wrists, int k,
-                            float* heading, std::vector<AnkleCandidate>* cloud) {
-  for (int side = 0; side < 2; ++side) {
-    if (!wrists.position[side].allFinite() || !wrists.velocity[side].allFinite()) {
-      return absl::InvalidArgumentError("wrist sample is not finite");
-    }
-  }
-  const ReferenceFrame ref = WristReferenceFrame(wrists.position[0], wrists.position[1], *heading, heading);
+FrameFeatures WristQueryFeatures(const ReferenceFrame& ref, const SmoothedWrists& wrists) {
   FrameFeatures query{};
   for (int side = 0; side < 2; ++side) {
     const Eigen::Vector3f p = ref.ToLocal(wrists.position[side]);
@@ -22,6 +14,19 @@ absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<Fr
       query.wrist_velocity[side][axis] = v[axis];
     }
   }
+  return query;
+}
+
+absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<FrameFeatures>& database,
+                            const WristFeatureOptions& feature_options, const SmoothedWrists& wrists, int k,
+                            float* heading, std::vector<AnkleCandidate>* cloud) {
+  for (int side = 0; side < 2; ++side) {
+    if (!wrists.position[side].allFinite() || !wrists.velocity[side].allFinite()) {
+      return absl::InvalidArgumentError("wrist sample is not finite");
+    }
+  }
+  const ReferenceFrame ref = WristReferenceFrame(wrists.position[0], wrists.position[1], *heading, heading);
+  const FrameFeatures query = WristQueryFeatures(ref, wrists);
   float feature[kWristFeatureDims];
   WristFeature(query, feature_options, feature);
   MOCAP_ASSIGN_OR_RETURN(std::vector<Neighbour> neighbours, index.Search(feature, k));

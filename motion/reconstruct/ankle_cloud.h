@@ -22,6 +22,10 @@ struct AnkleCandidate {
   Eigen::Vector3f velocity[2];
 };
 
+// The query side of A1/A3: both wrists' positions and velocities in the reference frame `ref`
+// (ankle fields zero).
+FrameFeatures WristQueryFeatures(const ReferenceFrame& ref, const SmoothedWrists& wrists);
+
 // Fills `cloud` with the `k` nearest database frames to `wrists`. `heading` carries the
 // reference frame's heading between calls (used when the wrists are vertically aligned) and is
 // updated. InvalidArgument for non-finite input.

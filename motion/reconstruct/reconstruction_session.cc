@@ -32,6 +32,24 @@ void PelvisInQueryFrame(const FrameFeatures& f, const ReferenceFrame& ref, Solve
           .normalized();
 }
 
+// Fixed-lag DP frame: a cloud, its path costs and best predecessors.
+struct DpFrame {
+  std::vector<AnkleCandidate> cloud;
+  std::vector<float> cost;
+  std::vector<int> from;
+};
+
+// Nodes of the cheapest path ending at the newest frame of `dp` (frames first.. of the segment),
+// backtracked down to frame `from_frame`; element i is frame from_frame + i.
+std::vector<int> BestPathFrom(const std::deque<DpFrame>& dp, int first, int from_frame) {
+  const int last = first + static_cast<int>(dp.size()) - 1;
+  std::vector<int> nodes(last - from_frame + 1);
+  const std::vector<float>& last_cost = dp.back().cost;
+  nodes.back() = static_cast<int>(std::min_element(last_cost.begin(), last_cost.end()) - last_cost.begin());
+  for (int f = last; f > from_frame; --f) nodes[f - 1 - from_frame] = dp[f - first].from[nodes[f - from_frame]];
+  return nodes;
+}
+
 }  // namespace
 
 struct ReconstructionSession::Segment {
@@ -50,11 +68,6 @@ struct ReconstructionSession::Segment {
   std::vector<int> raw_rows;
   std::vector<std::vector<AnkleCandidate>> window;  // sub-interval mode: the open window's clouds
   std::optional<AnkleCandidate> start;
-  struct DpFrame {
-    std::vector<AnkleCandidate> cloud;
-    std::vector<float> cost;
-    std::vector<int> from;
-  };
   std::deque<DpFrame> dp;  // fixed-lag mode: frames dp_first.. of the running DP
   int dp_first = 0;
   std::vector<AnklePair> ankles;  // decided and smoothed ankle controls
@@ -167,7 +180,7 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
     return absl::OkStatus();
   }
   // Fixed lag: extend the running DP by one frame, then decide frame t − D_a on today's best path.
-  Segment::DpFrame frame;
+  DpFrame frame;
   if (s.dp.empty()) {
     frame.cost.assign(cloud.size(), 0.0f);
     frame.from.assign(cloud.size(), -1);
@@ -183,10 +196,7 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
     statistics_.path_seconds += SecondsSince(start);
     return absl::OkStatus();
   }
-  std::vector<int> nodes(t - decide + 1);
-  const std::vector<float>& last_cost = s.dp.back().cost;
-  nodes.back() = static_cast<int>(std::min_element(last_cost.begin(), last_cost.end()) - last_cost.begin());
-  for (int f = t; f > decide; --f) nodes[f - 1 - decide] = s.dp[f - s.dp_first].from[nodes[f - decide]];
+  const std::vector<int> nodes = BestPathFrom(s.dp, s.dp_first, decide);
   const AnkleCandidate& chosen = s.dp[decide - s.dp_first].cloud[nodes[0]];
   s.raw.push_back(AnklesOf(chosen));
   s.raw_rows.push_back(chosen.row);
@@ -226,16 +236,9 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   const SmoothedWrists& wrists = s.wrists[f];
   const bool full = options_.method == ReconstructionMethod::kFull;
   const ReferenceFrame ref = WristReferenceFrame(wrists.position[0], wrists.position[1], s.pose_heading, &s.pose_heading);
-  FrameFeatures query{};
+  FrameFeatures query = WristQueryFeatures(ref, wrists);
   AnklePair ankles{};
-  for (int side = 0; side < 2; ++side) {
-    const Eigen::Vector3f p = ref.ToLocal(wrists.position[side]);
-    const Eigen::Vector3f v = ref.DirectionToLocal(wrists.velocity[side]);
-    for (int axis = 0; axis < 3; ++axis) {
-      query.wrist_position[side][axis] = p[axis];
-      query.wrist_velocity[side][axis] = v[axis];
-    }
-    if (!full) continue;
+  for (int side = 0; side < 2 && full; ++side) {
     ankles[side] = s.ankles[f][side];
     const Eigen::Vector3f velocity = f > 0 ? Eigen::Vector3f((s.ankles[f][side] - s.ankles[f - 1][side]) / dt) : Eigen::Vector3f::Zero();
     const Eigen::Vector3f ap = ref.ToLocal(ankles[side]);
@@ -366,10 +369,7 @@ absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* 
       // The final best path through the frames not decided yet.
       const int t = s.dp_first + static_cast<int>(s.dp.size()) - 1;
       const int decided = static_cast<int>(s.raw.size());
-      std::vector<int> nodes(t - decided + 1);
-      const std::vector<float>& last_cost = s.dp.back().cost;
-      nodes.back() = static_cast<int>(std::min_element(last_cost.begin(), last_cost.end()) - last_cost.begin());
-      for (int f = t; f > decided; --f) nodes[f - 1 - decided] = s.dp[f - s.dp_first].from[nodes[f - decided]];
+      const std::vector<int> nodes = BestPathFrom(s.dp, s.dp_first, decided);
       for (int f = decided; f <= t; ++f) {
         const AnkleCandidate& c = s.dp[f - s.dp_first].cloud[nodes[f - decided]];
         s.raw.push_back(AnklesOf(c));
