@@ -18,12 +18,14 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "mocap/v1/motion_store.pb.h"
+#include "mocap/v1/reconstruction.pb.h"
 
 namespace mocap::client {
 
@@ -66,6 +68,36 @@ struct ImportProgress {
 // Called on the importing thread after every message sent.
 using ImportProgressCallback = std::function<void(const ImportProgress&)>;
 
+// One live reconstruction (the Reconstruction.Reconstruct stream), from Client::OpenReconstruction.
+//
+//   auto stream = client->OpenReconstruction(config);          // waits for `started`
+//   writer thread:  stream->Write(samples) ... stream->CloseInput();
+//   reader thread:  while (auto reply = stream->Read(); reply.ok() && *reply) handle(**reply);
+//                   auto summary = stream->Finish();
+// Or, single-threaded: Write samples as they come and call Finish(on_reply) at the end; Finish
+// reads every remaining reply. Write blocks while the server is behind (backpressure).
+//
+// Thread safety: one thread may Write/CloseInput while another Reads; Cancel from any thread.
+class ReconstructionStream {
+ public:
+  virtual ~ReconstructionStream() = default;
+  // The session's skeleton, frame rate and latency (received before Open returned).
+  virtual const v1::SessionStarted& started() const = 0;
+  // Sends samples in one message. An error means the call has ended: Finish tells why.
+  virtual absl::Status Write(const std::vector<v1::WristSample>& samples) = 0;
+  // Ends the input (the server then emits the remaining frames and the summary).
+  virtual absl::Status CloseInput() = 0;
+  // The next reply (frames or a rejected sample); nullopt once the summary has arrived or the
+  // call ended (then Finish returns the summary or the error).
+  virtual absl::StatusOr<std::optional<v1::ReconstructResponse>> Read() = 0;
+  // Closes the input if still open, reads the remaining replies (each given to `on_reply` when
+  // set) and returns the summary, or the call's error.
+  virtual absl::StatusOr<v1::SessionSummary> Finish(
+      const std::function<void(const v1::ReconstructResponse&)>& on_reply = nullptr) = 0;
+  // Abandons the session (the server drops it); Finish then returns CANCELLED.
+  virtual void Cancel() = 0;
+};
+
 class Client {
  public:
   // InvalidArgument for an empty address.
@@ -92,6 +124,16 @@ class Client {
   // The clip as BVH text (metres, Y up, the database's frame rate).
   absl::StatusOr<std::string> ExportClip(const std::string& database, std::int64_t clip_id);
   absl::Status DeleteClip(const std::string& database, std::int64_t clip_id);
+
+  // Starts a live reconstruction session: sends `config` and waits for the server's `started`
+  // reply (the first session on a database after an import may wait while its indices are built).
+  // Not retried. Errors as the call's status: NOT_FOUND, INVALID_ARGUMENT, RESOURCE_EXHAUSTED...
+  absl::StatusOr<std::unique_ptr<ReconstructionStream>> OpenReconstruction(const v1::SessionConfig& config);
+  // A whole trajectory in one unary call (retried on UNAVAILABLE; deadline: `deadline`, since
+  // index building and long trajectories take longer than ConnectOptions.deadline).
+  absl::StatusOr<v1::ReconstructTrajectoryResponse> ReconstructTrajectory(
+      const v1::SessionConfig& config, const std::vector<v1::WristSample>& samples,
+      std::chrono::milliseconds deadline = std::chrono::minutes(10));
 
   // Server counters in the Prometheus text format.
   absl::StatusOr<std::string> GetMetrics();
