@@ -1,16 +1,53 @@
 #!/usr/bin/env bash
-# The README's main command: sets up everything, imports motion into a SQLite motion store, shows
-# what is in it, and reconstructs whole-body motion from wrists (BVH + report in out/reconstruction).
+# The README's main command: sets up everything, imports motion into a SQLite motion store, starts
+# the server on that store, streams held-out wrist trajectories to it through the client SDK
+# (`mocap reconstruct`) and writes the reconstructed whole-body motion (BVH + JSON + summary in
+# out/stream/), plus the offline evaluation (report + plots in out/reconstruction/).
 #   usage: scripts/quickstart.sh [BVH_FILE_OR_FOLDER...]
 # Without arguments it imports the shared data sets (../shared/data) when present.
-# Output: var/mocap.db (the store) and out/ (what the importer found, as JSON you can open).
+# Output: var/mocap.db (the store) and out/.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 "$repo/scripts/setup.sh"
 mocapd="$repo/build/server/mocapd"
+mocap="$repo/build/client/mocap"
 store="$repo/var/mocap.db"
 out="$repo/out"
-mkdir -p "$out"
+mkdir -p "$out" "$out/stream"
+
+server_pid=""
+key_id=""
+cleanup() {
+  [ -n "$server_pid" ] && kill "$server_pid" 2>/dev/null && wait "$server_pid" 2>/dev/null || true
+  [ -n "$key_id" ] && "$mocapd" tenant revoke-key --store "$store" default "$key_id" >/dev/null 2>&1 || true
+}
+trap cleanup EXIT
+
+# Starts `mocapd serve` on the store (a free loopback port) with a fresh key of the local tenant
+# ("default", the tenant the local import commands act as); sets address and MOCAP_API_KEY.
+start_server() {
+  export MOCAP_API_KEY
+  MOCAP_API_KEY=$("$mocapd" tenant add-key --store "$store" default)
+  key_id=$MOCAP_API_KEY  # revoke-key takes the key itself too (it keeps the mk_xxxxxxxx id)
+  coproc SERVER { exec "$mocapd" serve --store "$store" --listen 127.0.0.1:0 2>"$out/stream/server.log"; }
+  server_pid=$SERVER_PID
+  read -r -t 60 line <&"${SERVER[0]}" || { echo "quickstart: mocapd serve did not start; see $out/stream/server.log" >&2; exit 1; }
+  address=${line#listening on }
+  echo "== mocapd serve listening on $address (log: $out/stream/server.log)"
+}
+
+# Streams the wrists of each BVH clip (forward kinematics + 0.5 cm noise) through the server with
+# a fixed lag of 5 frames, as a live tracker would, and writes out/stream/NAME.{bvh,json}.
+stream_clips() {
+  local database=$1; shift
+  : > "$out/stream/summary.txt"
+  for clip in "$@"; do
+    name=$(basename "$clip" .bvh)
+    echo "-- $name" | tee -a "$out/stream/summary.txt"
+    "$mocap" --address "$address" reconstruct --database "$database" --bvh "$clip" --noise-cm 0.5 --seed 1 \
+      --lag 5 --quiet -o "$out/stream/$name" | tee -a "$out/stream/summary.txt"
+  done
+}
 
 inputs=("$@")
 database=motion
@@ -24,7 +61,10 @@ if [ ${#inputs[@]} -eq 0 ]; then
   data="${MOCAP_DATA_CACHE_DIR:-$HOME/.cache/mocap/data}"
   "$shared/unpack.sh" "$data" bandai-namco-2 bandai-namco-1 cmu-cc
   # One database per rig: the two Bandai sets share a rig, cmu-cc has its own.
-  "$mocapd" import --store "$store" --database bandai-namco-2 "$data/bandai-namco-2"
+  # bandai-namco-2 as the standard split's database (takes not ≡ 3 mod 10); the held-out takes
+  # (≡ 3 mod 10) are what the server reconstructs below.
+  find "$data/bandai-namco-2" -name '*.bvh' ! -name '*3.bvh' -print0 | sort -z \
+    | xargs -0 "$mocapd" import --store "$store" --database bandai-namco-2
   "$mocapd" import --store "$store" --database bandai-namco-1 "$data/bandai-namco-1"
   # cmu-cc comes on two rigs (41 files rooted at the hips, 4 under an extra Z-up root node): the
   # database takes the first rig and --keep-going reports the files on the other one.
@@ -35,10 +75,15 @@ if [ ${#inputs[@]} -eq 0 ]; then
   # Cross-skeleton search: a CMU walk (101 joints, Z-up root, 60 fps) against the Bandai rig.
   "$mocapd" similar --store "$store" --database bandai-namco-2 --query "$sample_cmu" \
     --frames 30:150 --step 30 --top 5 --suppress 15 --json > "$out/similar.json"
-  # Whole-body reconstruction from wrists: one held-out clip per content type of the standard
-  # split (wrists by forward kinematics + 0.5 cm noise), written as BVH with a report.
+  # Whole-body reconstruction through the server: held-out clips of the standard split streamed
+  # as live wrist samples.
   echo
-  echo "== Reconstructing held-out clips from their wrists (mocap-eval --quick)"
+  start_server
+  echo "== Streaming held-out clips' wrists to the server (mocap reconstruct --lag 5)"
+  stream_clips bandai-namco-2 "$data"/bandai-namco-2/dataset-2_{walk,run,wave-both-hands}_normal_003.bvh
+  # The same engine offline on a subset of the standard split, measured against the captured motion.
+  echo
+  echo "== Evaluating held-out clips offline (mocap-eval --quick)"
   "$repo/build/eval/mocap-eval" --quick --out "$out/reconstruction"
   echo
   echo "== Poses of $(basename "$sample_cmu") (cmu-cc) matched in bandai-namco-2 (first matches)"
@@ -50,6 +95,8 @@ else
   "$mocapd" inspect --json "$first" > "$out/inspect.json"
   # Reconstruct the first clip from its own wrists against the whole folder (a demonstration: the
   # clip is in the database; mocap-eval --test with held-out files measures for real).
+  start_server
+  stream_clips "$database" "$first"
   "$repo/build/eval/mocap-eval" --database-dir "${inputs[@]}" --test "$first" --out "$out/reconstruction"
 fi
 echo
@@ -58,4 +105,6 @@ echo "== Motion databases in $store"
 "$mocapd" databases --store "$store" --json > "$out/databases.json"
 echo
 echo "Wrote $out/: databases.json, inspect.json (groups, landmarks, up axis, units of sample files)$([ -f "$out/similar.json" ] && echo ', similar.json'),"
-echo "  reconstruction/ (report.md, plots/*.svg, bvh/*.bvh: reconstructed motions to open in Blender or any BVH viewer)."
+echo "  stream/ (*.bvh: motion reconstructed by the server from streamed wrists, to open in Blender or any"
+echo "  BVH viewer; *.json: every frame, the session's skeleton and summary; summary.txt),"
+echo "  reconstruction/ (offline evaluation: report.md, plots/*.svg, bvh/*.bvh)."

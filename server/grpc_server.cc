@@ -48,6 +48,7 @@ struct MocapServer::State {
   std::unique_ptr<ServiceContext> context;
   std::unique_ptr<MotionStoreService> motion_store;
   std::unique_ptr<ServerStatusService> server_status;
+  std::unique_ptr<ReconstructionService> reconstruction;
   std::unique_ptr<grpc::Server> server;
   std::chrono::milliseconds drain_timeout{0};
   std::once_flag shutdown_once;
@@ -75,6 +76,7 @@ absl::StatusOr<std::unique_ptr<MocapServer>> MocapServer::Start(const ServeOptio
                                           .limits = options.limits});
   state->motion_store = std::make_unique<MotionStoreService>(*state->context);
   state->server_status = std::make_unique<ServerStatusService>(*state->context);
+  state->reconstruction = std::make_unique<ReconstructionService>(*state->context, options.reconstruction);
   state->drain_timeout = options.drain_timeout;
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -86,7 +88,7 @@ absl::StatusOr<std::unique_ptr<MocapServer>> MocapServer::Start(const ServeOptio
   builder.SetMaxSendMessageSize(options.limits.max_message_bytes);
   builder.RegisterService(state->motion_store.get());
   builder.RegisterService(state->server_status.get());
-  // Reconstruction service: registered here when it lands (issue #4, second half).
+  builder.RegisterService(state->reconstruction.get());
   state->server = builder.BuildAndStart();
   if (!state->server || port == 0) {
     return absl::UnavailableError(StrCat("cannot listen on ", options.listen));
@@ -99,6 +101,7 @@ absl::StatusOr<std::unique_ptr<MocapServer>> MocapServer::Start(const ServeOptio
 void MocapServer::Shutdown() {
   std::call_once(state_->shutdown_once, [this] {
     spdlog::info("shutting down: draining calls for up to {} ms", state_->drain_timeout.count());
+    state_->reconstruction->Drain();
     state_->server->Shutdown(std::chrono::system_clock::now() + state_->drain_timeout);
     spdlog::info("all calls finished");
   });

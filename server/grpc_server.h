@@ -1,4 +1,4 @@
-// MocapServer: the gRPC server of `mocapd serve` — MotionStore and ServerStatus services, health
+// MocapServer: the gRPC server of `mocapd serve` — MotionStore, Reconstruction and ServerStatus services, health
 // checking, reflection, TLS, limits — over one store file.
 #pragma once
 
@@ -8,6 +8,7 @@
 #include <string>
 
 #include "absl/status/statusor.h"
+#include "server/reconstruction_service.h"
 #include "server/service_context.h"
 
 namespace mocap {
@@ -19,6 +20,7 @@ struct ServeOptions {
   std::filesystem::path tls_key;
   int workers = 0;                                // store/parse threads; 0: 2 per core (min 4)
   ServerLimits limits;
+  ReconstructionLimits reconstruction;
   std::chrono::milliseconds drain_timeout{10000};  // on shutdown, calls get this long to finish
 };
 

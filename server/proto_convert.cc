@@ -24,6 +24,11 @@ void ToProto(const RigModel& rig, v1::Skeleton* out) {
     entry->mutable_offset()->set_x(joint.offset.x() * metres);
     entry->mutable_offset()->set_y(joint.offset.y() * metres);
     entry->mutable_offset()->set_z(joint.offset.z() * metres);
+    if (joint.end_site) {
+      entry->mutable_end_site()->set_x(joint.end_site->x() * metres);
+      entry->mutable_end_site()->set_y(joint.end_site->y() * metres);
+      entry->mutable_end_site()->set_z(joint.end_site->z() * metres);
+    }
     if (j < static_cast<int>(rig.topology.group_of_joint.size())) {
       entry->set_group(static_cast<v1::BodyGroup>(static_cast<int>(rig.topology.group_of_joint[j]) + 1));
     }

@@ -56,7 +56,8 @@ int Serve(const ServeOptions& options) {
 void RegisterServeCommand(CLI::App& app) {
   auto options = std::make_shared<ServeOptions>();
   auto drain_seconds = std::make_shared<double>(10.0);
-  CLI::App* command = app.add_subcommand("serve", "Run the gRPC server (MotionStore, ServerStatus, health, reflection)");
+  auto idle_seconds = std::make_shared<double>(30.0);
+  CLI::App* command = app.add_subcommand("serve", "Run the gRPC server (MotionStore, Reconstruction, ServerStatus, health, reflection)");
   command->add_option("--store", options->store, "Motion store file (created on first start)")->capture_default_str();
   command->add_option("--listen", options->listen, "Address to listen on; port 0 picks a free port (printed)")
       ->capture_default_str();
@@ -75,10 +76,25 @@ void RegisterServeCommand(CLI::App& app) {
   command->add_option("--max-batch-frames", options->limits.max_batch_frames,
                       "Frames an import may hold before its batch commits")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  ReconstructionLimits& reconstruction = options->reconstruction;
+  command->add_option("--max-sessions-per-tenant", reconstruction.max_sessions_per_tenant,
+                      "Reconstruction streams in progress per tenant")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  command->add_option("--idle-seconds", *idle_seconds, "A reconstruction stream silent this long is ended (DEADLINE_EXCEEDED)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  command->add_option("--max-session-seconds", reconstruction.session.max_session_seconds,
+                      "Longest span of sample timestamps in one session")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  command->add_option("--compute-threads", reconstruction.compute_threads, "Reconstruction threads (0: one per core)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--cached-databases", reconstruction.max_cached_databases,
+                      "Reconstruction indices kept in memory (least recently used dropped)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--drain-seconds", *drain_seconds, "On SIGTERM/SIGINT, how long running calls may finish")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
-  AddCommand(command, [options, drain_seconds] {
+  AddCommand(command, [options, drain_seconds, idle_seconds] {
     options->drain_timeout = std::chrono::milliseconds(static_cast<long>(*drain_seconds * 1000));
+    options->reconstruction.idle_timeout = std::chrono::milliseconds(static_cast<long>(*idle_seconds * 1000));
     return Serve(*options);
   });
 }

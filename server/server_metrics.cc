@@ -3,6 +3,21 @@
 #include <sstream>
 
 namespace mocap {
+namespace {
+
+// Histogram bounds of the reply latency, seconds (the last bucket is +Inf).
+constexpr std::array<double, 7> kLatencyBounds = {0.005, 0.01, 0.02, 0.05, 0.1, 0.25, 1.0};
+
+}  // namespace
+
+void ServerMetrics::ReplyLatency(double seconds) {
+  std::lock_guard lock(mutex_);
+  size_t bucket = 0;
+  while (bucket < kLatencyBounds.size() && seconds > kLatencyBounds[bucket]) ++bucket;
+  ++latency_buckets_[bucket];
+  latency_sum_ += seconds;
+  ++latency_count_;
+}
 
 void ServerMetrics::CallFinished(const std::string& method, const std::string& code, double seconds) {
   in_flight_.fetch_sub(1);
@@ -27,7 +42,24 @@ std::string ServerMetrics::PrometheusText() const {
         imported_frames_.load());
   gauge("mocap_received_bytes_total", "counter", "BVH bytes received by ImportBvh.", received_bytes_.load());
   gauge("mocap_sent_bytes_total", "counter", "BVH bytes sent by ExportClip.", sent_bytes_.load());
+  gauge("mocap_sessions_active", "gauge", "Reconstruction sessions in progress.", sessions_active_.load());
+  gauge("mocap_sessions_total", "counter", "Reconstruction sessions started.", sessions_total_.load());
+  gauge("mocap_frames_reconstructed_total", "counter", "Frames emitted by reconstruction sessions.",
+        frames_reconstructed_.load());
+  gauge("mocap_samples_rejected_total", "counter", "Wrist samples refused (non-finite, time not increasing, low confidence).",
+        samples_rejected_.load());
   std::lock_guard lock(mutex_);
+  out << "# HELP mocap_reply_latency_seconds Sample message arrival to its frames being ready.\n"
+         "# TYPE mocap_reply_latency_seconds histogram\n";
+  std::int64_t cumulative = 0;
+  for (size_t i = 0; i < latency_buckets_.size(); ++i) {
+    cumulative += latency_buckets_[i];
+    out << "mocap_reply_latency_seconds_bucket{le=\"";
+    if (i < kLatencyBounds.size()) out << kLatencyBounds[i]; else out << "+Inf";
+    out << "\"} " << cumulative << "\n";
+  }
+  out << "mocap_reply_latency_seconds_sum " << latency_sum_ << "\nmocap_reply_latency_seconds_count " << latency_count_
+      << "\n";
   out << "# HELP mocap_calls_total Finished calls by method and status code.\n# TYPE mocap_calls_total counter\n";
   for (const auto& [key, count] : calls_) {
     out << "mocap_calls_total{method=\"" << key.first << "\",code=\"" << key.second << "\"} " << count << "\n";

@@ -2,6 +2,7 @@
 // Thread-safe.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <map>
@@ -23,6 +24,13 @@ class ServerMetrics {
   void BytesReceived(std::int64_t bytes) { received_bytes_.fetch_add(bytes); }
   void BytesSent(std::int64_t bytes) { sent_bytes_.fetch_add(bytes); }
   void Rejected(const std::string& reason);
+  // Reconstruction sessions: one started / ended, frames emitted, samples refused, and the
+  // server-side time from a sample message's arrival to its frames being ready.
+  void SessionStarted() { sessions_active_.fetch_add(1); sessions_total_.fetch_add(1); }
+  void SessionEnded() { sessions_active_.fetch_sub(1); }
+  void FramesReconstructed(std::int64_t frames) { frames_reconstructed_.fetch_add(frames); }
+  void SamplesRejected(std::int64_t samples) { samples_rejected_.fetch_add(samples); }
+  void ReplyLatency(double seconds);
 
   std::string PrometheusText() const;
 
@@ -32,10 +40,17 @@ class ServerMetrics {
   std::atomic<std::int64_t> imported_frames_{0};
   std::atomic<std::int64_t> received_bytes_{0};
   std::atomic<std::int64_t> sent_bytes_{0};
+  std::atomic<std::int64_t> sessions_active_{0};
+  std::atomic<std::int64_t> sessions_total_{0};
+  std::atomic<std::int64_t> frames_reconstructed_{0};
+  std::atomic<std::int64_t> samples_rejected_{0};
   mutable std::mutex mutex_;
   std::map<std::pair<std::string, std::string>, std::int64_t> calls_;  // (method, code)
   std::map<std::string, double> call_seconds_;                         // per method
   std::map<std::string, std::int64_t> rejected_;                       // per reason
+  std::array<std::int64_t, 8> latency_buckets_{};                      // ≤ kLatencyBounds[i], then +Inf
+  double latency_sum_ = 0.0;
+  std::int64_t latency_count_ = 0;
 };
 
 }  // namespace mocap

@@ -52,7 +52,7 @@ CallScope::~CallScope() {
   if (!ended_) service_.metrics.CallFinished(method_, "CANCELLED", 0.0);
 }
 
-absl::Status CallScope::Begin() {
+absl::Status CallScope::Begin(TenantAdmission* admission, const char* limit_name) {
   MOCAP_ASSIGN_OR_RETURN(StorePool::Lease lease, service_.stores.Acquire());
   store_ = std::move(lease);
   const std::string key = BearerKey(*context_);
@@ -66,9 +66,9 @@ absl::Status CallScope::Begin() {
     return tenant.status();
   }
   tenant_ = std::move(*tenant);
-  absl::StatusOr<TenantAdmission::Ticket> ticket = service_.admission.Admit(tenant_.id);
+  absl::StatusOr<TenantAdmission::Ticket> ticket = (admission ? *admission : service_.admission).Admit(tenant_.id);
   if (!ticket.ok()) {
-    service_.metrics.Rejected("calls_per_tenant");
+    service_.metrics.Rejected(limit_name);
     return ticket.status();
   }
   ticket_ = std::move(*ticket);

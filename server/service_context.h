@@ -47,8 +47,11 @@ class CallScope {
   CallScope& operator=(const CallScope&) = delete;
 
   // Leases a store connection, checks the bearer key (Unauthenticated) and admits the call for
-  // its tenant (ResourceExhausted). Call once, first.
-  absl::Status Begin();
+  // its tenant (ResourceExhausted) by `admission` (default: the service's calls per tenant).
+  // Call once, first.
+  absl::Status Begin(TenantAdmission* admission = nullptr, const char* limit_name = "calls_per_tenant");
+  // Returns the store connection early (long calls that no longer need the store).
+  void ReleaseStore() { store_.reset(); }
   // Logs the outcome, counts it, releases the connection and admission; the status to finish with.
   grpc::Status End(const absl::Status& status);
 

@@ -9,7 +9,7 @@ absl::StatusOr<TenantAdmission::Ticket> TenantAdmission::Admit(TenantId tenant) 
     std::lock_guard lock(mutex_);
     int& active = active_[tenant];
     if (active >= max_calls_) {
-      return absl::ResourceExhaustedError(StrCat("this tenant has ", active, " calls in progress, the most allowed (",
+      return absl::ResourceExhaustedError(StrCat("this tenant has ", active, " ", what_, " in progress, the most allowed (",
                                                  max_calls_, "); retry when one has finished"));
     }
     ++active;

@@ -5,6 +5,8 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <utility>
 
 #include "absl/status/statusor.h"
 #include "storage/motion_store.h"
@@ -13,7 +15,9 @@ namespace mocap {
 
 class TenantAdmission {
  public:
-  explicit TenantAdmission(int max_calls_per_tenant) : max_calls_(max_calls_per_tenant) {}
+  // `what` names the counted things in the refusal ("calls", "reconstruction sessions").
+  explicit TenantAdmission(int max_calls_per_tenant, std::string what = "calls")
+      : max_calls_(max_calls_per_tenant), what_(std::move(what)) {}
 
   // Holding a ticket counts one call of its tenant; dropping it ends the call.
   using Ticket = std::shared_ptr<void>;
@@ -22,6 +26,7 @@ class TenantAdmission {
 
  private:
   const int max_calls_;
+  const std::string what_;
   std::mutex mutex_;
   std::map<TenantId, int> active_;
 };

@@ -12,41 +12,12 @@
 
 #include "cli_util/bvh_files.h"
 #include "cli_util/progress_bar.h"
+#include "client/cli/cli_common.h"
+#include "client/cli/reconstruct_command.h"
 #include "mocap/client.h"
 
 namespace mocap::cli {
 namespace {
-
-struct GlobalOptions {
-  std::string address = "127.0.0.1:50051";
-  std::string key;
-  std::string tls_root_certs;
-  bool tls = false;
-  bool json = false;
-  double timeout_seconds = 30;
-};
-
-int Fail(const absl::Status& status) {
-  spdlog::error("{}", std::string(status.message()));
-  return 1;
-}
-
-std::string Json(const google::protobuf::Message& message) {
-  std::string out;
-  google::protobuf::util::JsonPrintOptions options;
-  options.add_whitespace = true;
-  options.preserve_proto_field_names = true;
-  options.always_print_primitive_fields = true;
-  (void)google::protobuf::util::MessageToJsonString(message, &out, options);
-  return out;
-}
-
-template <typename Message>
-std::string JsonList(const std::vector<Message>& messages) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const Message& message : messages) out.push_back(nlohmann::json::parse(Json(message)));
-  return out.dump(2);
-}
 
 absl::StatusOr<std::unique_ptr<client::Client>> Connect(const GlobalOptions& global) {
   client::ConnectOptions options;
@@ -66,14 +37,6 @@ absl::StatusOr<std::unique_ptr<client::Client>> Connect(const GlobalOptions& glo
   options.deadline = std::chrono::milliseconds(static_cast<long>(global.timeout_seconds * 1000));
   return client::Client::Connect(global.address, options);
 }
-
-using Action = std::function<int(client::Client&)>;
-
-struct Registry {
-  std::shared_ptr<GlobalOptions> global = std::make_shared<GlobalOptions>();
-  std::vector<std::pair<CLI::App*, Action>> actions;
-  void Add(CLI::App* command, Action action) { actions.emplace_back(command, std::move(action)); }
-};
 
 void RegisterDatabases(CLI::App& app, Registry& registry) {
   auto global = registry.global;
@@ -240,6 +203,7 @@ std::function<int()> RegisterCommands(CLI::App& app) {
   RegisterClips(app, *registry);
   RegisterImport(app, *registry);
   RegisterExport(app, *registry);
+  RegisterReconstruct(app, *registry);
   return [registry] {
     // The deepest parsed command wins (databases describe before databases).
     for (auto it = registry->actions.rbegin(); it != registry->actions.rend(); ++it) {

@@ -5,39 +5,10 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include "client/src/client_impl.h"
 #include "client/src/status_mapping.h"
-#include "mocap/v1/motion_store.grpc.pb.h"
-#include "mocap/v1/server_status.grpc.pb.h"
 
 namespace mocap::client {
-
-struct Client::Impl {
-  ConnectOptions options;
-  std::shared_ptr<grpc::Channel> channel;
-  std::unique_ptr<v1::MotionStore::Stub> store;
-  std::unique_ptr<v1::ServerStatus::Stub> status;
-
-  void Prepare(grpc::ClientContext& context, bool with_deadline) const {
-    if (!options.api_key.empty()) context.AddMetadata("authorization", "Bearer " + options.api_key);
-    if (with_deadline) context.set_deadline(std::chrono::system_clock::now() + options.deadline);
-  }
-
-  // One unary call with deadline and retries on UNAVAILABLE.
-  template <typename Request, typename Response, typename Method>
-  absl::Status Unary(Method method, const Request& request, Response* response) const {
-    std::chrono::milliseconds backoff = options.retry_backoff;
-    for (int attempt = 1;; ++attempt) {
-      grpc::ClientContext context;
-      Prepare(context, true);
-      const grpc::Status status = method(&context, request, response);
-      if (status.error_code() != grpc::StatusCode::UNAVAILABLE || attempt >= options.max_attempts) {
-        return FromGrpc(status);
-      }
-      std::this_thread::sleep_for(backoff);
-      backoff *= 2;
-    }
-  }
-};
 
 Client::Client(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Client::~Client() = default;
@@ -57,6 +28,7 @@ absl::StatusOr<std::unique_ptr<Client>> Client::Connect(const std::string& addre
   impl->channel = grpc::CreateCustomChannel(address, credentials, arguments);
   impl->store = v1::MotionStore::NewStub(impl->channel);
   impl->status = v1::ServerStatus::NewStub(impl->channel);
+  impl->reconstruction = v1::Reconstruction::NewStub(impl->channel);
   return std::unique_ptr<Client>(new Client(std::move(impl)));
 }
 

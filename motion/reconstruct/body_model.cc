@@ -1,6 +1,7 @@
 #include "motion/reconstruct/body_model.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "motion/core/rotation_vector.h"
 #include "motion/core/str_cat.h"
@@ -136,6 +137,30 @@ LocalMotion BodyModel::ToLocalMotion(const std::vector<BodyPose>& poses, double 
     }
   }
   return motion;
+}
+
+float RestPoseHeight(const BodyModel& body) {
+  const Skeleton& skeleton = body.skeleton();
+  // Along the zero-rotation pose's own up axis (pelvis → head), which is not the world's on many
+  // rigs (Bandai's rest pose lies along +X, Z-up hierarchies stand along +Z).
+  const BodyTopology& topology = body.rig().topology;
+  Eigen::Vector3f up = Eigen::Vector3f::Zero();
+  up[topology.rest_up_axis] = static_cast<float>(topology.rest_up_sign);
+  std::vector<Eigen::Vector3f> position(skeleton.num_joints());
+  float low = 0.0f, high = 0.0f;
+  for (int j = 0; j < skeleton.num_joints(); ++j) {
+    const int parent = skeleton.parent(j);
+    position[j] = parent < 0 ? Eigen::Vector3f::Zero() : Eigen::Vector3f(position[parent] + skeleton.joint(j).offset);
+    std::array<std::optional<Eigen::Vector3f>, 2> points = {position[j], std::nullopt};
+    if (skeleton.joint(j).end_site) points[1] = position[j] + *skeleton.joint(j).end_site;
+    for (const auto& point : points) {
+      if (!point) continue;
+      const float y = up.dot(*point);
+      low = std::min(low, y);
+      high = std::max(high, y);
+    }
+  }
+  return high - low;
 }
 
 }  // namespace mocap

@@ -77,4 +77,9 @@ class BodyModel {
   Eigen::Vector3d chain_translation_ = Eigen::Vector3d::Zero();
 };
 
+// Standing height of the body, metres: the extent of its zero-rotation pose along that pose's own
+// up axis (pelvis → head, BodyTopology::rest_up_axis), end sites included. Used to scale a
+// performer of another height (METHOD.md does not scale; the service does).
+float RestPoseHeight(const BodyModel& body);
+
 }  // namespace mocap

@@ -63,7 +63,10 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   // The body the solver drives: the rig's offsets in metres.
   std::vector<Joint> body_joints = rig.skeleton.joints();
   const float metres = static_cast<float>(MetresPerUnit(rig.unit));
-  for (Joint& joint : body_joints) joint.offset *= metres;
+  for (Joint& joint : body_joints) {
+    joint.offset *= metres;
+    if (joint.end_site) *joint.end_site *= metres;
+  }
   absl::StatusOr<BodyModel> body = BodyModel::Create(rig, Skeleton(std::move(body_joints)), db->pose_joints_);
   if (!body.ok()) return body.status();
   db->body_.emplace(std::move(*body));

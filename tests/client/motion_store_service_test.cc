@@ -13,7 +13,7 @@
 #include "motion/bvh/bvh_writer.h"
 #include "storage/motion_store.h"
 #include "storage/tenant_directory.h"
-#include "tests/support/server_process.h"
+#include "tests/support/server_fixture.h"
 #include "tests/support/shared_data.h"
 #include "tests/support/synthetic_clip.h"
 #include "tests/support/temp_dir.h"
@@ -24,40 +24,8 @@ namespace {
 namespace fs = std::filesystem;
 using client::Client;
 
-class MotionStoreServiceTest : public ::testing::Test {
+class MotionStoreServiceTest : public testing::ServerFixture {
  protected:
-  void SetUp() override {
-    store_ = dir_ / "var" / "mocap.db";
-    fs::create_directories(dir_ / "clips");
-    auto store = std::move(MotionStore::Open(store_)).value();
-    TenantDirectory tenants(*store);
-    for (const char* name : {"acme", "other"}) {
-      auto tenant = tenants.CreateTenant(name);
-      ASSERT_TRUE(tenant.ok()) << tenant.status();
-      keys_[name] = tenants.AddKey(tenant->id)->key;
-    }
-  }
-
-  void StartServer(const std::vector<std::string>& extra = {}) {
-    server_.reset();
-    server_ = std::make_unique<testing::ServerProcess>(MOCAPD_PATH, store_, dir_ / "server.log", extra);
-    ASSERT_FALSE(server_->address().empty()) << "mocapd serve did not start; see " << (dir_ / "server.log");
-  }
-  std::unique_ptr<Client> Connect(const std::string& key) {
-    auto client = Client::Connect(server_->address(), {.api_key = key});
-    EXPECT_TRUE(client.ok());
-    return std::move(client).value();
-  }
-  fs::path WriteClip(const std::string& name, int frames) {
-    const fs::path path = dir_ / "clips" / name;
-    EXPECT_TRUE(WriteBvhFile(testing::MakeWalkingClip({.extra_root = true}, frames), path).ok());
-    return path;
-  }
-  fs::path WriteText(const std::string& name, const std::string& text) {
-    const fs::path path = dir_ / "clips" / name;
-    std::ofstream(path) << text;
-    return path;
-  }
   // Databases of a tenant, read from the store file directly.
   size_t StoredDatabases(const std::string& tenant) {
     auto store = std::move(MotionStore::Open(store_)).value();
@@ -87,11 +55,6 @@ class MotionStoreServiceTest : public ::testing::Test {
     return call;
   }
 
-  testing::ScopedTempDir temp_;
-  const fs::path& dir_ = temp_.path();
-  fs::path store_;
-  std::map<std::string, std::string> keys_;
-  std::unique_ptr<testing::ServerProcess> server_;
   std::unique_ptr<v1::MotionStore::Stub> stub_;
 };
 

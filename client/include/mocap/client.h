@@ -74,8 +74,11 @@ using ImportProgressCallback = std::function<void(const ImportProgress&)>;
 //   writer thread:  stream->Write(samples) ... stream->CloseInput();
 //   reader thread:  while (auto reply = stream->Read(); reply.ok() && *reply) handle(**reply);
 //                   auto summary = stream->Finish();
-// Or, single-threaded: Write samples as they come and call Finish(on_reply) at the end; Finish
-// reads every remaining reply. Write blocks while the server is behind (backpressure).
+// Write blocks while the server is behind (backpressure): the server reads the next samples only
+// once its replies have been delivered, so replies must be read while writing. Single-threaded
+// code may interleave Write and Read itself, or Write everything and then call Finish(on_reply)
+// only for short sessions (a few seconds: replies then fit in the transport's buffers; a longer
+// session would stall, the server waiting for the client to read and the client for the server).
 //
 // Thread safety: one thread may Write/CloseInput while another Reads; Cancel from any thread.
 class ReconstructionStream {
@@ -138,8 +141,9 @@ class Client {
   // Server counters in the Prometheus text format.
   absl::StatusOr<std::string> GetMetrics();
 
+  struct Impl;  // the SDK's internals (client/src/client_impl.h)
+
  private:
-  struct Impl;
   explicit Client(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

@@ -1,0 +1,59 @@
+// What the `mocap` subcommands share: global options, the command registry, error and JSON output.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <google/protobuf/util/json_util.h>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "absl/status/status.h"
+#include "mocap/client.h"
+
+namespace mocap::cli {
+
+struct GlobalOptions {
+  std::string address = "127.0.0.1:50051";
+  std::string key;
+  std::string tls_root_certs;
+  bool tls = false;
+  bool json = false;
+  double timeout_seconds = 30;
+};
+
+inline int Fail(const absl::Status& status) {
+  spdlog::error("{}", std::string(status.message()));
+  return 1;
+}
+
+inline std::string Json(const google::protobuf::Message& message) {
+  std::string out;
+  google::protobuf::util::JsonPrintOptions options;
+  options.add_whitespace = true;
+  options.preserve_proto_field_names = true;
+  options.always_print_primitive_fields = true;
+  (void)google::protobuf::util::MessageToJsonString(message, &out, options);
+  return out;
+}
+
+template <typename Message>
+std::string JsonList(const std::vector<Message>& messages) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Message& message : messages) out.push_back(nlohmann::json::parse(Json(message)));
+  return out.dump(2);
+}
+
+using Action = std::function<int(client::Client&)>;
+
+struct Registry {
+  std::shared_ptr<GlobalOptions> global = std::make_shared<GlobalOptions>();
+  std::vector<std::pair<CLI::App*, Action>> actions;
+  void Add(CLI::App* command, Action action) { actions.emplace_back(command, std::move(action)); }
+};
+
+}  // namespace mocap::cli

@@ -1,0 +1,182 @@
+#include "client/cli/reconstruct_command.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+#include "cli_util/progress_bar.h"
+#include "cli_util/wrist_source.h"
+#include "client/cli/reconstruction_bvh.h"
+
+namespace mocap::cli {
+namespace {
+
+struct ReconstructOptions {
+  std::string database;
+  std::string csv, bvh;
+  double noise_cm = 0.0;
+  unsigned seed = 1;
+  std::string method = "full";
+  int window = -1, lag = -1;
+  int k1 = 0, k2 = 0;
+  float performer_height = 0.0f;
+  bool diagnostics = false, strict = false, unary = false, realtime = false, quiet = false;
+  int samples_per_message = 30;
+  std::string output = "reconstruction";
+};
+
+absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
+  v1::SessionConfig config;
+  config.set_database(o.database);
+  if (o.method == "full") {
+    config.set_method(v1::RECONSTRUCTION_METHOD_FULL);
+  } else if (o.method == "wrists-only") {
+    config.set_method(v1::RECONSTRUCTION_METHOD_WRISTS_ONLY);
+  } else {
+    config.set_method(v1::RECONSTRUCTION_METHOD_NEAREST_NEIGHBOUR);
+  }
+  if (o.lag >= 0) config.mutable_fixed_lag()->set_lag_frames(o.lag);
+  if (o.window >= 0) config.mutable_sub_interval()->set_window_frames(o.window);
+  if (o.k1 > 0) config.mutable_overrides()->set_ankle_candidates(o.k1);
+  if (o.k2 > 0) config.mutable_overrides()->set_pose_neighbours(o.k2);
+  config.set_performer_height(o.performer_height);
+  config.set_include_diagnostics(o.diagnostics);
+  config.set_strict(o.strict);
+  config.set_client_label("mocap reconstruct");
+  return config;
+}
+
+// Streams the samples (a reader thread collects replies meanwhile, so neither side waits on the
+// other's flow control) and gathers everything into one response-shaped message.
+absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client, const v1::SessionConfig& config,
+                                                         const std::vector<v1::WristSample>& samples,
+                                                         const ReconstructOptions& o, bool show_progress) {
+  auto stream = client.OpenReconstruction(config);
+  if (!stream.ok()) return stream.status();
+  v1::ReconstructTrajectoryResponse result;
+  *result.mutable_started() = (*stream)->started();
+  ProgressBar bar("reconstructing", static_cast<long>(samples.size()), show_progress);
+  std::atomic<long> frames_back{0};
+  std::thread reader([&] {
+    while (true) {
+      absl::StatusOr<std::optional<v1::ReconstructResponse>> reply = (*stream)->Read();
+      if (!reply.ok() || !*reply) break;
+      for (const v1::Frame& frame : (*reply)->frames().frames()) *result.add_frames() = frame;
+      if ((*reply)->has_rejected()) *result.add_rejected() = (*reply)->rejected();
+      frames_back = result.frames_size();
+    }
+  });
+  const auto start = std::chrono::steady_clock::now();
+  const int per_message = std::max(1, o.samples_per_message);
+  for (size_t i = 0; i < samples.size(); i += per_message) {
+    const size_t end = std::min(samples.size(), i + per_message);
+    if (o.realtime) {
+      const double offset = samples[end - 1].time() - samples.front().time();
+      std::this_thread::sleep_until(start + std::chrono::duration<double>(offset));
+    }
+    if (!(*stream)->Write({samples.begin() + static_cast<long>(i), samples.begin() + static_cast<long>(end)}).ok()) break;
+    bar.Update(static_cast<long>(end), std::to_string(frames_back.load()) + " frames back");
+  }
+  (*stream)->CloseInput().IgnoreError();  // always OK
+  reader.join();
+  bar.Finish();
+  // The call's status decides (a failed write only means the call had ended).
+  absl::StatusOr<v1::SessionSummary> summary = (*stream)->Finish();
+  if (!summary.ok()) return summary.status();
+  *result.mutable_summary() = *summary;
+  return result;
+}
+
+absl::Status WriteFile(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) return absl::DataLossError("cannot write " + path.string());
+  return absl::OkStatus();
+}
+
+int Run(client::Client& client, const ReconstructOptions& o, const GlobalOptions& global) {
+  absl::StatusOr<std::vector<v1::WristSample>> samples =
+      o.csv.empty() ? WristsFromBvh(o.bvh, o.noise_cm, o.seed) : WristsFromCsv(o.csv);
+  if (!samples.ok()) return Fail(samples.status());
+  absl::StatusOr<v1::SessionConfig> config = Config(o);
+  if (!config.ok()) return Fail(config.status());
+  absl::StatusOr<v1::ReconstructTrajectoryResponse> result =
+      o.unary ? client.ReconstructTrajectory(*config, *samples)
+              : Stream(client, *config, *samples, o, !o.quiet && !global.json);
+  if (!result.ok()) return Fail(result.status());
+  const std::vector<v1::Frame> frames(result->frames().begin(), result->frames().end());
+  absl::StatusOr<std::string> bvh = ReconstructionBvh(result->started(), frames);
+  if (!bvh.ok()) return Fail(bvh.status());
+  const std::string bvh_path = o.output + ".bvh", json_path = o.output + ".json";
+  if (absl::Status s = WriteFile(bvh_path, *bvh); !s.ok()) return Fail(s);
+  if (absl::Status s = WriteFile(json_path, Json(*result)); !s.ok()) return Fail(s);
+  const v1::SessionSummary& summary = result->summary();
+  if (global.json) {
+    nlohmann::json out = nlohmann::json::parse(Json(summary));
+    out["bvh"] = bvh_path;
+    out["json"] = json_path;
+    out["session_id"] = result->started().session_id();
+    std::cout << out.dump(2) << "\n";
+    return 0;
+  }
+  for (const v1::SampleRejected& rejected : result->rejected()) {
+    std::cerr << "  sample " << rejected.sample_index() << " (t = " << rejected.time() << " s) refused: " << rejected.reason()
+              << "\n";
+  }
+  std::cout << "session " << result->started().session_id() << ": " << summary.samples() << " samples → "
+            << summary.frames() << " frames in " << summary.segments() << " segment(s)"
+            << (summary.rejected_samples() ? ", " + std::to_string(summary.rejected_samples()) + " samples refused" : "")
+            << "\n  per frame: cloud " << summary.cloud_ms_per_frame() << " ms, ankle path " << summary.path_ms_per_frame()
+            << " ms, pose " << summary.pose_ms_per_frame() << " ms, cleanup " << summary.cleanup_ms_per_frame()
+            << " ms\n  wrote " << bvh_path << " and " << json_path << "\n";
+  return 0;
+}
+
+}  // namespace
+
+void RegisterReconstruct(CLI::App& app, Registry& registry) {
+  auto global = registry.global;
+  auto o = std::make_shared<ReconstructOptions>();
+  CLI::App* command = app.add_subcommand("reconstruct", "Reconstruct whole-body motion from wrist trajectories; "
+                                                        "writes OUTPUT.bvh and OUTPUT.json");
+  command->add_option("--database", o->database, "Database to draw motion from")->required();
+  auto* csv = command->add_option("--csv", o->csv,
+                                  "Wrist samples: time,left_x,left_y,left_z,right_x,right_y,right_z"
+                                  "[,left_confidence,right_confidence] (seconds, metres, Y up)")
+                  ->check(CLI::ExistingFile);
+  auto* bvh = command->add_option("--bvh", o->bvh, "Take the wrists from this BVH clip's forward kinematics")
+                  ->check(CLI::ExistingFile);
+  csv->excludes(bvh);
+  command->add_option("--noise-cm", o->noise_cm, "With --bvh: Gaussian noise on the wrists, cm")
+      ->check(CLI::NonNegativeNumber)->needs(bvh);
+  command->add_option("--seed", o->seed, "With --noise-cm: random seed")->capture_default_str();
+  command->add_option("--method", o->method, "full, wrists-only or nearest")
+      ->check(CLI::IsMember({"full", "wrists-only", "nearest"}))->capture_default_str();
+  auto* window = command->add_option("--window", o->window, "Sub-interval length L in frames (0: whole trajectory)")
+                     ->check(CLI::NonNegativeNumber);
+  auto* lag = command->add_option("--lag", o->lag, "Fixed lag D in frames (frame t-D leaves when t arrives)")
+                  ->check(CLI::NonNegativeNumber);
+  window->excludes(lag);
+  command->add_option("--k1", o->k1, "Ankle candidates K1 (server default 1000)")->check(CLI::PositiveNumber);
+  command->add_option("--k2", o->k2, "Pose neighbours K2 (server default 200)")->check(CLI::PositiveNumber);
+  command->add_option("--performer-height", o->performer_height, "Performer's height in metres (scales input and output)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag("--diagnostics", o->diagnostics, "Per-frame diagnostics in the JSON");
+  command->add_flag("--strict", o->strict, "Fail at the first refused sample instead of skipping it");
+  command->add_flag("--unary", o->unary, "One ReconstructTrajectory call instead of a stream");
+  command->add_flag("--realtime", o->realtime, "Send samples at their timestamps' pace (as a live tracker would)");
+  command->add_option("--samples-per-message", o->samples_per_message, "Samples per stream message")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  command->add_option("-o,--output", o->output, "Output path prefix")->capture_default_str();
+  command->add_flag("--quiet", o->quiet, "No progress bar");
+  command->callback([o, csv, bvh] {
+    if (csv->count() == 0 && bvh->count() == 0) throw CLI::ValidationError("give --csv or --bvh");
+  });
+  registry.Add(command, [o, global](client::Client& client) { return Run(client, *o, *global); });
+}
+
+}  // namespace mocap::cli

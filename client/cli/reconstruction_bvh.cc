@@ -1,0 +1,63 @@
+#include "client/cli/reconstruction_bvh.h"
+
+#include "motion/bvh/bvh_writer.h"
+#include "motion/skeleton/local_motion.h"
+
+namespace mocap::cli {
+namespace {
+
+Eigen::Vector3f FromProto(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+Skeleton SkeletonFromProto(const v1::Skeleton& skeleton) {
+  using C = ChannelType;
+  std::vector<Joint> joints;
+  for (const v1::Joint& joint : skeleton.joints()) {
+    Joint out;
+    out.name = joint.name();
+    out.parent = joint.parent();
+    out.offset = FromProto(joint.offset());
+    out.channels = {C::kZrotation, C::kXrotation, C::kYrotation};
+    if (out.parent < 0) out.channels.insert(out.channels.begin(), {C::kXposition, C::kYposition, C::kZposition});
+    if (joint.has_end_site()) out.end_site = FromProto(joint.end_site());
+    joints.push_back(std::move(out));
+  }
+  // BVH readers expect every leaf to end in an End Site.
+  std::vector<bool> has_child(joints.size(), false);
+  for (const Joint& joint : joints) {
+    if (joint.parent >= 0) has_child[joint.parent] = true;
+  }
+  for (size_t j = 0; j < joints.size(); ++j) {
+    if (!has_child[j] && !joints[j].end_site) joints[j].end_site = Eigen::Vector3f::Zero();
+  }
+  return Skeleton(std::move(joints));
+}
+
+}  // namespace
+
+absl::StatusOr<std::string> ReconstructionBvh(const v1::SessionStarted& started, const std::vector<v1::Frame>& frames) {
+  BvhClip clip;
+  clip.skeleton = SkeletonFromProto(started.skeleton());
+  if (absl::Status valid = clip.skeleton.Validate(); !valid.ok()) return valid;
+  clip.frame_time = started.frame_rate() > 0 ? 1.0 / started.frame_rate() : 1.0 / 30.0;
+  const int joints = clip.skeleton.num_joints();
+  LocalMotion motion;
+  motion.frame_time = clip.frame_time;
+  motion.Resize(static_cast<int>(frames.size()), joints);
+  for (int f = 0; f < static_cast<int>(frames.size()); ++f) {
+    const v1::Frame& frame = frames[f];
+    if (frame.rotations_size() != joints) {
+      return absl::InvalidArgumentError("frame " + std::to_string(frame.index()) + " has " +
+                                        std::to_string(frame.rotations_size()) + " rotations for " +
+                                        std::to_string(joints) + " joints");
+    }
+    for (int j = 0; j < joints; ++j) {
+      const v1::Quaternion& q = frame.rotations(j);
+      motion.SetRotation(f, j, Eigen::Quaternionf(q.w(), q.x(), q.y(), q.z()).normalized());
+      motion.SetTranslation(f, j, j == 0 ? FromProto(frame.root_position()) : clip.skeleton.joint(j).offset);
+    }
+  }
+  clip.channels = ChannelsFromMotion(clip.skeleton, motion);
+  return FormatBvh(clip);
+}
+
+}  // namespace mocap::cli

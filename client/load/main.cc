@@ -1,0 +1,182 @@
+// mocap-load: N concurrent simulated trackers streaming wrists to a mocapd server in real time
+// (30 Hz by default), reporting frame latency p50/p90/p99, throughput and errors. Built on the SDK.
+//
+//   mocap-load --address 127.0.0.1:50051 --key mk_... --database walks --bvh clip.bvh --streams 20
+#include <cstdlib>
+#include <iostream>
+#include <map>
+#include <random>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "cli_util/wrist_source.h"
+#include "client/load/latency_summary.h"
+#include "client/load/stream_load.h"
+
+namespace mocap::load {
+namespace {
+
+struct Options {
+  std::string address = "127.0.0.1:50051";
+  std::string key;
+  bool tls = false;
+  std::string database;
+  std::string bvh, csv;
+  double noise_cm = 0.5;
+  unsigned seed = 1;
+  int streams = 20;
+  double seconds = 30;
+  double rate = 30;
+  int lag = 0;
+  int window = -1;
+  int k1 = 0, k2 = 0;
+  double ramp_seconds = 1.0;
+  bool json = false;
+  double max_p99_ms = 0;
+};
+
+// The clip's samples resampled to `rate` and played forwards then backwards until `seconds` are
+// filled, so a short clip feeds a long run without a jump in the wrists.
+std::vector<v1::WristSample> Schedule(const std::vector<v1::WristSample>& clip, double rate, double seconds) {
+  std::vector<v1::WristSample> out;
+  const long count = std::max(1L, static_cast<long>(seconds * rate));
+  const size_t n = clip.size();
+  for (long i = 0; i < count; ++i) {
+    const size_t period = n > 1 ? 2 * (n - 1) : 1;
+    const size_t phase = static_cast<size_t>(i) % period;
+    v1::WristSample sample = clip[phase < n ? phase : period - phase];
+    sample.set_time(static_cast<double>(i) / rate);
+    out.push_back(std::move(sample));
+  }
+  return out;
+}
+
+v1::SessionConfig Config(const Options& o, int stream) {
+  v1::SessionConfig config;
+  config.set_database(o.database);
+  if (o.window >= 0) {
+    config.mutable_sub_interval()->set_window_frames(o.window);
+  } else {
+    config.mutable_fixed_lag()->set_lag_frames(o.lag);
+  }
+  if (o.k1 > 0) config.mutable_overrides()->set_ankle_candidates(o.k1);
+  if (o.k2 > 0) config.mutable_overrides()->set_pose_neighbours(o.k2);
+  config.set_client_label("mocap-load stream " + std::to_string(stream));
+  return config;
+}
+
+int Run(const Options& o) {
+  absl::StatusOr<std::vector<v1::WristSample>> clip =
+      !o.csv.empty() ? WristsFromCsv(o.csv) : WristsFromBvh(o.bvh, o.noise_cm, o.seed);
+  if (!clip.ok()) {
+    spdlog::error("{}", clip.status().ToString());
+    return 2;
+  }
+  const std::vector<v1::WristSample> samples = Schedule(*clip, o.rate, o.seconds);
+  std::mt19937 random(o.seed);
+  std::uniform_real_distribution<double> offset(0.0, o.ramp_seconds);
+  const auto start = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+
+  std::vector<StreamOutcome> outcomes(o.streams);
+  std::vector<std::thread> threads;
+  const auto began = std::chrono::steady_clock::now();
+  for (int s = 0; s < o.streams; ++s) {
+    StreamPlan plan{Config(o, s), samples,
+                    start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(offset(random)))};
+    threads.emplace_back([&o, &outcomes, s, plan = std::move(plan)] {
+      client::ConnectOptions connect;
+      connect.api_key = o.key;
+      connect.tls = o.tls;
+      auto client = client::Client::Connect(o.address, connect);
+      if (!client.ok()) {
+        outcomes[s].status = client.status();
+        return;
+      }
+      outcomes[s] = RunStream(**client, plan);
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+
+  std::vector<double> latencies;
+  std::map<std::string, int> errors;
+  long frames = 0, sent = 0, rejected = 0;
+  double late = 0, server_mean = 0, server_max = 0;
+  int ok = 0;
+  for (const StreamOutcome& outcome : outcomes) {
+    latencies.insert(latencies.end(), outcome.latencies_ms.begin(), outcome.latencies_ms.end());
+    frames += outcome.frames;
+    sent += outcome.samples_sent;
+    rejected += outcome.rejected;
+    late = std::max(late, outcome.late_send_ms);
+    if (outcome.status.ok()) {
+      ++ok;
+      server_mean += outcome.summary.mean_reply_ms();
+      server_max = std::max(server_max, outcome.summary.max_reply_ms());
+    } else {
+      ++errors[absl::StatusCodeToString(outcome.status.code()) + ": " + std::string(outcome.status.message())];
+    }
+  }
+  if (ok > 0) server_mean /= ok;
+  const LatencySummary latency = Summarise(std::move(latencies));
+  const bool p99_ok = o.max_p99_ms <= 0 || latency.p99_ms <= o.max_p99_ms;
+
+  if (o.json) {
+    nlohmann::json report = {
+        {"streams", o.streams}, {"streams_ok", ok}, {"seconds", elapsed}, {"input_rate", o.rate},
+        {"samples_sent", sent}, {"samples_rejected", rejected}, {"frames", frames},
+        {"frames_per_second", frames / elapsed},
+        {"latency_ms", {{"count", latency.count}, {"mean", latency.mean_ms}, {"p50", latency.p50_ms}, {"p90", latency.p90_ms},
+                        {"p99", latency.p99_ms}, {"max", latency.max_ms}}},
+        {"server_reply_ms", {{"mean", server_mean}, {"max", server_max}}},
+        {"worst_late_send_ms", late}, {"errors", errors}};
+    std::cout << report.dump(2) << "\n";
+  } else {
+    std::cout << "streams " << ok << "/" << o.streams << " ok, " << elapsed << " s, " << sent << " samples sent ("
+              << rejected << " rejected), " << frames << " frames (" << frames / elapsed << " frames/s)\n"
+              << "frame latency ms: mean " << latency.mean_ms << "  p50 " << latency.p50_ms << "  p90 " << latency.p90_ms
+              << "  p99 " << latency.p99_ms << "  max " << latency.max_ms << "  (" << latency.count << " frames)\n"
+              << "server reply ms: mean " << server_mean << "  max " << server_max << "; worst late send " << late << " ms\n";
+    for (const auto& [error, count] : errors) std::cout << "error x" << count << ": " << error << "\n";
+  }
+  if (!p99_ok) spdlog::error("p99 latency {:.1f} ms exceeds --max-p99-ms {}", latency.p99_ms, o.max_p99_ms);
+  return errors.empty() && p99_ok ? 0 : 1;
+}
+
+}  // namespace
+}  // namespace mocap::load
+
+int main(int argc, char** argv) {
+  spdlog::set_default_logger(spdlog::stderr_color_mt("mocap-load"));
+  spdlog::set_pattern("%^%l%$: %v");
+  mocap::load::Options o;
+  if (const char* key = std::getenv("MOCAP_API_KEY")) o.key = key;
+  CLI::App app{"mocap-load — concurrent real-time reconstruction streams against a mocapd server"};
+  app.add_option("--address", o.address, "Server (or load balancer) address")->capture_default_str();
+  app.add_option("--key", o.key, "API key (default: $MOCAP_API_KEY)");
+  app.add_flag("--tls", o.tls, "Connect with TLS (system roots)");
+  app.add_option("--database", o.database, "Database to reconstruct from")->required();
+  auto* source = app.add_option_group("wrists", "Where the wrists come from");
+  source->add_option("--bvh", o.bvh, "A BVH clip: wrists by forward kinematics plus noise")->check(CLI::ExistingFile);
+  source->add_option("--csv", o.csv, "A CSV of timestamped samples (mocap reconstruct's format)")->check(CLI::ExistingFile);
+  source->require_option(1);
+  app.add_option("--noise-cm", o.noise_cm, "Gaussian noise on BVH wrists, cm")->capture_default_str();
+  app.add_option("--seed", o.seed, "Noise seed")->capture_default_str();
+  app.add_option("--streams", o.streams, "Concurrent sessions")->capture_default_str()->check(CLI::Range(1, 10000));
+  app.add_option("--seconds", o.seconds, "Length of each session (the clip is played back and forth)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--rate", o.rate, "Samples per second per stream")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  app.add_option("--lag", o.lag, "Fixed lag D, frames (0: causal)")->capture_default_str()->check(CLI::Range(0, 600));
+  app.add_option("--window", o.window, "Sub-interval mode with windows of L frames instead of fixed lag");
+  app.add_option("--k1", o.k1, "Override K1 (ankle candidates)");
+  app.add_option("--k2", o.k2, "Override K2 (pose neighbours)");
+  app.add_option("--ramp-seconds", o.ramp_seconds, "Streams start at random offsets within this span")->capture_default_str();
+  app.add_option("--max-p99-ms", o.max_p99_ms, "Exit 1 when the p99 frame latency exceeds this");
+  app.add_flag("--json", o.json, "Report as JSON on stdout");
+  CLI11_PARSE(app, argc, argv);
+  return mocap::load::Run(o);
+}

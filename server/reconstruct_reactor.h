@@ -1,0 +1,75 @@
+// The Reconstruct stream of one session (reconstruction_service.h): a state machine with at most
+// one read, one write and one compute task outstanding.
+//
+//   read config → [compute] authenticate, find the database, wait for its index → write `started`
+//   read samples → [compute] SessionDriver::Push → write frames / rejected → read next ...
+//   half-close or `finish` → [compute] SessionDriver::Finish → write frames, summary → Finish(OK)
+// The next message is read only after the replies to the previous one have been written, so a
+// slow reader slows its own session and nothing queues without bound. The reactor finishes only
+// when no compute task refers to it.
+#pragma once
+
+#include <chrono>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "server/reconstruction_service.h"
+
+namespace mocap {
+
+class ReconstructReactor : public grpc::ServerBidiReactor<v1::ReconstructRequest, v1::ReconstructResponse> {
+ public:
+  ReconstructReactor(ReconstructionState& state, grpc::CallbackServerContext* context);
+
+  void OnReadDone(bool ok) override;
+  void OnWriteDone(bool ok) override;
+  void OnCancel() override;
+  void OnDone() override;
+
+  // Watchdog and drain (any thread, with state.live_mutex held).
+  // True when waiting for the client's next message since before `cutoff`.
+  bool IdleSince(std::chrono::steady_clock::time_point cutoff);
+  void EndIdle();
+  void EndForShutdown();
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  using Replies = std::vector<v1::ReconstructResponse>;
+
+  // Runs `work` on the compute pool; the reactor stays alive until it has returned.
+  void Post(std::function<void()> work);
+  void Handle(v1::ReconstructRequest request, Clock::time_point arrival);
+  void HandleConfig(const v1::SessionConfig& config);
+  void EndInput(absl::Status final_status);
+  // Queues replies; `status` not OK ends the call after them.
+  void Deliver(Replies replies, const absl::Status& status);
+  // With mutex_ held: ends the call with `status` after the queued replies (dropped when
+  // `discard_replies`). The first call wins.
+  void CompleteLocked(const absl::Status& status, bool discard_replies);
+  // With mutex_ held: starts the next write, read or Finish, whichever is due.
+  void PumpLocked();
+
+  ReconstructionState& state_;
+  CallScope call_;
+  const std::string session_id_;
+  v1::ReconstructRequest request_;  // read buffer
+  std::mutex session_mutex_;        // driver_ and the config phase (compute tasks)
+  std::unique_ptr<SessionDriver> driver_;
+  bool metrics_started_ = false;
+
+  std::mutex mutex_;  // everything below
+  bool reading_ = false, writing_ = false;
+  int tasks_ = 0;            // compute tasks queued or running, and a database wait
+  bool configured_ = false;  // config received
+  bool input_done_ = false;  // half-close, `finish`, or drain: no more reads
+  bool completing_ = false;  // the final status is decided
+  bool finished_ = false;    // Finish called
+  grpc::Status final_status_;
+  std::deque<v1::ReconstructResponse> outbox_;
+  v1::ReconstructResponse writing_message_;
+  Clock::time_point last_read_ = Clock::now();
+};
+
+}  // namespace mocap

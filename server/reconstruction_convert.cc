@@ -1,0 +1,174 @@
+#include "server/reconstruction_convert.h"
+
+#include <cmath>
+
+#include "motion/core/str_cat.h"
+#include "motion/reconstruct/body_model.h"
+#include "server/proto_convert.h"
+
+namespace mocap {
+namespace {
+
+void ToProto(const Eigen::Vector3f& v, float scale, v1::Vec3* out) {
+  out->set_x(v.x() * scale);
+  out->set_y(v.y() * scale);
+  out->set_z(v.z() * scale);
+}
+
+void ToProto(const Eigen::Quaternionf& q, v1::Quaternion* out) {
+  out->set_w(q.w());
+  out->set_x(q.x());
+  out->set_y(q.y());
+  out->set_z(q.z());
+}
+
+Eigen::Vector3f FromProto(const v1::Vec3& v, float scale) { return Eigen::Vector3f(v.x(), v.y(), v.z()) * scale; }
+
+absl::Status CheckRange(const char* field, double value, double low, double high) {
+  if (!(value >= low && value <= high)) {
+    return absl::InvalidArgumentError(StrCat(field, " must be in [", low, ", ", high, "], not ", value));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig& config) {
+  ReconstructionOptions options;
+  switch (config.method()) {
+    case v1::RECONSTRUCTION_METHOD_FULL: options.method = ReconstructionMethod::kFull; break;
+    case v1::RECONSTRUCTION_METHOD_WRISTS_ONLY: options.method = ReconstructionMethod::kWristsOnly; break;
+    case v1::RECONSTRUCTION_METHOD_NEAREST_NEIGHBOUR: options.method = ReconstructionMethod::kNearestNeighbour; break;
+    default: return absl::InvalidArgumentError(StrCat("unknown method ", static_cast<int>(config.method())));
+  }
+  if (config.has_fixed_lag()) {
+    options.mode = StreamMode::kFixedLag;
+    options.lag = config.fixed_lag().lag_frames();
+    if (auto s = CheckRange("fixed_lag.lag_frames", options.lag, 0, 600); !s.ok()) return s;
+  } else {
+    options.mode = StreamMode::kSubInterval;
+    options.window = config.sub_interval().window_frames();
+    if (auto s = CheckRange("sub_interval.window_frames", options.window, 0, kMaxWindowFrames); !s.ok()) return s;
+  }
+  const v1::MethodOverrides& o = config.overrides();
+  if (o.has_ankle_candidates()) options.ankle_candidates = o.ankle_candidates();
+  if (o.has_pose_neighbours()) options.pose_neighbours = o.pose_neighbours();
+  if (o.has_pose_components()) options.pose_components = o.pose_components();
+  if (o.has_wrist_smoothing()) options.smoothing.smoothing = o.wrist_smoothing();
+  if (o.has_ankle_smoothing_frames()) options.ankle_path.smoothing_sigma_frames = o.ankle_smoothing_frames();
+  if (o.has_joint_smoothing_frames()) options.joint_smoothing_sigma = o.joint_smoothing_frames();
+  if (o.has_footskate_cleanup()) options.footskate.enabled = o.footskate_cleanup();
+  if (o.has_max_gap_seconds()) options.max_gap_seconds = o.max_gap_seconds();
+  for (const absl::Status& s : {
+           CheckRange("overrides.ankle_candidates", options.ankle_candidates, 1, kMaxAnkleCandidates),
+           CheckRange("overrides.pose_neighbours", options.pose_neighbours, 2, kMaxPoseNeighbours),
+           CheckRange("overrides.pose_components", options.pose_components, 1, 64),
+           CheckRange("overrides.wrist_smoothing", options.smoothing.smoothing, 0, 1),
+           CheckRange("overrides.ankle_smoothing_frames", options.ankle_path.smoothing_sigma_frames, 0, 30),
+           CheckRange("overrides.joint_smoothing_frames", options.joint_smoothing_sigma, 0, 30),
+           CheckRange("overrides.max_gap_seconds", options.max_gap_seconds, 1e-3, 10),
+           CheckRange("min_confidence", config.min_confidence(), 0, 1),
+       }) {
+    if (!s.ok()) return s;
+  }
+  return options;
+}
+
+v1::SessionConfig EffectiveConfig(const v1::SessionConfig& config, const ReconstructionOptions& options) {
+  v1::SessionConfig out = config;
+  if (options.mode == StreamMode::kFixedLag) {
+    out.mutable_fixed_lag()->set_lag_frames(options.lag);
+  } else {
+    out.mutable_sub_interval()->set_window_frames(options.window);
+  }
+  v1::MethodOverrides* o = out.mutable_overrides();
+  o->set_ankle_candidates(options.ankle_candidates);
+  o->set_pose_neighbours(options.pose_neighbours);
+  o->set_pose_components(options.pose_components);
+  o->set_wrist_smoothing(options.smoothing.smoothing);
+  o->set_ankle_smoothing_frames(options.ankle_path.smoothing_sigma_frames);
+  o->set_joint_smoothing_frames(options.joint_smoothing_sigma);
+  o->set_footskate_cleanup(options.footskate.enabled);
+  o->set_max_gap_seconds(options.max_gap_seconds);
+  return out;
+}
+
+absl::StatusOr<PerformerScale> ScaleForPerformer(const ReconstructionDatabase& database, float performer_height) {
+  PerformerScale scale;
+  scale.database_height = RestPoseHeight(database.body());
+  if (performer_height == 0.0f || scale.database_height <= 0.0f) return scale;
+  if (!(performer_height >= 0.3f * scale.database_height && performer_height <= 3.0f * scale.database_height)) {
+    return absl::InvalidArgumentError(StrCat("performer_height ", performer_height, " m is not plausible for a database ",
+                                             "performer of ", scale.database_height, " m (0 keeps the database's)"));
+  }
+  scale.scale = performer_height / scale.database_height;
+  return scale;
+}
+
+bool FromProto(const v1::WristSample& sample, float min_confidence, const PerformerScale& scale, WristSample* out) {
+  const float left = sample.has_left_confidence() ? sample.left_confidence() : 1.0f;
+  const float right = sample.has_right_confidence() ? sample.right_confidence() : 1.0f;
+  // NaN confidences count as below any threshold.
+  if (!(left >= min_confidence) || !(right >= min_confidence)) return false;
+  out->time = sample.time();
+  out->left = FromProto(sample.left(), 1.0f / scale.scale);
+  out->right = FromProto(sample.right(), 1.0f / scale.scale);
+  return true;
+}
+
+void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out) {
+  // The body's skeleton is the rig's hierarchy in metres; reuse the rig conversion with it.
+  RigModel rig = database.body().rig();
+  std::vector<Joint> joints = database.body().skeleton().joints();
+  for (Joint& joint : joints) {
+    joint.offset *= scale.scale;
+    if (joint.end_site) *joint.end_site *= scale.scale;
+  }
+  rig.skeleton = Skeleton(std::move(joints));
+  rig.unit = LengthUnit::kMetre;
+  ToProto(rig, out);
+}
+
+void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out) {
+  const float s = scale.scale;
+  out->set_index(frame.index);
+  out->set_segment(frame.segment);
+  out->set_frame_in_segment(frame.frame_in_segment);
+  out->set_time(frame.time);
+  ToProto(frame.pose.root_position, s, out->mutable_root_position());
+  out->mutable_rotations()->Reserve(static_cast<int>(frame.pose.rotations.size()));
+  for (const Eigen::Quaternionf& q : frame.pose.rotations) ToProto(q, out->add_rotations());
+  ToProto(frame.pelvis_position, s, out->mutable_pelvis_position());
+  ToProto(frame.pelvis_rotation, out->mutable_pelvis_rotation());
+  ToProto(frame.ankles[0], s, out->mutable_left_ankle());
+  ToProto(frame.ankles[1], s, out->mutable_right_ankle());
+  ToProto(frame.wrists[0], s, out->mutable_left_wrist());
+  ToProto(frame.wrists[1], s, out->mutable_right_wrist());
+  if (!diagnostics) return;
+  const FrameDiagnostics& d = frame.diagnostics;
+  v1::FrameDiagnostics* o = out->mutable_diagnostics();
+  o->set_wrist_neighbour_distance(d.wrist_neighbour_distance);
+  o->set_ankle_source_row(d.ankle_source_row);
+  o->set_pose_neighbour_distance(d.pose_neighbour_distance);
+  o->set_solver_cost(d.solver_cost);
+  o->set_solver_evaluations(d.solver_evaluations);
+  o->set_left_wrist_error(d.control_error[0] * s);
+  o->set_right_wrist_error(d.control_error[1] * s);
+  o->set_left_ankle_error(d.control_error[2] * s);
+  o->set_right_ankle_error(d.control_error[3] * s);
+  o->set_left_foot_planted(d.contact[0]);
+  o->set_right_foot_planted(d.contact[1]);
+  o->set_bridged(d.bridged);
+}
+
+void ToProto(const SessionStatistics& statistics, v1::SessionSummary* out) {
+  out->set_frames(statistics.frames);
+  out->set_segments(statistics.segments);
+  const double per_frame = statistics.frames > 0 ? 1e3 / static_cast<double>(statistics.frames) : 0.0;
+  out->set_cloud_ms_per_frame(statistics.cloud_seconds * per_frame);
+  out->set_path_ms_per_frame(statistics.path_seconds * per_frame);
+  out->set_pose_ms_per_frame(statistics.pose_seconds * per_frame);
+  out->set_cleanup_ms_per_frame(statistics.post_seconds * per_frame);
+}
+
+}  // namespace mocap

@@ -1,0 +1,38 @@
+// Reconstruction domain types <-> mocap.v1 messages (reconstruction.proto), and the performer
+// scaling the service applies at its boundary (SessionConfig.performer_height).
+#pragma once
+
+#include "absl/status/statusor.h"
+#include "mocap/v1/reconstruction.pb.h"
+#include "motion/reconstruct/reconstruction_session.h"
+
+namespace mocap {
+
+// Server-side caps on the method's parameters (a K1 of 10⁵ would be 10¹⁰ edges per frame).
+inline constexpr int kMaxAnkleCandidates = 5000;
+inline constexpr int kMaxPoseNeighbours = 2000;
+inline constexpr int kMaxWindowFrames = 3000;
+
+// The session options a config asks for: defaults, then the config's mode and overrides.
+// InvalidArgument naming the field when one is out of range.
+absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig& config);
+// The config with every effective value filled in (SessionStarted.config).
+v1::SessionConfig EffectiveConfig(const v1::SessionConfig& config, const ReconstructionOptions& options);
+
+// Lengths in the session are the database performer's; `scale` = performer / database height
+// turns them into the caller's (and 1/scale turns the caller's samples into the session's).
+struct PerformerScale {
+  float database_height = 0;  // metres
+  float scale = 1;
+};
+// InvalidArgument for a height that is negative, not finite, or outside 0.3–3 × the database's.
+absl::StatusOr<PerformerScale> ScaleForPerformer(const ReconstructionDatabase& database, float performer_height);
+
+// A sample to the session's units; false when either confidence is below `min_confidence`.
+bool FromProto(const v1::WristSample& sample, float min_confidence, const PerformerScale& scale, WristSample* out);
+
+void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out);
+void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out);
+void ToProto(const SessionStatistics& statistics, v1::SessionSummary* out);
+
+}  // namespace mocap

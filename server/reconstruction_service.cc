@@ -1,0 +1,127 @@
+#include "server/reconstruction_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+#include "server/reconstruct_reactor.h"
+
+namespace mocap {
+namespace {
+
+int ComputeThreads(const ReconstructionLimits& limits) {
+  if (limits.compute_threads > 0) return limits.compute_threads;
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// The unary call: one SessionDriver fed every sample, its replies gathered into one response.
+absl::Status ReconstructWhole(ReconstructionState& state, const ReconstructionDatabases::Database& database,
+                              const v1::ReconstructTrajectoryRequest& request, const std::string& session_id,
+                              v1::ReconstructTrajectoryResponse* response) {
+  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<SessionDriver> driver,
+                         SessionDriver::Create(request.config(), database, session_id, state.limits.session));
+  *response->mutable_started() = driver->started();
+  v1::WristSamples samples;
+  *samples.mutable_samples() = request.samples();
+  std::vector<v1::ReconstructResponse> replies;
+  MOCAP_RETURN_IF_ERROR(driver->Push(samples, &replies));
+  MOCAP_RETURN_IF_ERROR(driver->Finish(&replies));
+  for (v1::ReconstructResponse& reply : replies) {
+    if (reply.has_frames()) {
+      for (v1::Frame& frame : *reply.mutable_frames()->mutable_frames()) response->add_frames()->Swap(&frame);
+    } else if (reply.has_rejected()) {
+      response->add_rejected()->Swap(reply.mutable_rejected());
+    } else if (reply.has_summary()) {
+      response->mutable_summary()->Swap(reply.mutable_summary());
+    }
+  }
+  state.service.metrics.FramesReconstructed(driver->frames_emitted());
+  state.service.metrics.SamplesRejected(driver->samples_rejected());
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+ReconstructionState::ReconstructionState(ServiceContext& service_context, const ReconstructionLimits& limits_in)
+    : service(service_context),
+      limits(limits_in),
+      compute(ComputeThreads(limits_in)),
+      databases(service_context.stores, limits_in.max_cached_databases),
+      sessions(limits_in.max_sessions_per_tenant, "reconstruction sessions") {}
+
+void AcquireSessionDatabase(ReconstructionState& state, CallScope& call, const std::string& name,
+                            std::function<void(absl::StatusOr<ReconstructionDatabases::Database>)> ready) {
+  auto answer = [&state, ready](absl::StatusOr<ReconstructionDatabases::Database> result) {
+    state.compute.Post([ready, result = std::move(result)] { ready(result); });
+  };
+  absl::StatusOr<ReconstructionDatabases::Key> key = [&]() -> absl::StatusOr<ReconstructionDatabases::Key> {
+    if (name.empty()) return absl::InvalidArgumentError("config.database: name the database to draw motion from");
+    MOCAP_ASSIGN_OR_RETURN(DatabaseSummary summary, call.store().FindDatabase(name, call.tenant().id));
+    if (!summary.has_rig || summary.num_clips == 0) {
+      return absl::FailedPreconditionError(StrCat("database '", name, "' has no clips: import motion into it first"));
+    }
+    MOCAP_ASSIGN_OR_RETURN(std::string stamp, ReconstructionDatabases::ContentStamp(call.store(), summary.id));
+    return ReconstructionDatabases::Key{summary.id, std::move(stamp), summary.frame_rate};
+  }();
+  call.ReleaseStore();  // sessions outlive their need for the store
+  if (!key.ok()) return answer(key.status());
+  state.databases.Acquire(*key, answer);
+}
+
+ReconstructionService::ReconstructionService(ServiceContext& service, const ReconstructionLimits& limits)
+    : state_(service, limits), watchdog_([this] { Watch(); }) {}
+
+ReconstructionService::~ReconstructionService() {
+  {
+    std::lock_guard lock(watch_mutex_);
+    stopping_ = true;
+  }
+  watch_wake_.notify_all();
+  watchdog_.join();
+}
+
+grpc::ServerBidiReactor<v1::ReconstructRequest, v1::ReconstructResponse>* ReconstructionService::Reconstruct(
+    grpc::CallbackServerContext* context) {
+  return new ReconstructReactor(state_, context);
+}
+
+grpc::ServerUnaryReactor* ReconstructionService::ReconstructTrajectory(grpc::CallbackServerContext* context,
+                                                                       const v1::ReconstructTrajectoryRequest* request,
+                                                                       v1::ReconstructTrajectoryResponse* response) {
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  auto call = std::make_shared<CallScope>(state_.service, context, "ReconstructTrajectory");
+  state_.compute.Post([this, reactor, call, request, response] {
+    absl::Status status = call->Begin();
+    if (status.ok() && state_.draining) status = absl::UnavailableError("the server is shutting down; connect again");
+    if (!status.ok()) return reactor->Finish(call->End(status));
+    const std::string session_id = StrCat("s", state_.next_session_id.fetch_add(1));
+    AcquireSessionDatabase(state_, *call, request->config().database(),
+                           [this, reactor, call, request, response, session_id](absl::StatusOr<ReconstructionDatabases::Database> database) {
+                             absl::Status result = database.status();
+                             if (result.ok()) result = ReconstructWhole(state_, *database, *request, session_id, response);
+                             reactor->Finish(call->End(result));
+                           });
+  });
+  return reactor;
+}
+
+void ReconstructionService::Drain() {
+  state_.draining = true;
+  std::lock_guard live(state_.live_mutex);
+  spdlog::info("ending {} reconstruction sessions for shutdown", state_.live.size());
+  for (ReconstructReactor* reactor : state_.live) reactor->EndForShutdown();
+}
+
+void ReconstructionService::Watch() {
+  const auto period = std::clamp(state_.limits.idle_timeout / 4, std::chrono::milliseconds(50), std::chrono::milliseconds(1000));
+  std::unique_lock lock(watch_mutex_);
+  while (!watch_wake_.wait_for(lock, period, [this] { return stopping_; })) {
+    const auto cutoff = std::chrono::steady_clock::now() - state_.limits.idle_timeout;
+    std::lock_guard live(state_.live_mutex);
+    for (ReconstructReactor* reactor : state_.live) {
+      if (reactor->IdleSince(cutoff)) reactor->EndIdle();
+    }
+  }
+}
+
+}  // namespace mocap

@@ -1,0 +1,77 @@
+// The Reconstruction gRPC service (proto/mocap/v1/reconstruction.proto) on the callback API.
+// Sessions run on a compute pool of one thread per core (no thread per stream); each stream has
+// at most one task queued or running, reads its next message only when its replies have been
+// written (backpressure), and shares its database's ReconstructionDatabase read-only with every
+// other session. A watchdog thread ends sessions idle longer than the limit; Drain ends every
+// session at shutdown after sending its remaining frames.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "mocap/v1/reconstruction.grpc.pb.h"
+#include "server/reconstruction_databases.h"
+#include "server/service_context.h"
+#include "server/session_driver.h"
+
+namespace mocap {
+
+struct ReconstructionLimits {
+  int max_sessions_per_tenant = 64;
+  std::chrono::milliseconds idle_timeout{30000};  // no message from the client for this long
+  SessionLimits session;
+  int compute_threads = 0;  // 0: one per core
+  int max_cached_databases = 4;
+};
+
+class ReconstructReactor;
+
+// What the handlers and every session share.
+struct ReconstructionState {
+  ReconstructionState(ServiceContext& service, const ReconstructionLimits& limits);
+  ServiceContext& service;
+  const ReconstructionLimits limits;
+  WorkPool compute;
+  ReconstructionDatabases databases;
+  TenantAdmission sessions;
+  std::atomic<bool> draining{false};
+  std::atomic<std::uint64_t> next_session_id{1};
+  std::mutex live_mutex;
+  std::set<ReconstructReactor*> live;  // streams between start and OnDone
+};
+
+class ReconstructionService final : public v1::Reconstruction::CallbackService {
+ public:
+  ReconstructionService(ServiceContext& service, const ReconstructionLimits& limits);
+  ~ReconstructionService() override;
+
+  grpc::ServerBidiReactor<v1::ReconstructRequest, v1::ReconstructResponse>* Reconstruct(
+      grpc::CallbackServerContext* context) override;
+  grpc::ServerUnaryReactor* ReconstructTrajectory(grpc::CallbackServerContext* context,
+                                                  const v1::ReconstructTrajectoryRequest* request,
+                                                  v1::ReconstructTrajectoryResponse* response) override;
+
+  // Refuses new sessions (UNAVAILABLE) and ends the live ones: each emits its remaining frames
+  // and summary, then ends with UNAVAILABLE so the client reconnects elsewhere.
+  void Drain();
+
+ private:
+  void Watch();
+  ReconstructionState state_;
+  std::mutex watch_mutex_;
+  std::condition_variable watch_wake_;
+  bool stopping_ = false;
+  std::thread watchdog_;
+};
+
+// Looks up the tenant's database and acquires its reconstruction database: `ready` gets it (or the
+// error) on the compute pool. Used by both RPCs after CallScope::Begin.
+void AcquireSessionDatabase(ReconstructionState& state, CallScope& call, const std::string& database,
+                            std::function<void(absl::StatusOr<ReconstructionDatabases::Database>)> ready);
+
+}  // namespace mocap

@@ -1,0 +1,97 @@
+#include "server/session_driver.h"
+
+#include <algorithm>
+
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+
+namespace mocap {
+
+absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::SessionConfig& config,
+                                                                     std::shared_ptr<const ReconstructionDatabase> database,
+                                                                     std::string session_id, const SessionLimits& limits) {
+  MOCAP_ASSIGN_OR_RETURN(ReconstructionOptions options, OptionsFromConfig(config));
+  MOCAP_ASSIGN_OR_RETURN(PerformerScale scale, ScaleForPerformer(*database, config.performer_height()));
+  std::unique_ptr<SessionDriver> driver(new SessionDriver());
+  MOCAP_ASSIGN_OR_RETURN(driver->session_, ReconstructionSession::Create(database, options));
+  driver->config_ = config;
+  driver->scale_ = scale;
+  driver->limits_ = limits;
+  v1::SessionStarted& started = driver->started_;
+  started.set_session_id(std::move(session_id));
+  ToProto(*database, scale, started.mutable_skeleton());
+  started.set_frame_rate(1.0 / database->frame_time());
+  started.set_latency_frames(driver->session_->latency_frames());
+  started.set_database_height(scale.database_height);
+  started.set_database_frames(database->num_frames());
+  *started.mutable_config() = EffectiveConfig(config, options);
+  return driver;
+}
+
+absl::Status SessionDriver::Reject(const v1::WristSample& sample, const std::string& reason,
+                                   std::vector<v1::ReconstructResponse>* replies) {
+  if (config_.strict()) {
+    return absl::InvalidArgumentError(StrCat("sample ", samples_ - 1, " (time ", sample.time(), "): ", reason));
+  }
+  ++rejected_;
+  v1::SampleRejected* rejected = replies->emplace_back().mutable_rejected();
+  rejected->set_sample_index(samples_ - 1);
+  rejected->set_time(sample.time());
+  rejected->set_reason(reason);
+  return absl::OkStatus();
+}
+
+absl::Status SessionDriver::Push(const v1::WristSamples& samples, std::vector<v1::ReconstructResponse>* replies) {
+  for (const v1::WristSample& sample : samples.samples()) {
+    if (samples_++ == 0) first_time_ = sample.time();
+    if (sample.time() - first_time_ > limits_.max_session_seconds) {
+      return absl::ResourceExhaustedError(StrCat("session length limit: samples span more than ",
+                                                 limits_.max_session_seconds, " s; start a new session"));
+    }
+    WristSample input;
+    if (!FromProto(sample, config_.min_confidence(), scale_, &input)) {
+      MOCAP_RETURN_IF_ERROR(Reject(sample, "confidence below min_confidence (treated as a dropout)", replies));
+      continue;
+    }
+    absl::Status pushed = session_->Push(input, &pending_);
+    if (absl::IsInvalidArgument(pushed)) {
+      MOCAP_RETURN_IF_ERROR(Reject(sample, std::string(pushed.message()), replies));
+    } else {
+      MOCAP_RETURN_IF_ERROR(pushed);
+    }
+  }
+  AppendFrames(replies);
+  return absl::OkStatus();
+}
+
+absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies) {
+  MOCAP_RETURN_IF_ERROR(session_->Finish(&pending_));
+  AppendFrames(replies);
+  v1::SessionSummary* summary = replies->emplace_back().mutable_summary();
+  ToProto(session_->statistics(), summary);
+  summary->set_samples(samples_);
+  summary->set_rejected_samples(rejected_);
+  summary->set_frames(frames_emitted_);
+  summary->set_mean_reply_ms(latency_count_ > 0 ? latency_sum_ms_ / static_cast<double>(latency_count_) : 0.0);
+  summary->set_max_reply_ms(latency_max_ms_);
+  return absl::OkStatus();
+}
+
+void SessionDriver::RecordReplyLatency(double milliseconds) {
+  latency_sum_ms_ += milliseconds;
+  latency_max_ms_ = std::max(latency_max_ms_, milliseconds);
+  ++latency_count_;
+}
+
+void SessionDriver::AppendFrames(std::vector<v1::ReconstructResponse>* replies) {
+  for (size_t start = 0; start < pending_.size(); start += kFramesPerReply) {
+    const size_t end = std::min(pending_.size(), start + kFramesPerReply);
+    v1::ReconstructedFrames* frames = replies->emplace_back().mutable_frames();
+    frames->mutable_frames()->Reserve(static_cast<int>(end - start));
+    for (size_t i = start; i < end; ++i) ToProto(pending_[i], scale_, config_.include_diagnostics(), frames->add_frames());
+  }
+  frames_emitted_ += static_cast<long>(pending_.size());
+  pending_.clear();
+}
+
+}  // namespace mocap

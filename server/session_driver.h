@@ -1,0 +1,62 @@
+// SessionDriver: one reconstruction session between the wire and the engine, whatever the
+// transport (the Reconstruct stream or the unary ReconstructTrajectory): config → `started`,
+// sample messages → frames and rejected samples, end of input → the last frames and the summary.
+// Replies are mocap.v1 messages ready to send; frames go in batches of at most kFramesPerReply.
+//
+// Thread safety: none; one caller at a time.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "mocap/v1/reconstruction.pb.h"
+#include "motion/reconstruct/reconstruction_session.h"
+#include "server/reconstruction_convert.h"
+
+namespace mocap {
+
+struct SessionLimits {
+  double max_session_seconds = 4 * 3600.0;  // span of the input's timestamps
+};
+
+class SessionDriver {
+ public:
+  static constexpr int kFramesPerReply = 256;
+
+  // InvalidArgument for a bad config (the message names the field).
+  static absl::StatusOr<std::unique_ptr<SessionDriver>> Create(const v1::SessionConfig& config,
+                                                               std::shared_ptr<const ReconstructionDatabase> database,
+                                                               std::string session_id, const SessionLimits& limits);
+
+  const v1::SessionStarted& started() const { return started_; }
+  // Errors end the session: InvalidArgument for a refused sample with config.strict,
+  // ResourceExhausted past the session length.
+  absl::Status Push(const v1::WristSamples& samples, std::vector<v1::ReconstructResponse>* replies);
+  // The remaining frames, then the summary. Call once.
+  absl::Status Finish(std::vector<v1::ReconstructResponse>* replies);
+  // Server-side latency of one sample message (reported in the summary).
+  void RecordReplyLatency(double milliseconds);
+
+  long frames_emitted() const { return frames_emitted_; }
+  long samples_rejected() const { return rejected_; }
+
+ private:
+  SessionDriver() = default;
+  void AppendFrames(std::vector<v1::ReconstructResponse>* replies);
+  absl::Status Reject(const v1::WristSample& sample, const std::string& reason, std::vector<v1::ReconstructResponse>* replies);
+
+  v1::SessionConfig config_;
+  std::unique_ptr<ReconstructionSession> session_;
+  PerformerScale scale_;
+  SessionLimits limits_;
+  v1::SessionStarted started_;
+  std::vector<ReconstructedFrame> pending_;  // decided, not yet converted
+  long samples_ = 0, rejected_ = 0, frames_emitted_ = 0;
+  double first_time_ = 0.0;
+  double latency_sum_ms_ = 0.0, latency_max_ms_ = 0.0;
+  long latency_count_ = 0;
+};
+
+}  // namespace mocap

@@ -1,0 +1,301 @@
+// The Reconstruction service end to end: a real `mocapd serve` on loopback over a real store
+// holding synthetic walks, driven through the SDK (and the raw stub where a test must misbehave).
+#include <grpcpp/grpcpp.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include "cli_util/wrist_source.h"
+#include "mocap/v1/reconstruction.grpc.pb.h"
+#include "tests/support/server_fixture.h"
+
+namespace mocap {
+namespace {
+
+namespace fs = std::filesystem;
+using client::Client;
+using client::ReconstructionStream;
+
+class ReconstructionServiceTest : public testing::ServerFixture {
+ protected:
+  // The wrists of another walk (60 frames at 30 Hz), as a tracker would send them.
+  std::vector<v1::WristSample> QueryWrists(int frames = 60) {
+    auto samples = WristsFromBvh(WriteClip("query.bvh", frames), 0.0, 1);
+    EXPECT_TRUE(samples.ok()) << samples.status();
+    return std::move(samples).value();
+  }
+  static v1::SessionConfig Config(int lag = -1) {
+    v1::SessionConfig config;
+    config.set_database("walks");
+    if (lag >= 0) config.mutable_fixed_lag()->set_lag_frames(lag);
+    config.mutable_overrides()->set_ankle_candidates(60);
+    config.mutable_overrides()->set_pose_neighbours(40);
+    config.set_include_diagnostics(true);
+    return config;
+  }
+  // Streams every sample (one per message) and collects the frames.
+  struct Streamed {
+    v1::SessionStarted started;
+    std::vector<v1::Frame> frames;
+    std::vector<v1::SampleRejected> rejected;
+    absl::StatusOr<v1::SessionSummary> summary = absl::UnknownError("not finished");
+  };
+  static Streamed Stream(Client& client, const v1::SessionConfig& config, const std::vector<v1::WristSample>& samples) {
+    Streamed out;
+    auto stream = client.OpenReconstruction(config);
+    if (!stream.ok()) {
+      out.summary = stream.status();
+      return out;
+    }
+    out.started = (*stream)->started();
+    for (const v1::WristSample& sample : samples) {
+      if (!(*stream)->Write({sample}).ok()) break;
+      // Replies arrive while we write: read what the server has decided so far (fixed lag).
+    }
+    out.summary = (*stream)->Finish([&](const v1::ReconstructResponse& reply) {
+      for (const v1::Frame& frame : reply.frames().frames()) out.frames.push_back(frame);
+      if (reply.has_rejected()) out.rejected.push_back(reply.rejected());
+    });
+    return out;
+  }
+  static double Distance(const v1::Vec3& a, const v1::Vec3& b) {
+    return std::sqrt((a.x() - b.x()) * (a.x() - b.x()) + (a.y() - b.y()) * (a.y() - b.y()) + (a.z() - b.z()) * (a.z() - b.z()));
+  }
+};
+
+TEST_F(ReconstructionServiceTest, StreamReconstructsEveryFrameAndMatchesTheUnaryCall) {
+  StartServer();
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  const std::vector<v1::WristSample> samples = QueryWrists();
+
+  Streamed streamed = Stream(*client, Config(/*lag=*/4), samples);
+  ASSERT_TRUE(streamed.summary.ok()) << streamed.summary.status();
+  EXPECT_FALSE(streamed.started.session_id().empty());
+  EXPECT_EQ(streamed.started.skeleton().joints_size(), 22);
+  EXPECT_DOUBLE_EQ(streamed.started.frame_rate(), 30.0);
+  EXPECT_EQ(streamed.started.latency_frames(), 4);
+  EXPECT_EQ(streamed.started.database_frames(), 90 + 120 + 150);
+  EXPECT_NEAR(streamed.started.database_height(), 1.8, 0.3);  // the synthetic rig stands ~1.7 m
+  EXPECT_EQ(streamed.started.config().overrides().ankle_candidates(), 60);
+  EXPECT_EQ(streamed.started.config().overrides().joint_smoothing_frames(), 1.0f);  // a default, filled in
+  ASSERT_EQ(streamed.frames.size(), samples.size());
+  EXPECT_EQ(streamed.summary->frames(), static_cast<long>(samples.size()));
+  EXPECT_EQ(streamed.summary->samples(), static_cast<long>(samples.size()));
+  EXPECT_EQ(streamed.summary->rejected_samples(), 0);
+  EXPECT_GT(streamed.summary->path_ms_per_frame(), 0.0);
+  v1::Vec3 smoothed = samples[0].left();  // A2: x̃ = s·x + (1 − s)·x̃ₜ₋₁ with s = 0.5
+  for (size_t i = 0; i < streamed.frames.size(); ++i) {
+    const v1::Frame& frame = streamed.frames[i];
+    ASSERT_EQ(frame.index(), static_cast<int>(i));
+    EXPECT_NEAR(frame.time(), samples[i].time(), 1e-6);
+    ASSERT_EQ(frame.rotations_size(), 22);
+    // The solved wrists land near the tracked ones (the database holds walks like this one).
+    EXPECT_LT(frame.diagnostics().left_wrist_error(), 0.10) << "frame " << i;
+    // The frame reports the smoothed wrists it was solved for.
+    const v1::Vec3& x = samples[i].left();
+    smoothed.set_x(0.5 * x.x() + 0.5 * smoothed.x());
+    smoothed.set_y(0.5 * x.y() + 0.5 * smoothed.y());
+    smoothed.set_z(0.5 * x.z() + 0.5 * smoothed.z());
+    EXPECT_LT(Distance(frame.left_wrist(), smoothed), 0.002) << "frame " << i;
+  }
+
+  auto unary = client->ReconstructTrajectory(Config(4), samples);
+  ASSERT_TRUE(unary.ok()) << unary.status();
+  ASSERT_EQ(unary->frames_size(), static_cast<int>(samples.size()));
+  for (size_t i = 0; i < samples.size(); ++i) {
+    EXPECT_LT(Distance(unary->frames(static_cast<int>(i)).root_position(), streamed.frames[i].root_position()), 1e-5);
+  }
+}
+
+TEST_F(ReconstructionServiceTest, RefusedSamplesAreReportedAndTheSessionGoesOn) {
+  StartServer();
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  std::vector<v1::WristSample> samples = QueryWrists(30);
+  samples[10].mutable_left()->set_x(std::numeric_limits<float>::quiet_NaN());
+  samples[20].set_time(samples[19].time() - 0.01);  // backwards
+  Streamed streamed = Stream(*client, Config(0), samples);
+  ASSERT_TRUE(streamed.summary.ok()) << streamed.summary.status();
+  ASSERT_EQ(streamed.rejected.size(), 2u);
+  EXPECT_EQ(streamed.rejected[0].sample_index(), 10);
+  EXPECT_EQ(streamed.rejected[1].sample_index(), 20);
+  EXPECT_EQ(streamed.summary->rejected_samples(), 2);
+  EXPECT_EQ(streamed.frames.size(), samples.size());  // the two gaps are bridged on the 30 Hz grid
+
+  v1::SessionConfig strict = Config(0);
+  strict.set_strict(true);
+  Streamed refused = Stream(*client, strict, samples);
+  EXPECT_EQ(refused.summary.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(refused.summary.status().message().find("sample 10"), std::string::npos) << refused.summary.status();
+}
+
+TEST_F(ReconstructionServiceTest, BadSessionsGetClearErrors) {
+  StartServer();
+  auto acme = Connect(keys_["acme"]);
+  ImportWalks(*acme);
+  ASSERT_TRUE(acme->CreateDatabase("empty").ok());
+  auto other = Connect(keys_["other"]);
+  v1::SessionConfig config = Config();
+
+  EXPECT_EQ(other->OpenReconstruction(config).status().code(), absl::StatusCode::kNotFound);  // another tenant's
+  auto nobody = Client::Connect(server_->address(), {});
+  EXPECT_EQ((*nobody)->OpenReconstruction(config).status().code(), absl::StatusCode::kUnauthenticated);
+  config.set_database("missing");
+  EXPECT_EQ(acme->OpenReconstruction(config).status().code(), absl::StatusCode::kNotFound);
+  config.set_database("empty");
+  EXPECT_EQ(acme->OpenReconstruction(config).status().code(), absl::StatusCode::kFailedPrecondition);
+  config = Config();
+  config.mutable_overrides()->set_ankle_candidates(0);
+  auto bad = acme->OpenReconstruction(config);
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(bad.status().message().find("ankle_candidates"), std::string::npos) << bad.status();
+  config = Config();
+  config.set_performer_height(-1);
+  EXPECT_EQ(acme->OpenReconstruction(config).status().code(), absl::StatusCode::kInvalidArgument);
+
+  // Samples before the config, on the raw stub.
+  auto stub = v1::Reconstruction::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
+  grpc::ClientContext context;
+  context.AddMetadata("authorization", "Bearer " + keys_["acme"]);
+  auto stream = stub->Reconstruct(&context);
+  v1::ReconstructRequest samples;
+  *samples.mutable_samples()->add_samples() = QueryWrists(2).front();
+  stream->Write(samples);
+  stream->WritesDone();
+  v1::ReconstructResponse reply;
+  while (stream->Read(&reply)) {
+  }
+  const grpc::Status status = stream->Finish();
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(status.error_message().find("config"), std::string::npos) << status.error_message();
+}
+
+TEST_F(ReconstructionServiceTest, LimitsOnSessionsAndIdleTime) {
+  StartServer({"--max-sessions-per-tenant", "1", "--idle-seconds", "0.5"});
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  auto first = client->OpenReconstruction(Config(0));
+  ASSERT_TRUE(first.ok()) << first.status();
+  auto second = client->OpenReconstruction(Config(0));
+  EXPECT_EQ(second.status().code(), absl::StatusCode::kResourceExhausted);
+  EXPECT_NE(second.status().message().find("reconstruction sessions"), std::string::npos) << second.status();
+  // The first one says nothing for longer than the idle limit.
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  auto summary = (*first)->Finish();
+  EXPECT_EQ(summary.status().code(), absl::StatusCode::kDeadlineExceeded) << summary.status();
+  // Its place is free again.
+  auto third = client->OpenReconstruction(Config(0));
+  ASSERT_TRUE(third.ok()) << third.status();
+  EXPECT_TRUE((*third)->Finish().ok());
+}
+
+TEST_F(ReconstructionServiceTest, AClientVanishingMidStreamFreesItsSession) {
+  StartServer({"--max-sessions-per-tenant", "1"});
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  const std::vector<v1::WristSample> samples = QueryWrists(30);
+  {
+    auto stream = client->OpenReconstruction(Config(0));
+    ASSERT_TRUE(stream.ok()) << stream.status();
+    ASSERT_TRUE((*stream)->Write({samples.begin(), samples.begin() + 10}).ok());
+    (*stream)->Cancel();
+  }  // destroyed without Finish
+  // The server notices and frees the tenant's only session slot.
+  absl::Status opened = absl::UnknownError("not tried");
+  for (int attempt = 0; attempt < 50 && !opened.ok(); ++attempt) {
+    auto stream = client->OpenReconstruction(Config(0));
+    opened = stream.status();
+    if (!opened.ok()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_TRUE(opened.ok()) << opened;
+  auto metrics = client->GetMetrics();
+  ASSERT_TRUE(metrics.ok());
+  EXPECT_NE(metrics->find("mocap_sessions_total 2"), std::string::npos) << *metrics;
+}
+
+TEST_F(ReconstructionServiceTest, NewSessionsSeeImportsWhileRunningOnesKeepTheirVersion) {
+  StartServer();
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  const std::vector<v1::WristSample> samples = QueryWrists(30);
+  auto before = client->OpenReconstruction(Config(0));
+  ASSERT_TRUE(before.ok()) << before.status();
+  EXPECT_EQ((*before)->started().database_frames(), 360);
+  ASSERT_TRUE((*before)->Write({samples.begin(), samples.begin() + 15}).ok());
+
+  auto more = client->ImportFiles("walks", {WriteClip("walk200.bvh", 200)});
+  ASSERT_TRUE(more.ok()) << more.status();
+  auto after = client->OpenReconstruction(Config(0));
+  ASSERT_TRUE(after.ok()) << after.status();
+  EXPECT_EQ((*after)->started().database_frames(), 560);
+
+  ASSERT_TRUE((*before)->Write({samples.begin() + 15, samples.end()}).ok());
+  auto summary = (*before)->Finish();
+  ASSERT_TRUE(summary.ok()) << summary.status();
+  EXPECT_EQ(summary->frames(), 30);
+  EXPECT_TRUE((*after)->Finish().ok());
+}
+
+TEST_F(ReconstructionServiceTest, PerformerHeightScalesTheWholeSession) {
+  StartServer();
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  const std::vector<v1::WristSample> samples = QueryWrists(30);
+  Streamed plain = Stream(*client, Config(0), samples);
+  ASSERT_TRUE(plain.summary.ok()) << plain.summary.status();
+
+  // The same motion by a performer 1.5 times as tall: wrists 1.5 times as far from the origin.
+  const float factor = 1.5f;
+  std::vector<v1::WristSample> tall = samples;
+  for (v1::WristSample& s : tall) {
+    for (v1::Vec3* v : {s.mutable_left(), s.mutable_right()}) {
+      v->set_x(v->x() * factor);
+      v->set_y(v->y() * factor);
+      v->set_z(v->z() * factor);
+    }
+  }
+  v1::SessionConfig config = Config(0);
+  config.set_performer_height(plain.started.database_height() * factor);
+  Streamed scaled = Stream(*client, config, tall);
+  ASSERT_TRUE(scaled.summary.ok()) << scaled.summary.status();
+  EXPECT_NEAR(scaled.started.skeleton().joints(2).offset().y(), plain.started.skeleton().joints(2).offset().y() * factor, 1e-4);
+  ASSERT_EQ(scaled.frames.size(), plain.frames.size());
+  for (size_t i = 0; i < plain.frames.size(); ++i) {
+    EXPECT_NEAR(scaled.frames[i].pelvis_position().y(), plain.frames[i].pelvis_position().y() * factor, 2e-3) << i;
+  }
+}
+
+TEST_F(ReconstructionServiceTest, ShutdownEndsLiveSessionsAfterTheirFrames) {
+  StartServer({"--drain-seconds", "5"});
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  const std::vector<v1::WristSample> samples = QueryWrists(30);
+  auto stream = client->OpenReconstruction(Config(/*lag=*/10));
+  ASSERT_TRUE(stream.ok()) << stream.status();
+  ASSERT_TRUE((*stream)->Write(samples).ok());
+  // The 30 samples are processed and their 20 frames decided before the stop.
+  std::vector<v1::Frame> frames;
+  while (frames.size() < 20) {
+    auto reply = (*stream)->Read();
+    ASSERT_TRUE(reply.ok() && *reply);
+    for (const v1::Frame& frame : (*reply)->frames().frames()) frames.push_back(frame);
+  }
+  std::thread stopper([&] { EXPECT_EQ(server_->Stop(), 0); });
+  // Reads on without closing the input: the server ends the session, not the client.
+  while (true) {
+    auto reply = (*stream)->Read();
+    if (!reply.ok() || !*reply) break;
+    for (const v1::Frame& frame : (*reply)->frames().frames()) frames.push_back(frame);
+  }
+  auto summary = (*stream)->Finish();
+  stopper.join();
+  EXPECT_EQ(summary.status().code(), absl::StatusCode::kUnavailable) << summary.status();
+  EXPECT_EQ(frames.size(), samples.size());  // the lagged frames were flushed before the end
+}
+
+}  // namespace
+}  // namespace mocap
