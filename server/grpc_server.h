@@ -15,6 +15,7 @@ namespace mocap {
 
 struct ServeOptions {
   std::filesystem::path store = "var/mocap.db";  // created on first start
+  bool read_only = false;                         // serve an existing store without writing
   std::string listen = "127.0.0.1:50051";         // host:port; port 0 picks a free one
   std::filesystem::path tls_cert;                 // PEM; with tls_key, serve TLS only
   std::filesystem::path tls_key;

@@ -15,6 +15,7 @@ ImportReactor::ImportReactor(ServiceContext& service, grpc::CallbackServerContex
 
 void ImportReactor::Begin() {
   if (absl::Status status = call_.Begin(); !status.ok()) return Complete(status);
+  if (absl::Status status = call_.RequireWritableStore(); !status.ok()) return Complete(status);
   StartRead(&request_);
 }
 

@@ -102,6 +102,7 @@ grpc::ServerUnaryReactor* MotionStoreService::CreateDatabase(grpc::CallbackServe
                                                              const v1::CreateDatabaseRequest* request,
                                                              v1::CreateDatabaseResponse* response) {
   return RunUnary(service_, context, "CreateDatabase", [request, response](CallScope& call) -> absl::Status {
+    MOCAP_RETURN_IF_ERROR(call.RequireWritableStore());
     MOCAP_RETURN_IF_ERROR(CheckName(request->name()));
     const double frame_rate = request->frame_rate() == 0 ? 30.0 : request->frame_rate();
     MOCAP_ASSIGN_OR_RETURN(DatabaseSummary created,
@@ -144,6 +145,7 @@ grpc::ServerUnaryReactor* MotionStoreService::DeleteDatabase(grpc::CallbackServe
                                                              const v1::DeleteDatabaseRequest* request,
                                                              v1::DeleteDatabaseResponse*) {
   return RunUnary(service_, context, "DeleteDatabase", [request](CallScope& call) -> absl::Status {
+    MOCAP_RETURN_IF_ERROR(call.RequireWritableStore());
     MOCAP_ASSIGN_OR_RETURN(DatabaseSummary database, TenantDatabase(call, request->name()));
     return call.store().DeleteDatabase(database.id);
   });
@@ -174,6 +176,7 @@ grpc::ServerUnaryReactor* MotionStoreService::DeleteClip(grpc::CallbackServerCon
                                                          const v1::DeleteClipRequest* request,
                                                          v1::DeleteClipResponse*) {
   return RunUnary(service_, context, "DeleteClip", [request](CallScope& call) -> absl::Status {
+    MOCAP_RETURN_IF_ERROR(call.RequireWritableStore());
     MOCAP_ASSIGN_OR_RETURN(DatabaseSummary database, TenantDatabase(call, request->database()));
     return call.store().DeleteClip(database.id, request->clip_id());
   });

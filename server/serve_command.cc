@@ -59,6 +59,9 @@ void RegisterServeCommand(CLI::App& app) {
   auto idle_seconds = std::make_shared<double>(30.0);
   CLI::App* command = app.add_subcommand("serve", "Run the gRPC server (MotionStore, Reconstruction, ServerStatus, health, reflection)");
   command->add_option("--store", options->store, "Motion store file (created on first start)")->capture_default_str();
+  command->add_flag("--read-only", options->read_only,
+                    "Serve an existing store without writing to it (a file rolled out to replicas, a read-only "
+                    "mount): imports and deletions answer FAILED_PRECONDITION");
   command->add_option("--listen", options->listen, "Address to listen on; port 0 picks a free port (printed)")
       ->capture_default_str();
   auto* cert = command->add_option("--tls-cert", options->tls_cert, "TLS certificate chain (PEM)")->check(CLI::ExistingFile);

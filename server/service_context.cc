@@ -52,6 +52,12 @@ CallScope::~CallScope() {
   if (!ended_) service_.metrics.CallFinished(method_, "CANCELLED", 0.0);
 }
 
+absl::Status CallScope::RequireWritableStore() const {
+  if (!service_.stores.read_only()) return absl::OkStatus();
+  return absl::FailedPreconditionError(StrCat(method_, ": this server serves a read-only store (mocapd serve --read-only); "
+                                              "change the store with mocapd import on its writer and roll the file out"));
+}
+
 absl::Status CallScope::Begin(TenantAdmission* admission, const char* limit_name) {
   MOCAP_ASSIGN_OR_RETURN(StorePool::Lease lease, service_.stores.Acquire());
   store_ = std::move(lease);

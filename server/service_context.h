@@ -50,6 +50,8 @@ class CallScope {
   // its tenant (ResourceExhausted) by `admission` (default: the service's calls per tenant).
   // Call once, first.
   absl::Status Begin(TenantAdmission* admission = nullptr, const char* limit_name = "calls_per_tenant");
+  // FailedPrecondition when the server serves a read-only store (call from write RPCs).
+  absl::Status RequireWritableStore() const;
   // Returns the store connection early (long calls that no longer need the store).
   void ReleaseStore() { store_.reset(); }
   // Logs the outcome, counts it, releases the connection and admission; the status to finish with.

@@ -4,9 +4,10 @@
 
 namespace mocap {
 
-absl::StatusOr<std::unique_ptr<StorePool>> StorePool::Open(const std::filesystem::path& path) {
-  std::unique_ptr<StorePool> pool(new StorePool(path));
-  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<MotionStore> first, MotionStore::Open(path));
+absl::StatusOr<std::unique_ptr<StorePool>> StorePool::Open(const std::filesystem::path& path, bool read_only) {
+  std::unique_ptr<StorePool> pool(new StorePool(path, read_only));
+  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<MotionStore> first,
+                         read_only ? MotionStore::Open(path, pool->Options()) : MotionStore::Open(path));
   pool->idle_.push_back(std::move(first));
   return pool;
 }
@@ -21,7 +22,7 @@ absl::StatusOr<StorePool::Lease> StorePool::Acquire() {
     }
   }
   if (!store) {
-    MOCAP_ASSIGN_OR_RETURN(store, MotionStore::Open(path_, StoreOpenOptions{.create_if_missing = false}));
+    MOCAP_ASSIGN_OR_RETURN(store, MotionStore::Open(path_, Options()));
   }
   return Lease(store.release(), [this](MotionStore* returned) {
     std::lock_guard lock(mutex_);

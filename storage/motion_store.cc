@@ -72,6 +72,33 @@ ClipSummary ClipFromRow(SQLite::Statement& query) {
   return clip;
 }
 
+// SQLite URI of `path` opened immutable (RFC 3986 escapes for the characters URIs reserve).
+std::string ImmutableUri(const std::filesystem::path& path) {
+  std::string uri = "file:";
+  for (const char c : std::filesystem::absolute(path).string()) {
+    if (c == '%' || c == '?' || c == '#' || c == ' ') {
+      static const char* hex = "0123456789ABCDEF";
+      uri += '%';
+      uri += hex[(c >> 4) & 0xF];
+      uri += hex[c & 0xF];
+    } else {
+      uri += c;
+    }
+  }
+  return uri + "?immutable=1";
+}
+
+// An immutable open ignores the WAL: changes still in it would be invisible.
+absl::Status CheckCheckpointed(const std::filesystem::path& path) {
+  std::error_code error;
+  const std::filesystem::path wal = path.string() + "-wal";
+  if (std::filesystem::exists(wal, error) && std::filesystem::file_size(wal, error) > 0) {
+    return absl::FailedPreconditionError(StrCat(path.string(), " has changes not yet checkpointed into it (", wal.string(),
+                                                "); stop its writers, or copy it with sqlite3's .backup, first"));
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 MotionStore::MotionStore(std::filesystem::path path, std::unique_ptr<SQLite::Database> db)
@@ -90,7 +117,13 @@ absl::StatusOr<std::unique_ptr<MotionStore>> MotionStore::Open(const std::filesy
     }
     int flags = options.read_only ? SQLite::OPEN_READONLY : SQLite::OPEN_READWRITE;
     if (options.create_if_missing && !options.read_only) flags |= SQLite::OPEN_CREATE;
-    auto db = std::make_unique<SQLite::Database>(path.string(), flags, /*busy_timeout_ms=*/10000);
+    std::string name = path.string();
+    if (options.read_only && options.immutable) {
+      MOCAP_RETURN_IF_ERROR(CheckCheckpointed(path));
+      name = ImmutableUri(path);
+      flags |= SQLite::OPEN_URI;
+    }
+    auto db = std::make_unique<SQLite::Database>(name, flags, /*busy_timeout_ms=*/10000);
     db->exec("PRAGMA foreign_keys = ON");
     if (!options.read_only) {
       db->exec("PRAGMA journal_mode = WAL");

@@ -64,6 +64,10 @@ struct StoredClip {
 struct StoreOpenOptions {
   bool create_if_missing = true;
   bool read_only = false;
+  // With read_only: the file is promised not to change while open (SQLite's immutable=1): no
+  // locks, no -wal/-shm files, so it opens on a read-only mount. FailedPrecondition when the
+  // file has changes not yet checkpointed (a non-empty FILE-wal beside it).
+  bool immutable = false;
 };
 
 class MotionStore {

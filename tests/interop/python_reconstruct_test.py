@@ -1,0 +1,251 @@
+#!/usr/bin/env python3
+"""The Reconstruction service from Python's grpcio, checked against the C++ SDK.
+
+  python_reconstruct_test.py --stubs DIR --address HOST:PORT --key KEY --database NAME \
+      --csv WRISTS.csv --cxx-json CXX.json --lag D --k1 K1 --k2 K2
+
+DIR holds the Python stubs generated from proto/mocap/v1/*.proto (the wrapper,
+python_reconstruct_test.sh, generates them into the build dir). CXX.json is what
+`mocap reconstruct --csv WRISTS.csv --lag D --k1 K1 --k2 K2 --diagnostics -o CXX` wrote for the
+same input and config. Checks:
+  - a Reconstruct stream from Python (config with fixed_lag and include_diagnostics, the CSV's
+    samples, finish) ends OK with `started` first, then frames, then `summary` last; once with the
+    CLI's 30 samples per message and once with one sample per message;
+  - its frames equal the C++ SDK's: index, segment, time, root position and every rotation
+    within 1e-5 (and the pelvis, ankles, wrists and diagnostics);
+  - ReconstructTrajectory (unary) gives the same frames;
+  - errors map to the documented codes (UNAUTHENTICATED without a key, NOT_FOUND for a database
+    that is not there, INVALID_ARGUMENT for samples before the config);
+  - ServerStatus.GetMetrics counts the sessions.
+"""
+import argparse
+import csv
+import json
+import math
+import sys
+
+TOLERANCE = 1e-5
+
+
+def parse_args():
+    parser = argparse.ArgumentParser()
+    for name in ("--stubs", "--address", "--key", "--database", "--csv", "--cxx-json"):
+        parser.add_argument(name, required=True)
+    parser.add_argument("--lag", type=int, required=True)
+    parser.add_argument("--k1", type=int, required=True)
+    parser.add_argument("--k2", type=int, required=True)
+    parser.add_argument("--sessions-before", type=int, default=1,
+                        help="Reconstruct sessions the server ran before this script (the C++ one)")
+    return parser.parse_args()
+
+
+args = parse_args()
+sys.path.insert(0, args.stubs)
+
+import grpc  # noqa: E402
+from mocap.v1 import reconstruction_pb2 as rpb  # noqa: E402
+from mocap.v1 import reconstruction_pb2_grpc as rgrpc  # noqa: E402
+from mocap.v1 import server_status_pb2 as spb  # noqa: E402
+from mocap.v1 import server_status_pb2_grpc as sgrpc  # noqa: E402
+
+failures = []
+
+
+def check(condition, message):
+    if not condition:
+        failures.append(message)
+        print(f"  MISMATCH: {message}", file=sys.stderr)
+    return condition
+
+
+def read_samples(path):
+    samples = []
+    with open(path, newline="", encoding="ascii") as stream:
+        rows = csv.reader(line for line in stream if line.strip() and not line.startswith("#"))
+        header = [name.strip() for name in next(rows)]
+        assert header[:7] == ["time", "left_x", "left_y", "left_z", "right_x", "right_y", "right_z"], header
+        for row in rows:
+            v = [float(x) for x in row[:7]]
+            samples.append(rpb.WristSample(time=v[0], left={"x": v[1], "y": v[2], "z": v[3]},
+                                           right={"x": v[4], "y": v[5], "z": v[6]}))
+    return samples
+
+
+def config():
+    c = rpb.SessionConfig(database=args.database, method=rpb.RECONSTRUCTION_METHOD_FULL,
+                          include_diagnostics=True, client_label="python interop test")
+    c.fixed_lag.lag_frames = args.lag
+    c.overrides.ankle_candidates = args.k1
+    c.overrides.pose_neighbours = args.k2
+    return c
+
+
+metadata = (("authorization", f"Bearer {args.key}"),)
+
+
+def run_stream(stub, samples, per_message):
+    """One Reconstruct call; returns (started, frames, rejected, summary) as protobuf messages."""
+    def requests():
+        yield rpb.ReconstructRequest(config=config())
+        for i in range(0, len(samples), per_message):
+            yield rpb.ReconstructRequest(samples=rpb.WristSamples(samples=samples[i:i + per_message]))
+        yield rpb.ReconstructRequest(finish=rpb.FinishSession())
+
+    call = stub.Reconstruct(requests(), metadata=metadata, timeout=120)
+    kinds, frames, rejected, started, summary = [], [], [], None, None
+    for reply in call:
+        kind = reply.WhichOneof("kind")
+        kinds.append(kind)
+        if kind == "started":
+            started = reply.started
+        elif kind == "frames":
+            frames.extend(reply.frames.frames)
+        elif kind == "rejected":
+            rejected.append(reply.rejected)
+        elif kind == "summary":
+            summary = reply.summary
+    check(call.code() == grpc.StatusCode.OK, f"Reconstruct ended {call.code()}: {call.details()}")
+    check(kinds[:1] == ["started"] and kinds.count("started") == 1, f"replies do not start with one `started`: {kinds[:3]}")
+    check(kinds[-1:] == ["summary"] and kinds.count("summary") == 1, f"replies do not end with one `summary`: {kinds[-3:]}")
+    return started, frames, rejected, summary
+
+
+def vec(message_or_dict):
+    if isinstance(message_or_dict, dict):
+        return [float(message_or_dict.get(k, 0.0)) for k in ("x", "y", "z")]
+    return [message_or_dict.x, message_or_dict.y, message_or_dict.z]
+
+
+def quat(message_or_dict):
+    if isinstance(message_or_dict, dict):
+        return [float(message_or_dict.get(k, 0.0)) for k in ("w", "x", "y", "z")]
+    return [message_or_dict.w, message_or_dict.x, message_or_dict.y, message_or_dict.z]
+
+
+def close(a, b, tolerance=TOLERANCE):
+    return len(a) == len(b) and all(abs(x - y) <= tolerance for x, y in zip(a, b))
+
+
+def compare(label, frames, reference):
+    """Python frames (protobuf) against the C++ CLI's JSON frames (dicts). Returns the largest
+    difference of root position and rotation components."""
+    check(len(frames) == len(reference), f"{label}: {len(frames)} frames, C++ gave {len(reference)}")
+    worst = 0.0
+    for frame, ref in zip(frames, reference):
+        i = frame.index
+        where = f"{label} frame {i}"
+        check(i == int(ref.get("index", 0)), f"{where}: index vs C++ {ref.get('index')}")
+        check(frame.segment == int(ref.get("segment", 0)), f"{where}: segment")
+        check(frame.frame_in_segment == int(ref.get("frame_in_segment", 0)), f"{where}: frame_in_segment")
+        check(abs(frame.time - float(ref.get("time", 0.0))) <= 1e-9, f"{where}: time {frame.time} vs {ref.get('time')}")
+        root, ref_root = vec(frame.root_position), vec(ref["root_position"])
+        worst = max([worst] + [abs(x - y) for x, y in zip(root, ref_root)])
+        check(close(root, ref_root), f"{where}: root position {root} vs C++ {ref_root}")
+        check(len(frame.rotations) == len(ref["rotations"]), f"{where}: {len(frame.rotations)} rotations")
+        for j, (q, ref_q) in enumerate(zip(frame.rotations, ref["rotations"])):
+            q, ref_q = quat(q), quat(ref_q)
+            worst = max([worst] + [abs(x - y) for x, y in zip(q, ref_q)])
+            if not check(close(q, ref_q), f"{where} joint {j}: rotation {q} vs C++ {ref_q}"):
+                break
+        for field in ("pelvis_position", "left_ankle", "right_ankle", "left_wrist", "right_wrist"):
+            check(close(vec(getattr(frame, field)), vec(ref[field])), f"{where}: {field}")
+        check(close(quat(frame.pelvis_rotation), quat(ref["pelvis_rotation"])), f"{where}: pelvis_rotation")
+        check(frame.HasField("diagnostics") and "diagnostics" in ref, f"{where}: diagnostics missing")
+        d, ref_d = frame.diagnostics, ref.get("diagnostics", {})
+        for field in ("ankle_source_row", "solver_evaluations"):
+            check(getattr(d, field) == int(ref_d.get(field, 0)), f"{where}: diagnostics.{field}")
+        for field in ("left_foot_planted", "right_foot_planted", "bridged"):
+            check(getattr(d, field) == bool(ref_d.get(field, False)), f"{where}: diagnostics.{field}")
+        for field in ("wrist_neighbour_distance", "pose_neighbour_distance", "solver_cost", "left_wrist_error"):
+            a, b = getattr(d, field), float(ref_d.get(field, 0.0))
+            check(math.isclose(a, b, rel_tol=1e-4, abs_tol=1e-6), f"{where}: diagnostics.{field} {a} vs C++ {b}")
+        if len(failures) > 20:
+            break
+    return worst
+
+
+def expect_error(what, code, call):
+    try:
+        result = call()
+        if hasattr(result, "__iter__"):
+            for _ in result:
+                pass
+        check(False, f"{what}: succeeded, expected {code.name}")
+    except grpc.RpcError as error:
+        check(error.code() == code, f"{what}: {error.code()} ({error.details()}), expected {code.name}")
+
+
+def main():
+    with open(args.cxx_json, encoding="utf-8") as stream:
+        cxx = json.load(stream)
+    reference = cxx["frames"]
+    samples = read_samples(args.csv)
+    print(f"{len(samples)} samples from {args.csv}; C++ SDK: {len(reference)} frames, "
+          f"session {cxx['started'].get('session_id')}")
+
+    with grpc.insecure_channel(args.address) as channel:
+        grpc.channel_ready_future(channel).result(timeout=15)
+        stub = rgrpc.ReconstructionStub(channel)
+
+        sessions = 0
+        for per_message in (30, 1):
+            label = f"stream, {per_message} sample(s) per message"
+            started, frames, rejected, summary = run_stream(stub, samples, per_message)
+            sessions += 1
+            if started is None or summary is None:
+                check(False, f"{label}: no started or summary reply")
+                continue
+            ref_started = cxx["started"]
+            check(len(started.skeleton.joints) == len(ref_started["skeleton"]["joints"]), f"{label}: skeleton size")
+            check(started.frame_rate == float(ref_started["frame_rate"]), f"{label}: frame_rate")
+            check(started.latency_frames == args.lag == int(ref_started["latency_frames"]), f"{label}: latency_frames")
+            check(started.config.fixed_lag.lag_frames == args.lag, f"{label}: config echo lacks the lag")
+            check(started.config.overrides.ankle_candidates == args.k1, f"{label}: config echo lacks K1")
+            check(started.database_frames == int(ref_started["database_frames"]), f"{label}: database_frames")
+            check(started.session_id and started.session_id != ref_started.get("session_id"), f"{label}: session id")
+            check(not rejected and summary.rejected_samples == 0, f"{label}: samples rejected")
+            check(summary.samples == len(samples) and summary.frames == len(frames), f"{label}: summary {summary}")
+            worst = compare(label, frames, reference)
+            print(f"{label}: {len(frames)} frames, session {started.session_id}; largest difference from the "
+                  f"C++ SDK's frames {worst:.3g}")
+
+        unary = stub.ReconstructTrajectory(rpb.ReconstructTrajectoryRequest(config=config(), samples=samples),
+                                           metadata=metadata, timeout=120)
+        worst = compare("ReconstructTrajectory", list(unary.frames), reference)
+        print(f"ReconstructTrajectory: {len(unary.frames)} frames; largest difference {worst:.3g}")
+
+        # Errors, as a Python client sees them.
+        expect_error("no key", grpc.StatusCode.UNAUTHENTICATED,
+                     lambda: stub.Reconstruct(iter([rpb.ReconstructRequest(config=config())]), timeout=30))
+        missing = config()
+        missing.database = "no-such-database"
+        expect_error("unknown database", grpc.StatusCode.NOT_FOUND,
+                     lambda: stub.Reconstruct(iter([rpb.ReconstructRequest(config=missing)]), metadata=metadata,
+                                              timeout=30))
+        expect_error("samples before config", grpc.StatusCode.INVALID_ARGUMENT,
+                     lambda: stub.Reconstruct(iter([rpb.ReconstructRequest(samples=rpb.WristSamples(samples=samples[:3]))]),
+                                              metadata=metadata, timeout=30))
+
+        metrics = sgrpc.ServerStatusStub(channel).GetMetrics(spb.GetMetricsRequest(), metadata=metadata, timeout=30)
+        counters = {}
+        for line in metrics.text.splitlines():
+            if line and not line.startswith("#"):
+                name, _, value = line.rpartition(" ")
+                counters[name] = float(value)
+        total = counters.get("mocap_sessions_total")
+        expected = args.sessions_before + sessions
+        check(total is not None and total >= expected,
+              f"mocap_sessions_total is {total}, expected at least {expected} (the C++ and Python streams)")
+        check(counters.get("mocap_sessions_active", 0) == 0, "mocap_sessions_active is not 0 after the sessions")
+        print(f"metrics: mocap_sessions_total {total}, mocap_frames_reconstructed_total "
+              f"{counters.get('mocap_frames_reconstructed_total')}")
+
+    if failures:
+        print(f"FAIL: {len(failures)} mismatches; first: {failures[0]}", file=sys.stderr)
+        return 1
+    print("PASS: Python grpcio client agrees with the C++ SDK")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
