@@ -7,7 +7,7 @@
 namespace mocap {
 
 ReconstructReactor::ReconstructReactor(ReconstructionState& state, grpc::CallbackServerContext* context)
-    : state_(state), call_(state.service, context, "Reconstruct"), session_id_(StrCat("s", state.next_session_id.fetch_add(1))) {
+    : state_(state), call_(state.service, context, "Reconstruct"), session_id_(state.NextSessionId()) {
   {
     std::lock_guard live(state_.live_mutex);
     state_.live.insert(this);

@@ -1,5 +1,7 @@
 #include "server/reconstruction_service.h"
 
+#include <random>
+
 #include <spdlog/spdlog.h>
 
 #include "motion/core/status_macros.h"
@@ -20,6 +22,11 @@ absl::Status ReconstructWhole(ReconstructionState& state, const ReconstructionDa
                               v1::ReconstructTrajectoryResponse* response) {
   MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<SessionDriver> driver,
                          SessionDriver::Create(request.config(), database, session_id, state.limits.session));
+  state.service.metrics.SessionStarted();
+  struct Ended {
+    ServerMetrics& metrics;
+    ~Ended() { metrics.SessionEnded(); }
+  } ended{state.service.metrics};
   *response->mutable_started() = driver->started();
   v1::WristSamples samples;
   *samples.mutable_samples() = request.samples();
@@ -42,12 +49,24 @@ absl::Status ReconstructWhole(ReconstructionState& state, const ReconstructionDa
 
 }  // namespace
 
+namespace {
+std::string RandomInstanceTag() {
+  std::random_device random;
+  std::string tag;
+  for (int i = 0; i < 6; ++i) tag += "0123456789abcdef"[random() % 16];
+  return tag;
+}
+}  // namespace
+
+std::string ReconstructionState::NextSessionId() { return StrCat(instance_tag, "-s", next_session_id.fetch_add(1)); }
+
 ReconstructionState::ReconstructionState(ServiceContext& service_context, const ReconstructionLimits& limits_in)
     : service(service_context),
       limits(limits_in),
       compute(ComputeThreads(limits_in)),
       databases(service_context.stores, limits_in.max_cached_databases),
-      sessions(limits_in.max_sessions_per_tenant, "reconstruction sessions") {}
+      sessions(limits_in.max_sessions_per_tenant, "reconstruction sessions"),
+      instance_tag(RandomInstanceTag()) {}
 
 void AcquireSessionDatabase(ReconstructionState& state, CallScope& call, const std::string& name,
                             std::function<void(absl::StatusOr<ReconstructionDatabases::Database>)> ready) {
@@ -94,7 +113,7 @@ grpc::ServerUnaryReactor* ReconstructionService::ReconstructTrajectory(grpc::Cal
     absl::Status status = call->Begin();
     if (status.ok() && state_.draining) status = absl::UnavailableError("the server is shutting down; connect again");
     if (!status.ok()) return reactor->Finish(call->End(status));
-    const std::string session_id = StrCat("s", state_.next_session_id.fetch_add(1));
+    const std::string session_id = state_.NextSessionId();
     AcquireSessionDatabase(state_, *call, request->config().database(),
                            [this, reactor, call, request, response, session_id](absl::StatusOr<ReconstructionDatabases::Database> database) {
                              absl::Status result = database.status();

@@ -40,7 +40,11 @@ struct ReconstructionState {
   ReconstructionDatabases databases;
   TenantAdmission sessions;
   std::atomic<bool> draining{false};
+  // Session ids are "<instance>-s<n>": the instance tag is random per process, so replicas behind
+  // one load balancer never hand out the same id.
+  const std::string instance_tag;
   std::atomic<std::uint64_t> next_session_id{1};
+  std::string NextSessionId();
   std::mutex live_mutex;
   std::set<ReconstructReactor*> live;  // streams between start and OnDone
 };

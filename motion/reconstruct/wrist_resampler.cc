@@ -29,10 +29,12 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
     const double span = sample.time - previous_.time;
     const bool bridged = typical_period_ > 0.0 && span > 2.0 * typical_period_;
     typical_period_ = typical_period_ > 0.0 && !bridged ? 0.9 * typical_period_ + 0.1 * span : (typical_period_ > 0.0 ? typical_period_ : span);
-    // Grid times in (previous, sample], a small tolerance so a sample exactly on the grid counts.
+    // Grid times in (previous, sample], with a tolerance of 1% of a frame: a tracker at the
+    // database's nominal rate (e.g. a BVH's "Frame Time: 0.033333" against 1/30 s) drifts by
+    // ~1e-4 s over ten seconds, and its last sample must still complete the last frame.
     for (;;) {
       const double t = grid_origin_ + static_cast<double>(next_index_) * frame_time_;
-      if (t > sample.time + 1e-9) break;
+      if (t > sample.time + 0.01 * frame_time_) break;
       const float a = static_cast<float>(std::clamp((t - previous_.time) / span, 0.0, 1.0));
       out->push_back(GridSample{.starts_segment = false,
                                 .bridged = bridged,

@@ -165,8 +165,8 @@ done
 note "$sessions sessions through nginx ended OK with $samples frames each"
 
 # 6. Who served them: both replicas started sessions, and each session ended on the replica that
-#    started it (sticky streams). Session ids are numbered per process (s1, s2, ... on each
-#    replica), so they are matched per replica, and the clients' ids must be exactly the union.
+#    started it (sticky streams). Session ids carry a random per-process tag (TAG-s1, TAG-s2, ...),
+#    so no two replicas share one; the clients' ids must be exactly the union of the replicas'.
 count1=$(grep -c 'session=.* started' "$dir/replica1.log" || true)
 count2=$(grep -c 'session=.* started' "$dir/replica2.log" || true)
 note "sessions started: replica1 $count1, replica2 $count2"
@@ -183,6 +183,8 @@ done
 for i in $(seq 1 "$sessions"); do
   "$python" -c 'import json,sys; print(json.load(open(sys.argv[1]))["session_id"])' "$dir/out/session$i.summary.json"
 done | sort >"$dir/out/client_session_ids.txt"
+[ -z "$(sort "$dir/out/replica_session_ids.txt" | uniq -d)" ] ||
+  fail "two replicas handed out the same session id: $(sort "$dir/out/replica_session_ids.txt" | uniq -d | tr '\n' ' ')"
 sort "$dir/out/replica_session_ids.txt" | diff - "$dir/out/client_session_ids.txt" >/dev/null ||
   fail "the clients' session ids ($(tr '\n' ' ' <"$dir/out/client_session_ids.txt")) are not the replicas'"
 # nginx's side: the Reconstruct calls went to both upstreams, each answered grpc-status 0.

@@ -27,6 +27,17 @@ TEST(WristResamplerTest, AnyInputRateLandsOnTheDatabaseGrid) {
   }
 }
 
+TEST(WristResamplerTest, ATrackerAtTheNominalRateGivesOneFramePerSample) {
+  // A BVH's "Frame Time: 0.033333" (float) against a database at 1/30 s: 280 samples drift by
+  // about 1e-4 s, and must still give 280 frames, in the slower and the faster direction.
+  for (double period : {static_cast<double>(0.033333f), 1.0 / 29.9997}) {
+    WristResampler resampler(1.0 / 30.0, 0.25);
+    std::vector<GridSample> out;
+    for (int i = 0; i < 280; ++i) ASSERT_TRUE(resampler.Push(At(i * period), &out).ok());
+    EXPECT_EQ(out.size(), 280u) << period;
+  }
+}
+
 TEST(WristResamplerTest, ShortDropoutsAreBridgedLongOnesStartANewSegment) {
   WristResampler resampler(1.0 / 30.0, 0.25);
   std::vector<GridSample> out;
