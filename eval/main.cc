@@ -69,9 +69,19 @@ int main(int argc, char** argv) {
   app.add_option("--k1", base.ankle_candidates, "A3 ankle candidates K1");
   app.add_option("--k2", base.pose_neighbours, "A5 pose neighbours K2");
   app.add_option("--window", base.window, "A4 window L for the full run (0 = whole clip)");
+  std::string contacts = "estimated";
+  app.add_option("--contacts", contacts, "A7 foot contacts from the chosen database frame or the estimated ankles")
+      ->check(CLI::IsMember({"database", "estimated", "both"}))->capture_default_str();
+  app.add_option("--contact-speed", base.footskate.contact_speed, "A7 planted below this ground speed, m/s")
+      ->capture_default_str();
+  app.add_option("--joint-smoothing", base.joint_smoothing_sigma, "A7 joint-space Gaussian σ, frames")->capture_default_str();
   app.add_flag("--no-bvh", no_bvh, "do not write the reconstructions as BVH");
   app.add_option("--thresholds", thresholds_file, "regression thresholds for --quick (JSON)");
   CLI11_PARSE(app, argc, argv);
+  base.footskate.contact_source =
+      contacts == "database"    ? mocap::ContactSource::kDatabaseFrame
+      : contacts == "estimated" ? mocap::ContactSource::kEstimatedAnkles
+                                : mocap::ContactSource::kBoth;
 
   nlohmann::json context;
   std::vector<std::filesystem::path> database_files, test_files;

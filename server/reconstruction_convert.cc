@@ -59,6 +59,12 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
   if (o.has_joint_smoothing_frames()) options.joint_smoothing_sigma = o.joint_smoothing_frames();
   if (o.has_footskate_cleanup()) options.footskate.enabled = o.footskate_cleanup();
   if (o.has_max_gap_seconds()) options.max_gap_seconds = o.max_gap_seconds();
+  switch (o.foot_contacts()) {
+    case v1::FOOT_CONTACTS_ESTIMATED_ANKLES: options.footskate.contact_source = ContactSource::kEstimatedAnkles; break;
+    case v1::FOOT_CONTACTS_DATABASE_FRAME: options.footskate.contact_source = ContactSource::kDatabaseFrame; break;
+    case v1::FOOT_CONTACTS_BOTH: options.footskate.contact_source = ContactSource::kBoth; break;
+    default: return absl::InvalidArgumentError(StrCat("overrides.foot_contacts: unknown value ", static_cast<int>(o.foot_contacts())));
+  }
   for (const absl::Status& s : {
            CheckRange("overrides.ankle_candidates", options.ankle_candidates, 1, kMaxAnkleCandidates),
            CheckRange("overrides.pose_neighbours", options.pose_neighbours, 2, kMaxPoseNeighbours),

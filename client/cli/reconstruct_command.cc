@@ -21,6 +21,7 @@ struct ReconstructOptions {
   double noise_cm = 0.0;
   unsigned seed = 1;
   std::string method = "full";
+  std::string foot_contacts = "estimated";
   int window = -1, lag = -1;
   int k1 = 0, k2 = 0;
   float performer_height = 0.0f;
@@ -43,6 +44,9 @@ absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
   if (o.window >= 0) config.mutable_sub_interval()->set_window_frames(o.window);
   if (o.k1 > 0) config.mutable_overrides()->set_ankle_candidates(o.k1);
   if (o.k2 > 0) config.mutable_overrides()->set_pose_neighbours(o.k2);
+  config.mutable_overrides()->set_foot_contacts(o.foot_contacts == "database" ? v1::FOOT_CONTACTS_DATABASE_FRAME
+                                                : o.foot_contacts == "both"   ? v1::FOOT_CONTACTS_BOTH
+                                                                              : v1::FOOT_CONTACTS_ESTIMATED_ANKLES);
   config.set_performer_height(o.performer_height);
   config.set_include_diagnostics(o.diagnostics);
   config.set_strict(o.strict);
@@ -163,6 +167,9 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   window->excludes(lag);
   command->add_option("--k1", o->k1, "Ankle candidates K1 (server default 1000)")->check(CLI::PositiveNumber);
   command->add_option("--k2", o->k2, "Pose neighbours K2 (server default 200)")->check(CLI::PositiveNumber);
+  command->add_option("--foot-contacts", o->foot_contacts,
+                      "A7 foot contacts: estimated (most accurate), database (least skating) or both")
+      ->check(CLI::IsMember({"estimated", "database", "both"}))->capture_default_str();
   command->add_option("--performer-height", o->performer_height, "Performer's height in metres (scales input and output)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--diagnostics", o->diagnostics, "Per-frame diagnostics in the JSON");

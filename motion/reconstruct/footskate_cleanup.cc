@@ -41,17 +41,38 @@ FootskateCleaner::FootskateCleaner(const BodyModel& body, float planted_ankle_he
 
 void FootskateCleaner::Reset() { feet_ = {}; }
 
-std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles, BodyPose* pose) {
+std::array<bool, 2> PlantedFeet(const FrameFeatures& frame, float planted_ankle_height, const FootskateOptions& options) {
+  std::array<bool, 2> planted{};
+  for (int side = 0; side < 2; ++side) {
+    // Velocities are in the wrist reference frame, whose y axis is up: x and z span the ground.
+    const float* v = frame.ankle_velocity[side];
+    planted[side] = std::hypot(v[0], v[2]) < options.contact_speed &&
+                    frame.ankle_position[side][1] < planted_ankle_height + options.contact_height;
+  }
+  return planted;
+}
+
+std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles,
+                                              const FrameFeatures* source_frame, BodyPose* pose,
+                                              AnkleTargets* targets) {
   std::array<bool, 2> contact{false, false};
+  if (targets) *targets = {};
   const BodyLandmarks& l = body_.rig().topology.landmarks;
   const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
+  const bool use_database = source_frame != nullptr && options_.contact_source != ContactSource::kEstimatedAnkles;
+  const bool use_estimate = source_frame == nullptr || options_.contact_source != ContactSource::kDatabaseFrame;
+  const std::array<bool, 2> database = use_database ? PlantedFeet(*source_frame, planted_height_, options_)
+                                                    : std::array<bool, 2>{true, true};
   for (int side = 0; side < 2; ++side) {
     Foot& foot = feet_[side];
     const Eigen::Vector3f& estimate = estimated_ankles[side];
-    if (foot.has_previous) {
+    bool estimated = true;
+    if (use_estimate) {
       const Eigen::Vector2f step(estimate.x() - foot.previous.x(), estimate.z() - foot.previous.z());
-      contact[side] = step.norm() * rate_ < options_.contact_speed && estimate.y() < planted_height_ + options_.contact_height;
+      estimated = foot.has_previous && step.norm() * rate_ < options_.contact_speed &&
+                  estimate.y() < planted_height_ + options_.contact_height;
     }
+    contact[side] = database[side] && estimated;
     foot.previous = estimate;
     foot.has_previous = true;
     if (!options_.enabled) continue;
@@ -62,6 +83,7 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
       foot.planted = true;
       foot.release_left = 0;
       SolveLegIk(body_, ankle_joints[side], foot.pin, pose);
+      if (targets) (*targets)[side] = foot.pin;
       continue;
     }
     if (foot.planted) {
@@ -71,7 +93,9 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     }
     if (foot.release_left > 0) {
       const float fraction = static_cast<float>(foot.release_left) / static_cast<float>(options_.release_frames + 1);
-      SolveLegIk(body_, ankle_joints[side], solved + fraction * foot.release_offset, pose);
+      const Eigen::Vector3f target = solved + fraction * foot.release_offset;
+      SolveLegIk(body_, ankle_joints[side], target, pose);
+      if (targets) (*targets)[side] = target;
       --foot.release_left;
     }
   }

@@ -306,7 +306,7 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   d.solver_evaluations = solved.evaluations;
   for (int c = 0; c < kNumControlPoints; ++c) d.control_error[c] = solved.control_error[c];
   d.bridged = s.bridged[f];
-  if (full) d.contact = s.cleaner.Process(ankles, &frame.pose);
+  if (full) d.contact = s.cleaner.Process(ankles, &db.frames()[s.raw_rows[f]], &frame.pose, &frame.ankle_targets);
   s.post.push_back(std::move(frame));
   EmitFiltered(false, out);
   statistics_.post_seconds += SecondsSince(post_start);
@@ -337,6 +337,11 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       }
       frame.pose.root_position = root;
       for (int j = 0; j < joints; ++j) frame.pose.rotations[j] = (centre.rotations[j] * FromRotationVector(log_sum[j])).normalized();
+      const BodyLandmarks& l = database_->rig().topology.landmarks;
+      const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
+      for (int side = 0; side < 2; ++side) {
+        if (frame.ankle_targets[side]) SolveLegIk(body, ankle_joints[side], *frame.ankle_targets[side], &frame.pose);
+      }
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
     const int pelvis = database_->rig().topology.landmarks.pelvis;

@@ -49,6 +49,9 @@ struct ReconstructedFrame {
   std::array<Eigen::Vector3f, 2> ankles;  // A4 estimates (left, right), world metres
   std::array<Eigen::Vector3f, 2> wrists;  // A2-smoothed input
   FrameDiagnostics diagnostics;
+  // A7: where the footskate cleanup held each ankle (planted or releasing), re-imposed by leg IK
+  // after the joint-space filter, which would otherwise let planted feet slide again.
+  FootskateCleaner::AnkleTargets ankle_targets;
 };
 
 struct SessionStatistics {

@@ -47,7 +47,7 @@ TEST(FootskateCleanupTest, APlantedFootStaysWhereItLandedAndIsReleasedSmoothly) 
     pose.root_position.z() += 0.01f * f;
     const std::array<Eigen::Vector3f, 2> estimate = {Eigen::Vector3f(0.1f, db.planted_ankle_height(), 0.0f),
                                                      Eigen::Vector3f(-0.1f, 0.5f, 0.0f)};
-    const auto contact = cleaner.Process(estimate, &pose);
+    const auto contact = cleaner.Process(estimate, nullptr, &pose);
     db.body().WorldTransforms(pose, &rotations, &positions);
     if (f == 0) continue;  // no speed yet
     EXPECT_TRUE(contact[0]);
@@ -61,7 +61,7 @@ TEST(FootskateCleanupTest, APlantedFootStaysWhereItLandedAndIsReleasedSmoothly) 
     BodyPose pose = PoseOfRow(db, 20);
     pose.root_position.z() += 0.01f * f;
     BodyPose free = pose;
-    const auto contact = cleaner.Process({Eigen::Vector3f(0.1f, 0.4f, 0.0f), Eigen::Vector3f(-0.1f, 0.5f, 0.0f)}, &pose);
+    const auto contact = cleaner.Process({Eigen::Vector3f(0.1f, 0.4f, 0.0f), Eigen::Vector3f(-0.1f, 0.5f, 0.0f)}, nullptr, &pose);
     EXPECT_FALSE(contact[0]);
     db.body().WorldTransforms(pose, &rotations, &positions);
     std::vector<Eigen::Quaternionf> free_rotations;
@@ -72,6 +72,38 @@ TEST(FootskateCleanupTest, APlantedFootStaysWhereItLandedAndIsReleasedSmoothly) 
     previous_offset = offset;
   }
   EXPECT_LT(previous_offset, 1e-5f);
+}
+
+
+TEST(FootskateCleanupTest, ContactsCanComeFromTheChosenDatabaseFrame) {
+  const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
+  const ReconstructionDatabase& db = *setup.database;
+  const FootskateOptions options;
+  // A captured frame whose left foot rests on the ground and whose right foot swings.
+  FrameFeatures frame{};
+  frame.ankle_position[0][1] = db.planted_ankle_height();
+  frame.ankle_velocity[0][0] = 0.05f;
+  frame.ankle_position[1][1] = db.planted_ankle_height() + 0.01f;
+  frame.ankle_velocity[1][2] = 1.2f;
+  EXPECT_EQ(PlantedFeet(frame, db.planted_ankle_height(), options), (std::array<bool, 2>{true, false}));
+  frame.ankle_position[0][1] = db.planted_ankle_height() + options.contact_height + 0.01f;  // lifted
+  EXPECT_FALSE(PlantedFeet(frame, db.planted_ankle_height(), options)[0]);
+  frame.ankle_position[0][1] = db.planted_ankle_height();
+
+  // The estimate races along (no contact by its own speed), but the database frame says planted:
+  // the database source pins the foot, the estimate source does not.
+  for (ContactSource source : {ContactSource::kDatabaseFrame, ContactSource::kEstimatedAnkles}) {
+    FootskateCleaner cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), {.contact_source = source});
+    std::array<bool, 2> contact{};
+    for (int f = 0; f < 3; ++f) {
+      BodyPose pose = PoseOfRow(db, 20);
+      const std::array<Eigen::Vector3f, 2> estimate = {Eigen::Vector3f(0.1f, db.planted_ankle_height(), 0.1f * f),
+                                                       Eigen::Vector3f(-0.1f, 0.5f, 0.0f)};
+      contact = cleaner.Process(estimate, &frame, &pose);
+    }
+    EXPECT_EQ(contact[0], source == ContactSource::kDatabaseFrame);
+    EXPECT_FALSE(contact[1]);
+  }
 }
 
 }  // namespace
