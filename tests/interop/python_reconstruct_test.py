@@ -16,7 +16,9 @@ same input and config. Checks:
   - ReconstructTrajectory (unary) gives the same frames;
   - errors map to the documented codes (UNAUTHENTICATED without a key, NOT_FOUND for a database
     that is not there, INVALID_ARGUMENT for samples before the config);
-  - ServerStatus.GetMetrics counts the sessions.
+  - ServerStatus.GetMetrics counts the sessions;
+  - standard gRPC health checking answers SERVING and server reflection lists our services (both
+    called as raw methods on their wire format, as a generic tool such as grpcurl would).
 """
 import argparse
 import csv
@@ -239,6 +241,16 @@ def main():
         check(counters.get("mocap_sessions_active", 0) == 0, "mocap_sessions_active is not 0 after the sessions")
         print(f"metrics: mocap_sessions_total {total}, mocap_frames_reconstructed_total "
               f"{counters.get('mocap_frames_reconstructed_total')}")
+
+        # grpc.health.v1.Health/Check with an empty HealthCheckRequest: SERVING is field 1 = 1.
+        health = channel.unary_unary("/grpc.health.v1.Health/Check")(b"", timeout=30)
+        check(health == b"\x08\x01", f"health check answered {health!r}, not SERVING (b'\\x08\\x01')")
+        # grpc.reflection.v1alpha.ServerReflection: list_services (field 7, an empty string).
+        listing = b"".join(channel.stream_stream("/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo")(
+            iter([b"\x3a\x00"]), timeout=30))
+        for service in (b"mocap.v1.MotionStore", b"mocap.v1.Reconstruction", b"mocap.v1.ServerStatus"):
+            check(service in listing, f"server reflection does not list {service.decode()}")
+        print("health: SERVING; reflection lists MotionStore, Reconstruction, ServerStatus")
 
     if failures:
         print(f"FAIL: {len(failures)} mismatches; first: {failures[0]}", file=sys.stderr)
