@@ -28,6 +28,12 @@ TEST(LatencySummaryTest, NearestRankPercentiles) {
 
 class LoadGeneratorTest : public testing::ServerFixture {
  protected:
+  // A server whose tenant "acme" has the database "walks".
+  void SetUp() override {
+    ServerFixture::SetUp();
+    StartServer();
+    ImportWalks(*Connect(keys_["acme"]));
+  }
   struct Run {
     int exit_code = -1;
     std::string out;
@@ -47,9 +53,6 @@ class LoadGeneratorTest : public testing::ServerFixture {
 };
 
 TEST_F(LoadGeneratorTest, ConcurrentStreamsReturnEveryFrameWithLatencies) {
-  StartServer();
-  auto client = Connect(keys_["acme"]);
-  ImportWalks(*client);
   const Run run = Load(keys_["acme"], "--streams 3 --seconds 1.5 --lag 2 --ramp-seconds 0.2");
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const nlohmann::json report = nlohmann::json::parse(run.out);
@@ -65,9 +68,6 @@ TEST_F(LoadGeneratorTest, ConcurrentStreamsReturnEveryFrameWithLatencies) {
 }
 
 TEST_F(LoadGeneratorTest, ErrorsAreCountedAndFailTheRun) {
-  StartServer();
-  auto client = Connect(keys_["acme"]);
-  ImportWalks(*client);
   // The other tenant's key does not see "walks": every stream fails with NOT_FOUND.
   const Run run = Load(keys_["other"], "--streams 2 --seconds 0.5");
   EXPECT_EQ(run.exit_code, 1) << run.out;

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# The service's load figure (issue: ≥ 20 concurrent 30 Hz streams at p99 ≤ 50 ms of processing
+# latency on the standard database): a `mocapd serve --read-only` on the store the quickstart
+# built (bandai-namco-2 = the standard split's database takes), then mocap-load with each stream
+# count in turn, each stream replaying a held-out walk's wrists (FK + 0.5 cm noise) in real time.
+#   usage: benchmarks/load_standard_split.sh [STREAMS...]   (default: 5 10 20 30)
+#   env: STORE (var/mocap.db), SECONDS_PER_RUN (30), LAG (0), EXTRA (more mocap-load options)
+# Prints one line per run and writes build/load/streams-N.json (mocap-load --json).
+set -euo pipefail
+repo=$(cd "$(dirname "$0")/.." && pwd)
+mocapd="$repo/build/server/mocapd"
+load="$repo/build/client/mocap-load"
+store=${STORE:-$repo/var/mocap.db}
+data="${MOCAP_DATA_CACHE_DIR:-$HOME/.cache/mocap/data}/bandai-namco-2"
+clip="$data/dataset-2_walk_normal_003.bvh"
+out="$repo/build/load"
+[ -f "$store" ] || { echo "no store at $store: run scripts/quickstart.sh first" >&2; exit 2; }
+[ -f "$clip" ] || { echo "no held-out clip at $clip: run scripts/quickstart.sh (it unpacks the data) first" >&2; exit 2; }
+mkdir -p "$out"
+streams=("$@")
+[ ${#streams[@]} -gt 0 ] || streams=(5 10 20 30)
+
+# A key of its own, revoked at the end; the store is written only by these two admin commands.
+key=$("$mocapd" tenant add-key --store "$store" default 2>/dev/null)
+server_pid=""
+cleanup() {
+  [ -n "$server_pid" ] && kill "$server_pid" 2>/dev/null && wait "$server_pid" 2>/dev/null || true
+  "$mocapd" tenant revoke-key --store "$store" default "$key" >/dev/null 2>&1 || true
+}
+trap cleanup EXIT
+coproc SERVER { exec "$mocapd" serve --store "$store" --read-only --listen 127.0.0.1:0 2>"$out/server.log"; }
+server_pid=$SERVER_PID
+read -r -t 60 line <&"${SERVER[0]}" || { echo "mocapd serve did not start; see $out/server.log" >&2; exit 1; }
+address=${line#listening on }
+
+# One short session first, so the database's indices are built before any timing.
+"$load" --address "$address" --key "$key" --database bandai-namco-2 --bvh "$clip" --streams 1 --seconds 1 \
+  --json >/dev/null
+for n in "${streams[@]}"; do
+  # shellcheck disable=SC2086  # EXTRA is a list of options
+  "$load" --address "$address" --key "$key" --database bandai-namco-2 --bvh "$clip" --streams "$n" \
+    --seconds "${SECONDS_PER_RUN:-30}" --lag "${LAG:-0}" --json ${EXTRA:-} >"$out/streams-$n.json" || true
+  python3 - "$out/streams-$n.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+l = r["latency_ms"]
+print(f'{r["streams"]:3d} streams: {r["streams_ok"]} ok, {r["frames_per_second"]:6.1f} frames/s, latency ms '
+      f'p50 {l["p50"]:.1f} p90 {l["p90"]:.1f} p99 {l["p99"]:.1f} max {l["max"]:.1f}, server reply ms mean '
+      f'{r["server_reply_ms"]["mean"]:.1f}, worst late send {r["worst_late_send_ms"]:.0f} ms, errors {r["errors"] or 0}')
+PY
+done
