@@ -6,16 +6,15 @@
 //     (GCC vector extensions; an AVX2 clone is picked at run time, SSE2 otherwise);
 //   - the slide term's exp is needed only for pairs that slide, which the vector pass flags: for
 //     every other pair the vector pass's value is the exact cost. For a sliding pair the vector
-//     pass uses a polynomial exp shrunk by a safe margin, a lower bound of std::exp; float rounding
-//     is monotone, so the resulting total bounds the exact cost from below, and the exact cost
-//     (with std::exp, as AnkleEdgeCost has it) is computed only when that bound can still win;
+//     pass puts a lower bound of std::exp in its place; float rounding is monotone, so the total
+//     bounds the exact cost from below, and the exact cost (with std::exp, as AnkleEdgeCost has
+//     it) is computed only when that bound can still win;
 //   - with SlideRule::kContact a node whose ankles are both above the contact ceiling never slides,
 //     so its scan skips the slide term entirely;
 //   - branch and bound: edge costs are ≥ 0, so once a block's cheapest path cost reaches the best
 //     total found, no later block can win.
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <numeric>
 
@@ -90,24 +89,12 @@ inline float LowestLane(const Floats& v) {
   return lowest;
 }
 
-// A lower bound of std::exp(x) for every float x (+inf never; ≥ 0): 2^n · p(r), x = n·ln 2 + r,
-// |r| ≤ ln 2, p the degree-6 Taylor polynomial (relative error < 4e-5 there), shrunk by 1e-4.
+// A lower bound of std::exp(x) for every float x: e^x ≥ max(1 + x, 0), shrunk by 2^-20 to cover
+// the rounding of both sides. Cheap, and tight where it matters: a slide of a few cm (x ≈ w_s·d²
+// small) costs little more than 1 + x, and a long one already misses the motion prior badly.
 inline void ExpLowerBound(Floats* x) {
-  const Floats clamped = *x < -87.0f ? Floats{} - 87.0f : (*x > 88.0f ? Floats{} + 88.0f : *x);
-  const Masks n = __builtin_convertvector(clamped * 1.44269504f, Masks);  // rounds toward zero
-  const Floats nf = __builtin_convertvector(n, Floats);
-  const Floats r = (clamped - nf * 0.693145752f) - nf * 1.42860677e-6f;
-  Floats p = Floats{} + 1.0f / 720.0f;
-  p = p * r + 1.0f / 120.0f;
-  p = p * r + 1.0f / 24.0f;
-  p = p * r + 1.0f / 6.0f;
-  p = p * r + 0.5f;
-  p = p * r + 1.0f;
-  p = p * r + 1.0f;
-  Floats scale;
-  const Masks bits = (n + 127) << 23;
-  std::memcpy(&scale, &bits, sizeof scale);
-  *x = p * scale * (1.0f - 1e-4f);
+  const Floats line = *x + 1.0f;
+  *x = (line > 0.0f ? line : Floats{}) * (1.0f - 0x1p-20f);
 }
 
 struct StepConstants {
