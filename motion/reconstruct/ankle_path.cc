@@ -1,33 +1,13 @@
 #include "motion/reconstruct/ankle_path.h"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
-#include <numeric>
 
 #include "motion/core/gaussian_kernel.h"
 #include "motion/core/str_cat.h"
+#include "motion/reconstruct/ankle_edge_cost.h"
 
 namespace mocap {
 namespace {
-
-float EdgeCost(const AnkleCandidate& from, const AnkleCandidate& to, float dt, const AnklePathOptions& o) {
-  float prior = 0.0f;
-  float slide = 0.0f;
-  const float ground = o.planted_ankle_height + o.contact_height;
-  for (int side = 0; side < 2; ++side) {
-    const Eigen::Vector3f predicted = from.position[side] + dt * from.velocity[side];
-    prior += (predicted - to.position[side]).squaredNorm();
-    const Eigen::Vector3f step = to.position[side] - from.position[side];
-    const float distance_sq = step.squaredNorm();
-    if (distance_sq <= o.slide_distance * o.slide_distance) continue;
-    const bool sliding = o.slide_rule == SlideRule::kPatent
-                             ? std::abs(step.y()) < o.slide_height
-                             : from.position[side].y() < ground && to.position[side].y() < ground;
-    if (sliding) slide += std::exp(o.slide_weight * distance_sq);
-  }
-  return o.prior_weight * o.prior_length_scale * o.prior_length_scale * prior + (1.0f - o.prior_weight) * slide;
-}
 
 AnklePair AnklesOf(const AnkleCandidate& c) { return {c.position[0], c.position[1]}; }
 
@@ -43,37 +23,11 @@ AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<
   return sum;
 }
 
-void AnkleDagStep(const std::vector<AnkleCandidate>& previous, const std::vector<float>& previous_cost,
-                  const std::vector<AnkleCandidate>& current, float dt, const AnklePathOptions& options,
-                  std::vector<float>* cost, std::vector<int>* from) {
-  cost->assign(current.size(), std::numeric_limits<float>::infinity());
-  from->assign(current.size(), 0);
-  // Exact branch and bound: edge costs are never negative, so scanning predecessors by
-  // increasing path cost can stop at the first one already costing more than the best found.
-  std::vector<int> order(previous.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return previous_cost[a] < previous_cost[b]; });
-  for (size_t k = 0; k < current.size(); ++k) {
-    float best = std::numeric_limits<float>::infinity();
-    int best_j = order[0];
-    for (int j : order) {
-      if (previous_cost[j] >= best) break;
-      const float c = previous_cost[j] + EdgeCost(previous[j], current[k], dt, options);
-      if (c < best) {
-        best = c;
-        best_j = j;
-      }
-    }
-    (*cost)[k] = best;
-    (*from)[k] = best_j;
-  }
-}
-
 std::vector<float> AnkleStartCosts(const std::optional<AnkleCandidate>& start, const std::vector<AnkleCandidate>& first,
                                    float dt, const AnklePathOptions& options) {
   std::vector<float> cost(first.size(), 0.0f);
   if (start) {
-    for (size_t k = 0; k < first.size(); ++k) cost[k] = EdgeCost(*start, first[k], dt, options);
+    for (size_t k = 0; k < first.size(); ++k) cost[k] = AnkleEdgeCost(*start, first[k], dt, options);
   }
   return cost;
 }

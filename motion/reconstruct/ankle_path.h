@@ -49,7 +49,9 @@ struct AnkleWindowResult {
 };
 
 // One DP step (Algorithm 1): the cheapest path cost to every node of `current` and its best
-// predecessor in `previous`, whose path costs are `previous_cost`. Exact branch and bound.
+// predecessor in `previous`, whose path costs are `previous_cost`. Exact: the result of scanning
+// every edge with AnkleEdgeCost (ties go to the lower path cost); see ankle_dag_step.cc for how it
+// avoids most of that work.
 void AnkleDagStep(const std::vector<AnkleCandidate>& previous, const std::vector<float>& previous_cost,
                   const std::vector<AnkleCandidate>& current, float frame_time, const AnklePathOptions& options,
                   std::vector<float>* cost, std::vector<int>* from);
