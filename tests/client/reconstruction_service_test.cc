@@ -3,7 +3,9 @@
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
+#include <iostream>
 #include <cmath>
 #include <limits>
 #include <thread>
@@ -191,6 +193,67 @@ TEST_F(ReconstructionServiceTest, LimitsOnSessionsAndIdleTime) {
   auto third = client->OpenReconstruction(Config(0));
   ASSERT_TRUE(third.ok()) << third.status();
   EXPECT_TRUE((*third)->Finish().ok());
+}
+
+// The server's `mocap_frames_reconstructed_total` counter.
+long FramesReconstructed(Client& client) {
+  auto metrics = client.GetMetrics();
+  if (!metrics.ok()) return -1;
+  const std::string name = "mocap_frames_reconstructed_total ";
+  const size_t at = metrics->find("\n" + name);
+  return at == std::string::npos ? -1 : std::stol(metrics->substr(at + 1 + name.size()));
+}
+
+TEST_F(ReconstructionServiceTest, AClientThatDoesNotReadHoldsTheSessionBack) {
+  StartServer();
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  const std::vector<v1::WristSample> walk = QueryWrists(60);
+  auto stream = client->OpenReconstruction(Config(0));
+  ASSERT_TRUE(stream.ok()) << stream.status();
+  // 40,000 samples in messages of 100 (~2 MB: the transport takes them all), each answered by a
+  // frame (~28 MB of replies), and the client does not read. The server reads the next message
+  // only once its replies are written, so it stops working once the reply windows are full,
+  // instead of reconstructing everything into memory.
+  constexpr int kMessages = 400, kPerMessage = 100;
+  std::atomic<int> written{0};
+  std::thread writer([&] {
+    for (int m = 0; m < kMessages; ++m) {
+      std::vector<v1::WristSample> samples;
+      for (int i = m * kPerMessage; i < (m + 1) * kPerMessage; ++i) {
+        samples.push_back(walk[i % walk.size()]);
+        samples.back().set_time(i / 30.0);
+      }
+      if (!(*stream)->Write(samples).ok()) return;
+      ++written;
+    }
+  });
+  long frames_before = -1, frames_held = FramesReconstructed(*client);
+  for (int second = 0; second < 30 && frames_held != frames_before; ++second) {  // until it settles
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    frames_before = frames_held;
+    frames_held = FramesReconstructed(*client);
+  }
+  EXPECT_GE(frames_held, 0);
+  EXPECT_LT(frames_held, kMessages * kPerMessage / 2) << "the server went on although nothing was read";
+  // Reading again lets the session go on to the end, every frame delivered.
+  long frames = 0;
+  std::thread reader([&] {
+    while (true) {
+      auto reply = (*stream)->Read();
+      if (!reply.ok() || !*reply) return;
+      frames += (*reply)->frames().frames_size();
+    }
+  });
+  writer.join();
+  ASSERT_EQ(written.load(), kMessages);
+  ASSERT_TRUE((*stream)->CloseInput().ok());
+  reader.join();
+  auto summary = (*stream)->Finish();
+  ASSERT_TRUE(summary.ok()) << summary.status();
+  EXPECT_EQ(frames, kMessages * kPerMessage);
+  std::cout << "[ backpressure ] the server held at " << frames_held << " of " << kMessages * kPerMessage
+            << " frames while the client did not read\n";
 }
 
 TEST_F(ReconstructionServiceTest, AClientVanishingMidStreamFreesItsSession) {
