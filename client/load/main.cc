@@ -39,16 +39,26 @@ struct Options {
   double max_p99_ms = 0;
 };
 
-// The clip's samples resampled to `rate` and played forwards then backwards until `seconds` are
-// filled, so a short clip feeds a long run without a jump in the wrists.
+// The clip's samples, one per 1/rate seconds, repeated forwards until `seconds` are filled; each
+// repeat is moved on the ground by the clip's own travel (first to last sample, mean of the
+// wrists), so a walk goes on as a walk. (Playing it backwards instead would be walking
+// backwards, which a database rarely holds and which costs the solver twice as much.)
 std::vector<v1::WristSample> Schedule(const std::vector<v1::WristSample>& clip, double rate, double seconds) {
   std::vector<v1::WristSample> out;
   const long count = std::max(1L, static_cast<long>(seconds * rate));
   const size_t n = clip.size();
+  auto mid = [](const v1::WristSample& s, auto axis) { return 0.5 * (axis(s.left()) + axis(s.right())); };
+  const double travel_x = mid(clip.back(), [](const v1::Vec3& v) { return v.x(); }) -
+                          mid(clip.front(), [](const v1::Vec3& v) { return v.x(); });
+  const double travel_z = mid(clip.back(), [](const v1::Vec3& v) { return v.z(); }) -
+                          mid(clip.front(), [](const v1::Vec3& v) { return v.z(); });
   for (long i = 0; i < count; ++i) {
-    const size_t period = n > 1 ? 2 * (n - 1) : 1;
-    const size_t phase = static_cast<size_t>(i) % period;
-    v1::WristSample sample = clip[phase < n ? phase : period - phase];
+    const long repeat = i / static_cast<long>(n);
+    v1::WristSample sample = clip[static_cast<size_t>(i) % n];
+    for (v1::Vec3* wrist : {sample.mutable_left(), sample.mutable_right()}) {
+      wrist->set_x(static_cast<float>(wrist->x() + repeat * travel_x));
+      wrist->set_z(static_cast<float>(wrist->z() + repeat * travel_z));
+    }
     sample.set_time(static_cast<double>(i) / rate);
     out.push_back(std::move(sample));
   }
