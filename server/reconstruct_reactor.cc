@@ -84,13 +84,11 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
     if (status.ok()) {
       std::lock_guard session(session_mutex_);
       absl::StatusOr<std::unique_ptr<SessionDriver>> driver =
-          SessionDriver::Create(config, *database, session_id_, state_.limits.session);
+          SessionDriver::Create(config, *database, session_id_, state_.limits.session, state_.service.metrics);
       status = driver.status();
       if (driver.ok()) {
         driver_ = std::move(*driver);
         replies.emplace_back().mutable_started()->CopyFrom(driver_->started());
-        metrics_started_ = true;
-        state_.service.metrics.SessionStarted();
         spdlog::info("session={} request={} tenant={} database={} label=\"{}\" started: {} frames in database, latency {} frames",
                      session_id_, call_.request_id(), call_.tenant().name, config.database(), config.client_label(),
                      (*database)->num_frames(), driver_->started().latency_frames());
@@ -110,17 +108,8 @@ void ReconstructReactor::Handle(v1::ReconstructRequest request, Clock::time_poin
     std::lock_guard session(session_mutex_);
     if (!driver_) return;  // the session ended before it started (drain, error)
     status = driver_->Push(request.samples(), &replies);
-    const double seconds = std::chrono::duration<double>(Clock::now() - arrival).count();
-    driver_->RecordReplyLatency(seconds * 1e3);
-    state_.service.metrics.ReplyLatency(seconds);
+    driver_->RecordReplyLatency(std::chrono::duration<double, std::milli>(Clock::now() - arrival).count());
   }
-  std::int64_t frames = 0, rejected = 0;
-  for (const v1::ReconstructResponse& reply : replies) {
-    frames += reply.frames().frames_size();
-    rejected += reply.has_rejected() ? 1 : 0;
-  }
-  state_.service.metrics.FramesReconstructed(frames);
-  state_.service.metrics.SamplesRejected(rejected);
   Deliver(std::move(replies), status);
 }
 
@@ -130,10 +119,8 @@ void ReconstructReactor::EndInput(absl::Status final_status) {
   {
     std::lock_guard session(session_mutex_);
     if (driver_) {
-      const long before = driver_->frames_emitted();
       absl::Status finished = driver_->Finish(&replies);
       if (!finished.ok()) status = finished;
-      state_.service.metrics.FramesReconstructed(driver_->frames_emitted() - before);
       spdlog::info("session={} ended: {} frames, {} samples rejected", session_id_, driver_->frames_emitted(),
                    driver_->samples_rejected());
       driver_.reset();  // frees the session now; the database stays shared with others
@@ -230,7 +217,6 @@ void ReconstructReactor::OnDone() {
     std::lock_guard live(state_.live_mutex);
     state_.live.erase(this);
   }
-  if (metrics_started_) state_.service.metrics.SessionEnded();
   delete this;
 }
 

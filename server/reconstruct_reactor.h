@@ -57,7 +57,6 @@ class ReconstructReactor : public grpc::ServerBidiReactor<v1::ReconstructRequest
   v1::ReconstructRequest request_;  // read buffer
   std::mutex session_mutex_;        // driver_ and the config phase (compute tasks)
   std::unique_ptr<SessionDriver> driver_;
-  bool metrics_started_ = false;
 
   std::mutex mutex_;  // everything below
   bool reading_ = false, writing_ = false;

@@ -21,12 +21,8 @@ absl::Status ReconstructWhole(ReconstructionState& state, const ReconstructionDa
                               const v1::ReconstructTrajectoryRequest& request, const std::string& session_id,
                               v1::ReconstructTrajectoryResponse* response) {
   MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<SessionDriver> driver,
-                         SessionDriver::Create(request.config(), database, session_id, state.limits.session));
-  state.service.metrics.SessionStarted();
-  struct Ended {
-    ServerMetrics& metrics;
-    ~Ended() { metrics.SessionEnded(); }
-  } ended{state.service.metrics};
+                         SessionDriver::Create(request.config(), database, session_id, state.limits.session,
+                                               state.service.metrics));
   *response->mutable_started() = driver->started();
   v1::WristSamples samples;
   *samples.mutable_samples() = request.samples();
@@ -42,8 +38,6 @@ absl::Status ReconstructWhole(ReconstructionState& state, const ReconstructionDa
       response->mutable_summary()->Swap(reply.mutable_summary());
     }
   }
-  state.service.metrics.FramesReconstructed(driver->frames_emitted());
-  state.service.metrics.SamplesRejected(driver->samples_rejected());
   return absl::OkStatus();
 }
 

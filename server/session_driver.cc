@@ -9,11 +9,14 @@ namespace mocap {
 
 absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::SessionConfig& config,
                                                                      std::shared_ptr<const ReconstructionDatabase> database,
-                                                                     std::string session_id, const SessionLimits& limits) {
+                                                                     std::string session_id, const SessionLimits& limits,
+                                                                     ServerMetrics& metrics) {
   MOCAP_ASSIGN_OR_RETURN(ReconstructionOptions options, OptionsFromConfig(config));
   MOCAP_ASSIGN_OR_RETURN(PerformerScale scale, ScaleForPerformer(*database, config.performer_height()));
-  std::unique_ptr<SessionDriver> driver(new SessionDriver());
-  MOCAP_ASSIGN_OR_RETURN(driver->session_, ReconstructionSession::Create(database, options));
+  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session, ReconstructionSession::Create(database, options));
+  std::unique_ptr<SessionDriver> driver(new SessionDriver(metrics));
+  metrics.SessionStarted();
+  driver->session_ = std::move(session);
   driver->config_ = config;
   driver->scale_ = scale;
   driver->limits_ = limits;
@@ -28,12 +31,15 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::S
   return driver;
 }
 
+SessionDriver::~SessionDriver() { metrics_.SessionEnded(); }
+
 absl::Status SessionDriver::Reject(const v1::WristSample& sample, const std::string& reason,
                                    std::vector<v1::ReconstructResponse>* replies) {
   if (config_.strict()) {
     return absl::InvalidArgumentError(StrCat("sample ", samples_ - 1, " (time ", sample.time(), "): ", reason));
   }
   ++rejected_;
+  metrics_.SamplesRejected(1);
   v1::SampleRejected* rejected = replies->emplace_back().mutable_rejected();
   rejected->set_sample_index(samples_ - 1);
   rejected->set_time(sample.time());
@@ -78,6 +84,7 @@ absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies
 }
 
 void SessionDriver::RecordReplyLatency(double milliseconds) {
+  metrics_.ReplyLatency(milliseconds / 1e3);
   latency_sum_ms_ += milliseconds;
   latency_max_ms_ = std::max(latency_max_ms_, milliseconds);
   ++latency_count_;
@@ -91,6 +98,7 @@ void SessionDriver::AppendFrames(std::vector<v1::ReconstructResponse>* replies) 
     for (size_t i = start; i < end; ++i) ToProto(pending_[i], scale_, config_.include_diagnostics(), frames->add_frames());
   }
   frames_emitted_ += static_cast<long>(pending_.size());
+  metrics_.FramesReconstructed(static_cast<std::int64_t>(pending_.size()));
   pending_.clear();
 }
 

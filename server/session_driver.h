@@ -2,6 +2,8 @@
 // transport (the Reconstruct stream or the unary ReconstructTrajectory): config → `started`,
 // sample messages → frames and rejected samples, end of input → the last frames and the summary.
 // Replies are mocap.v1 messages ready to send; frames go in batches of at most kFramesPerReply.
+// The driver keeps the server's session counters: a session is active from Create to destruction,
+// and its frames, refused samples and reply latencies are counted as they happen.
 //
 // Thread safety: none; one caller at a time.
 #pragma once
@@ -14,6 +16,7 @@
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/reconstruct/reconstruction_session.h"
 #include "server/reconstruction_convert.h"
+#include "server/server_metrics.h"
 
 namespace mocap {
 
@@ -28,7 +31,9 @@ class SessionDriver {
   // InvalidArgument for a bad config (the message names the field).
   static absl::StatusOr<std::unique_ptr<SessionDriver>> Create(const v1::SessionConfig& config,
                                                                std::shared_ptr<const ReconstructionDatabase> database,
-                                                               std::string session_id, const SessionLimits& limits);
+                                                               std::string session_id, const SessionLimits& limits,
+                                                               ServerMetrics& metrics);
+  ~SessionDriver();
 
   const v1::SessionStarted& started() const { return started_; }
   // Errors end the session: InvalidArgument for a refused sample with config.strict,
@@ -36,17 +41,18 @@ class SessionDriver {
   absl::Status Push(const v1::WristSamples& samples, std::vector<v1::ReconstructResponse>* replies);
   // The remaining frames, then the summary. Call once.
   absl::Status Finish(std::vector<v1::ReconstructResponse>* replies);
-  // Server-side latency of one sample message (reported in the summary).
+  // Server-side latency of one sample message (reported in the summary and the metrics).
   void RecordReplyLatency(double milliseconds);
 
   long frames_emitted() const { return frames_emitted_; }
   long samples_rejected() const { return rejected_; }
 
  private:
-  SessionDriver() = default;
+  explicit SessionDriver(ServerMetrics& metrics) : metrics_(metrics) {}
   void AppendFrames(std::vector<v1::ReconstructResponse>* replies);
   absl::Status Reject(const v1::WristSample& sample, const std::string& reason, std::vector<v1::ReconstructResponse>* replies);
 
+  ServerMetrics& metrics_;
   v1::SessionConfig config_;
   std::unique_ptr<ReconstructionSession> session_;
   PerformerScale scale_;
