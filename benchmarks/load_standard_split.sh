@@ -20,25 +20,18 @@ mkdir -p "$out"
 streams=("$@")
 [ ${#streams[@]} -gt 0 ] || streams=(5 10 20 30)
 
-# A key of its own, revoked at the end; the store is written only by these two admin commands.
-key=$("$mocapd" tenant add-key --store "$store" default 2>/dev/null)
-server_pid=""
-cleanup() {
-  [ -n "$server_pid" ] && kill "$server_pid" 2>/dev/null && wait "$server_pid" 2>/dev/null || true
-  "$mocapd" tenant revoke-key --store "$store" default "$key" >/dev/null 2>&1 || true
-}
-trap cleanup EXIT
-coproc SERVER { exec "$mocapd" serve --store "$store" --read-only --listen 127.0.0.1:0 2>"$out/server.log"; }
-server_pid=$SERVER_PID
-read -r -t 60 line <&"${SERVER[0]}" || { echo "mocapd serve did not start; see $out/server.log" >&2; exit 1; }
-address=${line#listening on }
+# A key of its own, revoked at the end: the store is written only by those two admin commands.
+# shellcheck source=scripts/temporary_server.sh
+source "$repo/scripts/temporary_server.sh"
+trap stop_temporary_server EXIT
+start_temporary_server "$mocapd" "$store" "$out/server.log" --read-only
 
 # One short session first, so the database's indices are built before any timing.
-"$load" --address "$address" --key "$key" --database bandai-namco-2 --bvh "$clip" --streams 1 --seconds 1 \
+"$load" --address "$address" --database bandai-namco-2 --bvh "$clip" --streams 1 --seconds 1 \
   --json >/dev/null
 for n in "${streams[@]}"; do
   # shellcheck disable=SC2086  # EXTRA is a list of options
-  "$load" --address "$address" --key "$key" --database bandai-namco-2 --bvh "$clip" --streams "$n" \
+  "$load" --address "$address" --database bandai-namco-2 --bvh "$clip" --streams "$n" \
     --seconds "${SECONDS_PER_RUN:-30}" --lag "${LAG:-0}" --json ${EXTRA:-} >"$out/streams-$n.json" || true
   python3 - "$out/streams-$n.json" <<'PY'
 import json, sys

@@ -15,24 +15,13 @@ store="$repo/var/mocap.db"
 out="$repo/out"
 mkdir -p "$out" "$out/stream"
 
-server_pid=""
-key_id=""
-cleanup() {
-  [ -n "$server_pid" ] && kill "$server_pid" 2>/dev/null && wait "$server_pid" 2>/dev/null || true
-  [ -n "$key_id" ] && "$mocapd" tenant revoke-key --store "$store" default "$key_id" >/dev/null 2>&1 || true
-}
-trap cleanup EXIT
+# shellcheck source=scripts/temporary_server.sh
+source "$repo/scripts/temporary_server.sh"
+trap stop_temporary_server EXIT
 
-# Starts `mocapd serve` on the store (a free loopback port) with a fresh key of the local tenant
-# ("default", the tenant the local import commands act as); sets address and MOCAP_API_KEY.
+# The server on the store (a free loopback port, a fresh key revoked at the end).
 start_server() {
-  export MOCAP_API_KEY
-  MOCAP_API_KEY=$("$mocapd" tenant add-key --store "$store" default)
-  key_id=$MOCAP_API_KEY  # revoke-key takes the key itself too (it keeps the mk_xxxxxxxx id)
-  coproc SERVER { exec "$mocapd" serve --store "$store" --listen 127.0.0.1:0 2>"$out/stream/server.log"; }
-  server_pid=$SERVER_PID
-  read -r -t 60 line <&"${SERVER[0]}" || { echo "quickstart: mocapd serve did not start; see $out/stream/server.log" >&2; exit 1; }
-  address=${line#listening on }
+  start_temporary_server "$mocapd" "$store" "$out/stream/server.log"
   echo "== mocapd serve listening on $address (log: $out/stream/server.log)"
 }
 

@@ -47,11 +47,10 @@ std::vector<v1::WristSample> Schedule(const std::vector<v1::WristSample>& clip, 
   std::vector<v1::WristSample> out;
   const long count = std::max(1L, static_cast<long>(seconds * rate));
   const size_t n = clip.size();
-  auto mid = [](const v1::WristSample& s, auto axis) { return 0.5 * (axis(s.left()) + axis(s.right())); };
-  const double travel_x = mid(clip.back(), [](const v1::Vec3& v) { return v.x(); }) -
-                          mid(clip.front(), [](const v1::Vec3& v) { return v.x(); });
-  const double travel_z = mid(clip.back(), [](const v1::Vec3& v) { return v.z(); }) -
-                          mid(clip.front(), [](const v1::Vec3& v) { return v.z(); });
+  const v1::WristSample& first = clip.front();
+  const v1::WristSample& last = clip.back();
+  const double travel_x = 0.5 * (last.left().x() + last.right().x() - first.left().x() - first.right().x());
+  const double travel_z = 0.5 * (last.left().z() + last.right().z() - first.left().z() - first.right().z());
   for (long i = 0; i < count; ++i) {
     const long repeat = i / static_cast<long>(n);
     v1::WristSample sample = clip[static_cast<size_t>(i) % n];
