@@ -1,8 +1,11 @@
 #include "server/import_reactor.h"
 
+#include <algorithm>
+
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
+#include "motion/preprocess/clip_preprocessor.h"
 #include "server/proto_convert.h"
 
 namespace mocap {
@@ -67,8 +70,11 @@ absl::Status ImportReactor::HandleMessage() {
 absl::Status ImportReactor::HandleStart(const v1::ImportStart& start) {
   if (writer_) return absl::InvalidArgumentError("the import stream has a second start message");
   if (start.database().empty()) return absl::InvalidArgumentError("name the database to import into");
-  if (start.frame_rate() < 0 || start.batch_size() < 0) {
-    return absl::InvalidArgumentError("frame rate and batch size must not be negative");
+  if (start.batch_size() < 0) return absl::InvalidArgumentError("start.batch_size must not be negative");
+  if (start.frame_rate() != 0) {  // 0: the default (30 fps), or the existing database's rate
+    if (absl::Status rate = CheckDatabaseFrameRate(start.frame_rate()); !rate.ok()) {
+      return absl::InvalidArgumentError(StrCat("start.frame_rate: ", rate.message()));
+    }
   }
   std::optional<LengthUnit> unit;
   if (!start.source_unit().empty()) {
@@ -92,13 +98,21 @@ absl::Status ImportReactor::HandleStart(const v1::ImportStart& start) {
 absl::Status ImportReactor::HandleChunk(const v1::FileChunk& chunk) {
   if (!writer_) return absl::InvalidArgumentError("the import stream must begin with a start message");
   const std::string& name = chunk.file_name();
-  if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos) {
-    return absl::InvalidArgumentError(StrCat("file name '", name, "' must be non-empty and without folders"));
+  if (name.empty() || name.size() > kMaxFileNameBytes) {
+    return absl::InvalidArgumentError(StrCat("chunk.file_name must have 1 to ", kMaxFileNameBytes, " bytes, not ", name.size()));
+  }
+  if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos ||
+      std::any_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; })) {
+    return absl::InvalidArgumentError("chunk.file_name must be a plain file name: no folders, no control characters");
   }
   if (file_name_.empty()) {
     file_name_ = name;
   } else if (name != file_name_) {
     return absl::InvalidArgumentError(StrCat(name, ": chunk arrived before the last chunk of ", file_name_));
+  }
+  if (chunk.data().size() > kMaxChunkBytes) {
+    return absl::InvalidArgumentError(StrCat("chunk.data has ", chunk.data().size(), " bytes; a chunk carries at most ",
+                                             kMaxChunkBytes, " (1 MiB)"));
   }
   const ServerLimits& limits = call_.service().limits;
   if (static_cast<std::int64_t>(file_bytes_.size() + chunk.data().size()) > limits.max_file_bytes) {

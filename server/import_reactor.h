@@ -20,6 +20,8 @@ class ImportReactor : public grpc::ServerReadReactor<v1::ImportBvhRequest> {
   void OnDone() override { delete this; }
 
  private:
+  static constexpr size_t kMaxFileNameBytes = 255;
+  static constexpr size_t kMaxChunkBytes = 1 << 20;  // the API's promise (motion_store.proto)
   void Begin();
   // Handles request_ on a worker; then reads the next message or finishes.
   void Handle();

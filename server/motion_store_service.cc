@@ -5,6 +5,7 @@
 #include "motion/bvh/bvh_writer.h"
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "motion/preprocess/clip_preprocessor.h"
 #include "motion/skeleton/local_motion.h"
 #include "server/import_reactor.h"
 #include "server/proto_convert.h"
@@ -105,6 +106,9 @@ grpc::ServerUnaryReactor* MotionStoreService::CreateDatabase(grpc::CallbackServe
     MOCAP_RETURN_IF_ERROR(call.RequireWritableStore());
     MOCAP_RETURN_IF_ERROR(CheckName(request->name()));
     const double frame_rate = request->frame_rate() == 0 ? 30.0 : request->frame_rate();
+    if (absl::Status rate = CheckDatabaseFrameRate(frame_rate); !rate.ok()) {
+      return absl::InvalidArgumentError(StrCat("frame_rate: ", rate.message()));
+    }
     MOCAP_ASSIGN_OR_RETURN(DatabaseSummary created,
                            call.store().CreateEmptyDatabase(request->name(), frame_rate, call.tenant().id));
     ToProto(created, response->mutable_database());

@@ -1,8 +1,11 @@
 #include "server/reconstruct_reactor.h"
 
+#include <optional>
+
 #include <spdlog/spdlog.h>
 
 #include "motion/core/str_cat.h"
+#include "server/log_text.h"
 
 namespace mocap {
 
@@ -22,11 +25,34 @@ ReconstructReactor::ReconstructReactor(ReconstructionState& state, grpc::Callbac
 void ReconstructReactor::Post(std::function<void()> work) {
   // Called with mutex_ held.
   ++tasks_;
-  state_.compute.Post([this, work = std::move(work)] {
-    work();
+  state_.compute.Post(pool_key_.load(), [this, work = std::move(work)] {
+    absl::Status failed;
+    try {
+      work();
+    } catch (const std::exception& error) {
+      failed = absl::InternalError(StrCat("reconstruction failed: ", error.what()));
+    } catch (...) {
+      failed = absl::InternalError("reconstruction failed");
+    }
     std::lock_guard lock(mutex_);
+    if (!failed.ok()) CompleteLocked(failed, true);
     --tasks_;
     PumpLocked();
+  });
+}
+
+void ReconstructReactor::PostSliceLocked() {
+  const int begin = next_sample_;
+  const int end = std::min(samples_->samples_size(), begin + kSamplesPerTask);
+  next_sample_ = end;
+  std::optional<Clock::time_point> last_of_message;
+  std::shared_ptr<const v1::WristSamples> samples = samples_;
+  if (end == samples_->samples_size()) {
+    last_of_message = samples_arrival_;
+    samples_.reset();  // wholly dispatched: the next read waits for this task
+  }
+  Post([this, samples = std::move(samples), begin, end, last_of_message] {
+    HandleSlice(*samples, begin, end, last_of_message);
   });
 }
 
@@ -57,7 +83,10 @@ void ReconstructReactor::OnReadDone(bool ok) {
         CompleteLocked(absl::InvalidArgumentError("samples before the config: send SessionConfig first"), false);
         return PumpLocked();
       }
-      return Post([this, request = std::move(request_), arrival]() mutable { Handle(std::move(request), arrival); });
+      samples_ = std::make_shared<const v1::WristSamples>(std::move(*request_.mutable_samples()));
+      next_sample_ = 0;
+      samples_arrival_ = arrival;
+      return PumpLocked();
     case v1::ReconstructRequest::kFinish:
       input_done_ = true;
       if (!configured_) {
@@ -74,6 +103,7 @@ void ReconstructReactor::OnReadDone(bool ok) {
 void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
   absl::Status status = call_.Begin(&state_.sessions, "sessions_per_tenant");
   if (!status.ok()) return Deliver({}, status);
+  pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
   {
     std::lock_guard lock(mutex_);
     ++tasks_;  // the database wait; AcquireSessionDatabase always answers
@@ -83,14 +113,14 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
     absl::Status status = database.status();
     if (status.ok()) {
       std::lock_guard session(session_mutex_);
-      absl::StatusOr<std::unique_ptr<SessionDriver>> driver =
-          SessionDriver::Create(config, *database, session_id_, state_.limits.session, state_.service.metrics);
+      absl::StatusOr<std::unique_ptr<SessionDriver>> driver = SessionDriver::Create(
+          config, *database, session_id_, state_.limits.session, state_.service.metrics, &cancelled_);
       status = driver.status();
       if (driver.ok()) {
         driver_ = std::move(*driver);
         replies.emplace_back().mutable_started()->CopyFrom(driver_->started());
         spdlog::info("session={} request={} tenant={} database={} label=\"{}\" started: {} frames in database, latency {} frames",
-                     session_id_, call_.request_id(), call_.tenant().name, config.database(), config.client_label(),
+                     session_id_, call_.request_id(), call_.tenant().name, LogText(config.database()), LogText(config.client_label()),
                      (*database)->num_frames(), driver_->started().latency_frames());
       }
     }
@@ -101,14 +131,15 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
   });
 }
 
-void ReconstructReactor::Handle(v1::ReconstructRequest request, Clock::time_point arrival) {
+void ReconstructReactor::HandleSlice(const v1::WristSamples& samples, int begin, int end,
+                                     std::optional<Clock::time_point> arrival) {
   Replies replies;
   absl::Status status;
   {
     std::lock_guard session(session_mutex_);
     if (!driver_) return;  // the session ended before it started (drain, error)
-    status = driver_->Push(request.samples(), &replies);
-    driver_->RecordReplyLatency(std::chrono::duration<double, std::milli>(Clock::now() - arrival).count());
+    status = driver_->Push(samples, begin, end, &replies);
+    if (arrival) driver_->RecordReplyLatency(std::chrono::duration<double, std::milli>(Clock::now() - *arrival).count());
   }
   Deliver(std::move(replies), status);
 }
@@ -145,28 +176,37 @@ void ReconstructReactor::CompleteLocked(const absl::Status& status, bool discard
   if (completing_) return;
   completing_ = true;
   input_done_ = true;
+  samples_.reset();
+  // A normal end (half-close, finish, shutdown) still computes the remaining frames: EndInput
+  // runs before this. Anything else stops the session's compute now.
+  if (!status.ok() && !absl::IsUnavailable(status)) cancelled_ = true;
   final_status_ = call_.End(status);
 }
 
 void ReconstructReactor::PumpLocked() {
-  if (finished_ || writing_) return;
-  if (!outbox_.empty()) {
+  if (finished_) return;
+  if (!writing_ && !outbox_.empty()) {
     writing_message_ = std::move(outbox_.front());
     outbox_.pop_front();
     writing_ = true;
     StartWrite(&writing_message_);
-    return;
   }
   if (completing_) {
-    // Compute tasks refer to this reactor: finish only when none is left. A read still
-    // outstanding completes with ok = false after Finish.
-    if (tasks_ == 0) {
+    // Compute tasks refer to this reactor: finish only when none is left and every queued reply
+    // is written. A read still outstanding completes with ok = false after Finish.
+    if (!writing_ && tasks_ == 0) {
       finished_ = true;
       Finish(final_status_);
     }
     return;
   }
-  if (!reading_ && !input_done_ && tasks_ == 0) {
+  if (samples_) {
+    // The message in progress: its next slice once the previous one is done and few of its
+    // replies wait to be written (a client that does not read holds its own session back).
+    if (tasks_ == 0 && outbox_.size() < kMaxQueuedReplies) PostSliceLocked();
+    return;
+  }
+  if (!writing_ && outbox_.empty() && !reading_ && !input_done_ && tasks_ == 0) {
     reading_ = true;
     last_read_ = Clock::now();
     StartRead(&request_);
@@ -209,6 +249,7 @@ void ReconstructReactor::EndForShutdown() {
     return PumpLocked();
   }
   input_done_ = true;
+  samples_.reset();  // the rest of a message in progress is dropped: frames sent so far stand
   Post([this, status] { EndInput(status); });
 }
 

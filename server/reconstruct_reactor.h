@@ -2,17 +2,25 @@
 // one read, one write and one compute task outstanding.
 //
 //   read config → [compute] authenticate, find the database, wait for its index → write `started`
-//   read samples → [compute] SessionDriver::Push → write frames / rejected → read next ...
+//   read samples → [compute] SessionDriver::Push of a few samples → write their frames → [compute]
+//                  the next few ... → read next message
 //   half-close or `finish` → [compute] SessionDriver::Finish → write frames, summary → Finish(OK)
-// The next message is read only after the replies to the previous one have been written, so a
-// slow reader slows its own session and nothing queues without bound. The reactor finishes only
+// A samples message is cut into tasks of kSamplesPerTask samples, posted under the tenant's key
+// of the fair compute pool: a large message is answered incrementally and cannot hold a compute
+// thread, and another tenant's task waits for at most one task per thread. The next slice is
+// posted only while few replies wait to be written, and the next message is read only after the
+// replies to the previous one have been written, so a slow reader slows its own session and
+// nothing queues without bound. Once the call's outcome is decided (cancelled, idle, deadline,
+// error) the session's cancel flag stops its compute within one frame. The reactor finishes only
 // when no compute task refers to it.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "server/reconstruction_service.h"
@@ -38,9 +46,16 @@ class ReconstructReactor : public grpc::ServerBidiReactor<v1::ReconstructRequest
   using Clock = std::chrono::steady_clock;
   using Replies = std::vector<v1::ReconstructResponse>;
 
-  // Runs `work` on the compute pool; the reactor stays alive until it has returned.
+  static constexpr int kSamplesPerTask = 4;
+  static constexpr size_t kMaxQueuedReplies = 8;  // replies waiting to be written before a slice
+
+  // Runs `work` on the compute pool under this session's tenant; the reactor stays alive until
+  // it has returned. An exception ends the call with INTERNAL.
   void Post(std::function<void()> work);
-  void Handle(v1::ReconstructRequest request, Clock::time_point arrival);
+  // With mutex_ held: posts the next slice of the samples message in progress.
+  void PostSliceLocked();
+  // Samples [begin, end) of `samples`; `arrival` for the message's last slice (its reply latency).
+  void HandleSlice(const v1::WristSamples& samples, int begin, int end, std::optional<Clock::time_point> arrival);
   void HandleConfig(const v1::SessionConfig& config);
   void EndInput(absl::Status final_status);
   // Queues replies; `status` not OK ends the call after them.
@@ -57,6 +72,8 @@ class ReconstructReactor : public grpc::ServerBidiReactor<v1::ReconstructRequest
   v1::ReconstructRequest request_;  // read buffer
   std::mutex session_mutex_;        // driver_ and the config phase (compute tasks)
   std::unique_ptr<SessionDriver> driver_;
+  std::atomic<bool> cancelled_{false};  // set once the outcome is decided: stops the session's compute
+  std::atomic<WorkPool::Key> pool_key_{WorkPool::kSharedKey};  // the tenant, once authenticated
 
   std::mutex mutex_;  // everything below
   bool reading_ = false, writing_ = false;
@@ -69,6 +86,10 @@ class ReconstructReactor : public grpc::ServerBidiReactor<v1::ReconstructRequest
   std::deque<v1::ReconstructResponse> outbox_;
   v1::ReconstructResponse writing_message_;
   Clock::time_point last_read_ = Clock::now();
+  // The samples message being dispatched slice by slice (null when none or wholly dispatched).
+  std::shared_ptr<const v1::WristSamples> samples_;
+  int next_sample_ = 0;
+  Clock::time_point samples_arrival_;
 };
 
 }  // namespace mocap

@@ -59,6 +59,9 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
   if (o.has_joint_smoothing_frames()) options.joint_smoothing_sigma = o.joint_smoothing_frames();
   if (o.has_footskate_cleanup()) options.footskate.enabled = o.footskate_cleanup();
   if (o.has_max_gap_seconds()) options.max_gap_seconds = o.max_gap_seconds();
+  if (o.has_wrist_fit_frames()) options.smoothing.local_linear_sigma = o.wrist_fit_frames();
+  if (o.has_wrist_lookahead_frames()) options.smoothing.lookahead = o.wrist_lookahead_frames();
+  if (o.has_hand_target_frames()) options.hand_target_sigma = o.hand_target_frames();
   switch (o.foot_contacts()) {
     case v1::FOOT_CONTACTS_ESTIMATED_ANKLES: options.footskate.contact_source = ContactSource::kEstimatedAnkles; break;
     case v1::FOOT_CONTACTS_DATABASE_FRAME: options.footskate.contact_source = ContactSource::kDatabaseFrame; break;
@@ -73,6 +76,9 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
            CheckRange("overrides.ankle_smoothing_frames", options.ankle_path.smoothing_sigma_frames, 0, 30),
            CheckRange("overrides.joint_smoothing_frames", options.joint_smoothing_sigma, 0, 30),
            CheckRange("overrides.max_gap_seconds", options.max_gap_seconds, 1e-3, 10),
+           CheckRange("overrides.wrist_fit_frames", options.smoothing.local_linear_sigma, 0, 10),
+           CheckRange("overrides.wrist_lookahead_frames", options.smoothing.lookahead, 0, 30),
+           CheckRange("overrides.hand_target_frames", options.hand_target_sigma, -1e9, 10),
            CheckRange("min_confidence", config.min_confidence(), 0, 1),
        }) {
     if (!s.ok()) return s;
@@ -96,6 +102,9 @@ v1::SessionConfig EffectiveConfig(const v1::SessionConfig& config, const Reconst
   o->set_joint_smoothing_frames(options.joint_smoothing_sigma);
   o->set_footskate_cleanup(options.footskate.enabled);
   o->set_max_gap_seconds(options.max_gap_seconds);
+  o->set_wrist_fit_frames(options.smoothing.local_linear_sigma);
+  o->set_wrist_lookahead_frames(options.smoothing.lookahead);
+  o->set_hand_target_frames(options.hand_target_sigma);
   return out;
 }
 
@@ -111,15 +120,35 @@ absl::StatusOr<PerformerScale> ScaleForPerformer(const ReconstructionDatabase& d
   return scale;
 }
 
-bool FromProto(const v1::WristSample& sample, float min_confidence, const PerformerScale& scale, WristSample* out) {
-  const float left = sample.has_left_confidence() ? sample.left_confidence() : 1.0f;
-  const float right = sample.has_right_confidence() ? sample.right_confidence() : 1.0f;
-  // NaN confidences count as below any threshold.
-  if (!(left >= min_confidence) || !(right >= min_confidence)) return false;
+SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const PerformerScale& scale, WristSample* out) {
+  auto refused = [](std::string reason) { return SampleCheck{SampleCheck::kRefused, std::move(reason)}; };
+  if (!std::isfinite(sample.time())) return refused("time is not a finite number");
+  const float confidences[2] = {sample.has_left_confidence() ? sample.left_confidence() : 1.0f,
+                                sample.has_right_confidence() ? sample.right_confidence() : 1.0f};
+  for (float c : confidences) {
+    if (!(c >= 0.0f && c <= 1.0f)) return refused(StrCat("confidence ", c, " is outside [0, 1]"));
+  }
+  for (const v1::Vec3* v : {&sample.left(), &sample.right()}) {
+    for (double x : {v->x(), v->y(), v->z()}) {
+      if (!std::isfinite(x)) return refused("a wrist position is not a finite number");
+      if (std::abs(x) > kMaxWristCoordinateMetres) {
+        return refused(StrCat("a wrist coordinate of ", x, " m is beyond ", kMaxWristCoordinateMetres,
+                              " m from the origin (positions are metres)"));
+      }
+    }
+  }
+  if (confidences[0] < min_confidence || confidences[1] < min_confidence) {
+    return {SampleCheck::kDropout, "confidence below min_confidence (treated as a dropout)"};
+  }
   out->time = sample.time();
   out->left = FromProto(sample.left(), 1.0f / scale.scale);
   out->right = FromProto(sample.right(), 1.0f / scale.scale);
-  return true;
+  const float separation = (out->left - out->right).norm();
+  if (separation > kMaxWristSeparationMetres) {
+    return refused(StrCat("wrists ", separation, " m apart (more than ", kMaxWristSeparationMetres,
+                          " m: not one person's wrists; positions are metres)"));
+  }
+  return {};
 }
 
 void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out) {

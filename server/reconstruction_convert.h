@@ -2,6 +2,8 @@
 // scaling the service applies at its boundary (SessionConfig.performer_height).
 #pragma once
 
+#include <string>
+
 #include "absl/status/statusor.h"
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/reconstruct/reconstruction_session.h"
@@ -28,8 +30,19 @@ struct PerformerScale {
 // InvalidArgument for a height that is negative, not finite, or outside 0.3–3 × the database's.
 absl::StatusOr<PerformerScale> ScaleForPerformer(const ReconstructionDatabase& database, float performer_height);
 
-// A sample to the session's units; false when either confidence is below `min_confidence`.
-bool FromProto(const v1::WristSample& sample, float min_confidence, const PerformerScale& scale, WristSample* out);
+// A sample to the session's units.
+// What became of one wire sample: accepted (into `out`), a dropout (confidence below
+// min_confidence: the session bridges or splits it), or refused with a reason (not finite,
+// positions or confidences out of range: garbage is never reconstructed).
+struct SampleCheck {
+  enum Kind { kAccepted, kDropout, kRefused } kind = kAccepted;
+  std::string reason;
+};
+// Positions beyond this many metres from the origin, in any axis, are refused.
+inline constexpr double kMaxWristCoordinateMetres = 10000.0;
+// Wrists further apart than this (metres, after performer scaling) are not one person's.
+inline constexpr double kMaxWristSeparationMetres = 3.0;
+SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const PerformerScale& scale, WristSample* out);
 
 void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out);
 void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out);

@@ -7,6 +7,7 @@
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "server/reconstruct_reactor.h"
+#include "server/trajectory_reactor.h"
 
 namespace mocap {
 namespace {
@@ -16,34 +17,6 @@ int ComputeThreads(const ReconstructionLimits& limits) {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
-// The unary call: one SessionDriver fed every sample, its replies gathered into one response.
-absl::Status ReconstructWhole(ReconstructionState& state, const ReconstructionDatabases::Database& database,
-                              const v1::ReconstructTrajectoryRequest& request, const std::string& session_id,
-                              v1::ReconstructTrajectoryResponse* response) {
-  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<SessionDriver> driver,
-                         SessionDriver::Create(request.config(), database, session_id, state.limits.session,
-                                               state.service.metrics));
-  *response->mutable_started() = driver->started();
-  v1::WristSamples samples;
-  *samples.mutable_samples() = request.samples();
-  std::vector<v1::ReconstructResponse> replies;
-  MOCAP_RETURN_IF_ERROR(driver->Push(samples, &replies));
-  MOCAP_RETURN_IF_ERROR(driver->Finish(&replies));
-  for (v1::ReconstructResponse& reply : replies) {
-    if (reply.has_frames()) {
-      for (v1::Frame& frame : *reply.mutable_frames()->mutable_frames()) response->add_frames()->Swap(&frame);
-    } else if (reply.has_rejected()) {
-      response->add_rejected()->Swap(reply.mutable_rejected());
-    } else if (reply.has_summary()) {
-      response->mutable_summary()->Swap(reply.mutable_summary());
-    }
-  }
-  return absl::OkStatus();
-}
-
-}  // namespace
-
-namespace {
 std::string RandomInstanceTag() {
   std::random_device random;
   std::string tag;
@@ -101,21 +74,7 @@ grpc::ServerBidiReactor<v1::ReconstructRequest, v1::ReconstructResponse>* Recons
 grpc::ServerUnaryReactor* ReconstructionService::ReconstructTrajectory(grpc::CallbackServerContext* context,
                                                                        const v1::ReconstructTrajectoryRequest* request,
                                                                        v1::ReconstructTrajectoryResponse* response) {
-  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  auto call = std::make_shared<CallScope>(state_.service, context, "ReconstructTrajectory");
-  state_.compute.Post([this, reactor, call, request, response] {
-    absl::Status status = call->Begin();
-    if (status.ok() && state_.draining) status = absl::UnavailableError("the server is shutting down; connect again");
-    if (!status.ok()) return reactor->Finish(call->End(status));
-    const std::string session_id = state_.NextSessionId();
-    AcquireSessionDatabase(state_, *call, request->config().database(),
-                           [this, reactor, call, request, response, session_id](absl::StatusOr<ReconstructionDatabases::Database> database) {
-                             absl::Status result = database.status();
-                             if (result.ok()) result = ReconstructWhole(state_, *database, *request, session_id, response);
-                             reactor->Finish(call->End(result));
-                           });
-  });
-  return reactor;
+  return new TrajectoryReactor(state_, context, request, response);
 }
 
 void ReconstructionService::Drain() {

@@ -4,6 +4,7 @@
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "server/log_text.h"
 
 namespace mocap {
 namespace {
@@ -89,10 +90,10 @@ grpc::Status CallScope::End(const absl::Status& status) {
   const std::string tenant = tenant_.name.empty() ? "-" : tenant_.name;
   if (status.ok()) {
     spdlog::info("request={} method={} tenant={} peer={} code=OK ms={:.1f}", request_id_, method_, tenant,
-                 context_->peer(), seconds * 1e3);
+                 LogText(context_->peer()), seconds * 1e3);
   } else {
     spdlog::warn("request={} method={} tenant={} peer={} code={} ms={:.1f} error=\"{}\"", request_id_, method_, tenant,
-                 context_->peer(), CodeName(mapped.error_code()), seconds * 1e3, std::string(status.message()));
+                 LogText(context_->peer()), CodeName(mapped.error_code()), seconds * 1e3, LogText(std::string(status.message())));
   }
   ticket_.reset();
   store_.reset();

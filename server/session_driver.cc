@@ -10,13 +10,15 @@ namespace mocap {
 absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::SessionConfig& config,
                                                                      std::shared_ptr<const ReconstructionDatabase> database,
                                                                      std::string session_id, const SessionLimits& limits,
-                                                                     ServerMetrics& metrics) {
+                                                                     ServerMetrics& metrics, const std::atomic<bool>* cancel) {
   MOCAP_ASSIGN_OR_RETURN(ReconstructionOptions options, OptionsFromConfig(config));
+  options.max_window_frames = limits.max_window_frames;
   MOCAP_ASSIGN_OR_RETURN(PerformerScale scale, ScaleForPerformer(*database, config.performer_height()));
   MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session, ReconstructionSession::Create(database, options));
   std::unique_ptr<SessionDriver> driver(new SessionDriver(metrics));
   metrics.SessionStarted();
   driver->session_ = std::move(session);
+  driver->session_->SetCancelFlag(cancel);
   driver->config_ = config;
   driver->scale_ = scale;
   driver->limits_ = limits;
@@ -47,17 +49,21 @@ absl::Status SessionDriver::Reject(const v1::WristSample& sample, const std::str
   return absl::OkStatus();
 }
 
-absl::Status SessionDriver::Push(const v1::WristSamples& samples, std::vector<v1::ReconstructResponse>* replies) {
-  for (const v1::WristSample& sample : samples.samples()) {
-    if (samples_++ == 0) first_time_ = sample.time();
-    if (sample.time() - first_time_ > limits_.max_session_seconds) {
+absl::Status SessionDriver::Push(const v1::WristSamples& samples, int begin, int end,
+                                 std::vector<v1::ReconstructResponse>* replies) {
+  for (int i = begin; i < end; ++i) {
+    const v1::WristSample& sample = samples.samples(i);
+    ++samples_;
+    WristSample input;
+    const SampleCheck check = FromProto(sample, config_.min_confidence(), scale_, &input);
+    if (check.kind != SampleCheck::kAccepted) {
+      MOCAP_RETURN_IF_ERROR(Reject(sample, check.reason, replies));
+      continue;
+    }
+    if (!first_time_) first_time_ = sample.time();
+    if (sample.time() - *first_time_ > limits_.max_session_seconds) {
       return absl::ResourceExhaustedError(StrCat("session length limit: samples span more than ",
                                                  limits_.max_session_seconds, " s; start a new session"));
-    }
-    WristSample input;
-    if (!FromProto(sample, config_.min_confidence(), scale_, &input)) {
-      MOCAP_RETURN_IF_ERROR(Reject(sample, "confidence below min_confidence (treated as a dropout)", replies));
-      continue;
     }
     absl::Status pushed = session_->Push(input, &pending_);
     if (absl::IsInvalidArgument(pushed)) {

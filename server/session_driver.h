@@ -8,7 +8,9 @@
 // Thread safety: none; one caller at a time.
 #pragma once
 
+#include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,23 +24,33 @@ namespace mocap {
 
 struct SessionLimits {
   double max_session_seconds = 4 * 3600.0;  // span of the input's timestamps
+  // Whole-trajectory sessions (window 0) solve their ankle path in windows of at most this many
+  // frames, so a session's memory stays bounded (ReconstructionOptions::max_window_frames).
+  int max_window_frames = 3000;
 };
 
 class SessionDriver {
  public:
   static constexpr int kFramesPerReply = 256;
 
-  // InvalidArgument for a bad config (the message names the field).
+  // InvalidArgument for a bad config (the message names the field). Once `*cancel` is set (any
+  // thread), Push and Finish return Cancelled within one frame's work; the flag must outlive
+  // the driver (nullptr: never cancelled).
   static absl::StatusOr<std::unique_ptr<SessionDriver>> Create(const v1::SessionConfig& config,
                                                                std::shared_ptr<const ReconstructionDatabase> database,
                                                                std::string session_id, const SessionLimits& limits,
-                                                               ServerMetrics& metrics);
+                                                               ServerMetrics& metrics,
+                                                               const std::atomic<bool>* cancel = nullptr);
   ~SessionDriver();
 
   const v1::SessionStarted& started() const { return started_; }
   // Errors end the session: InvalidArgument for a refused sample with config.strict,
   // ResourceExhausted past the session length.
-  absl::Status Push(const v1::WristSamples& samples, std::vector<v1::ReconstructResponse>* replies);
+  // Samples [begin, end) of `samples`, so that callers can cut a large message into short tasks.
+  absl::Status Push(const v1::WristSamples& samples, int begin, int end, std::vector<v1::ReconstructResponse>* replies);
+  absl::Status Push(const v1::WristSamples& samples, std::vector<v1::ReconstructResponse>* replies) {
+    return Push(samples, 0, samples.samples_size(), replies);
+  }
   // The remaining frames, then the summary. Call once.
   absl::Status Finish(std::vector<v1::ReconstructResponse>* replies);
   // Server-side latency of one sample message (reported in the summary and the metrics).
@@ -60,7 +72,7 @@ class SessionDriver {
   v1::SessionStarted started_;
   std::vector<ReconstructedFrame> pending_;  // decided, not yet converted
   long samples_ = 0, rejected_ = 0, frames_emitted_ = 0;
-  double first_time_ = 0.0;
+  std::optional<double> first_time_;  // of the first accepted sample
   double latency_sum_ms_ = 0.0, latency_max_ms_ = 0.0;
   long latency_count_ = 0;
 };

@@ -161,7 +161,16 @@ absl::StatusOr<std::unique_ptr<MotionStore::WriteBatch>> MotionStore::BeginWrite
   }
 }
 
+absl::Status CheckDatabaseName(std::string_view name) {
+  if (name.empty() || name.size() > kMaxDatabaseNameBytes) {
+    return absl::InvalidArgumentError(StrCat("database name must have 1 to ", kMaxDatabaseNameBytes, " bytes, not ", name.size()));
+  }
+  return absl::OkStatus();
+}
+
 absl::StatusOr<DatabaseSummary> MotionStore::FindDatabase(const std::string& name, TenantId tenant) {
+  // Checked before the lookup, so an oversized name is neither looked up nor echoed back.
+  MOCAP_RETURN_IF_ERROR(CheckDatabaseName(name));
   try {
     SQLite::Statement query(*db_, StrCat(kSummarySelect, " WHERE d.tenant_id = ? AND d.name = ?"));
     query.bind(1, tenant);
@@ -200,9 +209,7 @@ absl::StatusOr<DatabaseSummary> MotionStore::CreateEmptyDatabase(const std::stri
 
 absl::StatusOr<DatabaseSummary> MotionStore::InsertDatabase(TenantId tenant, const std::string& name,
                                                             const RigModel* rig, double frame_rate) {
-  if (name.empty() || name.size() > 128) {
-    return absl::InvalidArgumentError("database name must have 1 to 128 characters");
-  }
+  MOCAP_RETURN_IF_ERROR(CheckDatabaseName(name));
   if (!(frame_rate > 0 && frame_rate <= 1000)) {
     return absl::InvalidArgumentError(StrCat("database frame rate ", frame_rate, " is outside (0, 1000]"));
   }

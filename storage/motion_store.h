@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -69,6 +70,10 @@ struct StoreOpenOptions {
   // file has changes not yet checkpointed (a non-empty FILE-wal beside it).
   bool immutable = false;
 };
+
+// Database names: 1 to kMaxDatabaseNameBytes bytes (InvalidArgument otherwise).
+inline constexpr size_t kMaxDatabaseNameBytes = 128;
+absl::Status CheckDatabaseName(std::string_view name);
 
 class MotionStore {
  public:

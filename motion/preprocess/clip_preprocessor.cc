@@ -10,17 +10,40 @@
 namespace mocap {
 namespace {
 
-LocalMotion ToDatabaseWorld(const BvhClip& clip, const RigModel& rig, const PreprocessOptions& options) {
+// Checked before the resampling allocates: the rate, the resampled length, finite and plausible
+// translations.
+absl::StatusOr<LocalMotion> ToDatabaseWorld(const BvhClip& clip, const RigModel& rig, const PreprocessOptions& options) {
+  MOCAP_RETURN_IF_ERROR(CheckDatabaseFrameRate(options.frame_rate));
+  const double target = 1.0 / options.frame_rate;
+  const double resampled_frames = (clip.num_frames() - 1) * clip.frame_time / target + 1;
+  if (resampled_frames > kMaxClipFrames) {
+    return absl::InvalidArgumentError(StrCat("clip would have ", static_cast<long long>(resampled_frames),
+                                             " frames at the database rate of ", options.frame_rate,
+                                             " fps, more than the limit of ", kMaxClipFrames));
+  }
   LocalMotion motion = MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time);
   ScaleTranslations(motion, static_cast<float>(MetresPerUnit(rig.unit)));
+  for (const Eigen::ArrayXXf* t : {&motion.tx, &motion.ty, &motion.tz}) {
+    if (!(t->abs() <= static_cast<float>(kMaxTranslationMetres)).all()) {
+      return absl::InvalidArgumentError(StrCat("a joint translation is not finite or beyond ", kMaxTranslationMetres,
+                                               " m (after unit conversion): not plausible motion"));
+    }
+  }
   RotateWorld(motion, rig.to_y_up);
-  const double target = 1.0 / options.frame_rate;
   if (std::abs(clip.frame_time - target) > 1e-6 * target) motion = Resample(motion, target);
   motion.frame_time = target;
   return motion;
 }
 
 }  // namespace
+
+absl::Status CheckDatabaseFrameRate(double frame_rate) {
+  if (!(frame_rate >= kMinDatabaseFrameRate && frame_rate <= kMaxDatabaseFrameRate)) {
+    return absl::InvalidArgumentError(StrCat("frame rate ", frame_rate, " fps is outside the limits [",
+                                             kMinDatabaseFrameRate, ", ", kMaxDatabaseFrameRate, "]"));
+  }
+  return absl::OkStatus();
+}
 
 absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const PreprocessOptions& options) {
   MOCAP_RETURN_IF_ERROR(first_clip.skeleton.Validate());
@@ -31,7 +54,7 @@ absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const Preproce
   rig.unit = rig.topology.unit;
   rig.to_y_up = Eigen::Quaternionf::FromTwoVectors(rig.topology.up(), Eigen::Vector3f::UnitY());
 
-  const LocalMotion motion = ToDatabaseWorld(first_clip, rig, options);
+  MOCAP_ASSIGN_OR_RETURN(const LocalMotion motion, ToDatabaseWorld(first_clip, rig, options));
   const int joints = motion.num_joints();
   rig.reference_rotations.resize(joints);
   for (int j = 0; j < joints; ++j) {
@@ -85,7 +108,7 @@ absl::StatusOr<PreparedClip> PrepareClip(const BvhClip& clip, const RigModel& ri
   PreparedClip prepared;
   prepared.source_frame_rate = clip.frame_rate();
   prepared.source_frames = clip.num_frames();
-  prepared.motion = ToDatabaseWorld(clip, rig, options);
+  MOCAP_ASSIGN_OR_RETURN(prepared.motion, ToDatabaseWorld(clip, rig, options));
   if (prepared.motion.num_frames() < 2) {
     return absl::InvalidArgumentError("clip is shorter than two frames at the database rate");
   }

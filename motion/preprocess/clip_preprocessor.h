@@ -22,6 +22,13 @@ struct PreprocessOptions {
   std::optional<LengthUnit> unit;   // override unit detection
 };
 
+// Limits checked before any resampling or allocation (a request names them in its error).
+inline constexpr double kMinDatabaseFrameRate = 1.0, kMaxDatabaseFrameRate = 1000.0;  // fps
+inline constexpr int kMaxClipFrames = 1'000'000;      // frames of one clip at the database rate
+inline constexpr double kMaxTranslationMetres = 1e4;  // any joint translation, after unit conversion
+// InvalidArgument naming the limits for a rate outside [kMinDatabaseFrameRate, kMaxDatabaseFrameRate].
+absl::Status CheckDatabaseFrameRate(double frame_rate);
+
 // What a motion database knows about its rig, fixed when the database is created from its first
 // clip. Every later clip must have the same joint names and hierarchy.
 struct RigModel {

@@ -34,7 +34,7 @@ std::vector<float> AnkleStartCosts(const std::optional<AnkleCandidate>& start, c
 
 absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector<AnkleCandidate>>& clouds,
                                                    const std::optional<AnkleCandidate>& start, double frame_time,
-                                                   const AnklePathOptions& options) {
+                                                   const AnklePathOptions& options, const std::atomic<bool>* cancel) {
   if (clouds.empty()) return absl::InvalidArgumentError("ankle window has no frames");
   for (size_t t = 0; t < clouds.size(); ++t) {
     if (clouds[t].empty()) return absl::InvalidArgumentError(StrCat("ankle cloud of frame ", t, " is empty"));
@@ -45,7 +45,10 @@ absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector
   std::vector<std::vector<int>> from(frames);
   cost[0] = AnkleStartCosts(start, clouds[0], dt, options);
   from[0].assign(clouds[0].size(), -1);
-  for (int t = 1; t < frames; ++t) AnkleDagStep(clouds[t - 1], cost[t - 1], clouds[t], dt, options, &cost[t], &from[t]);
+  for (int t = 1; t < frames; ++t) {
+    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return absl::CancelledError("ankle path cancelled");
+    AnkleDagStep(clouds[t - 1], cost[t - 1], clouds[t], dt, options, &cost[t], &from[t]);
+  }
   AnkleWindowResult result;
   result.nodes.resize(frames);
   const auto last = std::min_element(cost[frames - 1].begin(), cost[frames - 1].end());

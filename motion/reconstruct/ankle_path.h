@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <optional>
 #include <vector>
 
@@ -62,9 +63,11 @@ std::vector<float> AnkleStartCosts(const std::optional<AnkleCandidate>& start, c
 // One window: clouds[t] for its frames; `start` is the previous window's last chosen candidate
 // (the only start node), or nullopt at the beginning of a segment. InvalidArgument for an empty
 // window or an empty cloud.
+// Cancelled (checked between DAG steps) once `*cancel` is set.
 absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector<AnkleCandidate>>& clouds,
                                                    const std::optional<AnkleCandidate>& start, double frame_time,
-                                                   const AnklePathOptions& options);
+                                                   const AnklePathOptions& options,
+                                                   const std::atomic<bool>* cancel = nullptr);
 
 // Whole trajectory in windows of `window` frames (0 = all frames at once, the global optimum),
 // then smoothed.

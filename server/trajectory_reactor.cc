@@ -1,0 +1,74 @@
+#include "server/trajectory_reactor.h"
+
+#include <algorithm>
+#include <exception>
+
+#include "motion/core/str_cat.h"
+
+namespace mocap {
+
+TrajectoryReactor::TrajectoryReactor(ReconstructionState& state, grpc::CallbackServerContext* context,
+                                     const v1::ReconstructTrajectoryRequest* request,
+                                     v1::ReconstructTrajectoryResponse* response)
+    : state_(state), call_(state.service, context, "ReconstructTrajectory"), request_(request), response_(response) {
+  state_.compute.Post([this] { Begin(); });
+}
+
+void TrajectoryReactor::Begin() {
+  absl::Status status = call_.Begin();
+  if (status.ok() && state_.draining) status = absl::UnavailableError("the server is shutting down; connect again");
+  if (!status.ok()) return Complete(status);
+  pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
+  AcquireSessionDatabase(state_, call_, request_->config().database(),
+                         [this](absl::StatusOr<ReconstructionDatabases::Database> database) { Start(std::move(database)); });
+}
+
+void TrajectoryReactor::Start(absl::StatusOr<ReconstructionDatabases::Database> database) {
+  if (!database.ok()) return Complete(database.status());
+  absl::StatusOr<std::unique_ptr<SessionDriver>> driver =
+      SessionDriver::Create(request_->config(), *database, state_.NextSessionId(), state_.limits.session,
+                            state_.service.metrics, &cancelled_);
+  if (!driver.ok()) return Complete(driver.status());
+  driver_ = std::move(*driver);
+  *response_->mutable_started() = driver_->started();
+  *samples_.mutable_samples() = request_->samples();
+  PostSlice(0);
+}
+
+void TrajectoryReactor::PostSlice(int begin) {
+  state_.compute.Post(pool_key_, [this, begin] {
+    try {
+      Slice(begin);
+    } catch (const std::exception& error) {
+      Complete(absl::InternalError(StrCat("reconstruction failed: ", error.what())));
+    }
+  });
+}
+
+void TrajectoryReactor::Slice(int begin) {
+  if (cancelled_) return Complete(absl::CancelledError("the client went away or its deadline passed"));
+  const int end = std::min(samples_.samples_size(), begin + kSamplesPerTask);
+  absl::Status status = driver_->Push(samples_, begin, end, &replies_);
+  if (status.ok() && end == samples_.samples_size()) status = driver_->Finish(&replies_);
+  if (!status.ok()) return Complete(status);
+  if (end < samples_.samples_size()) return PostSlice(end);
+  for (v1::ReconstructResponse& reply : replies_) {
+    if (reply.has_frames()) {
+      for (v1::Frame& frame : *reply.mutable_frames()->mutable_frames()) response_->add_frames()->Swap(&frame);
+    } else if (reply.has_rejected()) {
+      response_->add_rejected()->Swap(reply.mutable_rejected());
+    } else if (reply.has_summary()) {
+      response_->mutable_summary()->Swap(reply.mutable_summary());
+    }
+  }
+  Complete(absl::OkStatus());
+}
+
+void TrajectoryReactor::Complete(absl::Status status) {
+  driver_.reset();  // frees the session now; the response stays until gRPC has sent it
+  replies_.clear();
+  if (!status.ok()) response_->Clear();
+  Finish(call_.End(status));
+}
+
+}  // namespace mocap

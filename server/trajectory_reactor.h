@@ -1,0 +1,45 @@
+// ReconstructTrajectory (the unary form of a reconstruction session): the whole trajectory in one
+// request, every frame in one response. Computed like a stream's messages: kSamplesPerTask samples
+// per task on the fair compute pool under the caller's tenant, so one large request cannot hold a
+// compute thread; a cancelled call (client gone, deadline passed) stops within one frame's work.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <vector>
+
+#include "server/reconstruction_service.h"
+
+namespace mocap {
+
+class TrajectoryReactor : public grpc::ServerUnaryReactor {
+ public:
+  // Starts the call; the reactor deletes itself when gRPC is done with it.
+  TrajectoryReactor(ReconstructionState& state, grpc::CallbackServerContext* context,
+                    const v1::ReconstructTrajectoryRequest* request, v1::ReconstructTrajectoryResponse* response);
+
+  void OnCancel() override { cancelled_ = true; }
+  void OnDone() override { delete this; }
+
+ private:
+  static constexpr int kSamplesPerTask = 8;
+
+  void Begin();
+  void Start(absl::StatusOr<ReconstructionDatabases::Database> database);
+  void PostSlice(int begin);
+  void Slice(int begin);
+  void Complete(absl::Status status);
+
+  ReconstructionState& state_;
+  CallScope call_;
+  const v1::ReconstructTrajectoryRequest* request_;
+  v1::ReconstructTrajectoryResponse* response_;
+  std::atomic<bool> cancelled_{false};
+  WorkPool::Key pool_key_ = WorkPool::kSharedKey;
+  // Compute tasks run one after another (each posts the next), so no lock guards these.
+  v1::WristSamples samples_;
+  std::unique_ptr<SessionDriver> driver_;
+  std::vector<v1::ReconstructResponse> replies_;
+};
+
+}  // namespace mocap
