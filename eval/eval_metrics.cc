@@ -8,8 +8,10 @@ void Metrics::Add(const Metrics& o) {
   frames += o.frames;
   joint_error_m += o.joint_error_m;
   lower_body_error_m += o.lower_body_error_m;
+  upper_body_error_m += o.upper_body_error_m;
   pelvis_error_m += o.pelvis_error_m;
   ankle_error_m += o.ankle_error_m;
+  wrist_error_m += o.wrist_error_m;
   angle_error_deg += o.angle_error_deg;
   angle_error_sq_deg += o.angle_error_sq_deg;
   planted_frames += o.planted_frames;
@@ -41,14 +43,15 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
   const double dt = database.frame_time();
   const double rate = 1.0 / dt;
   const int ankles[2] = {l.left_ankle, l.right_ankle};
+  const int wrists[2] = {l.left_wrist, l.right_wrist};
   std::vector<std::vector<Eigen::Vector3f>> positions(frames.size());
   std::vector<Eigen::Quaternionf> rotations;
   for (size_t i = 0; i < frames.size(); ++i) {
     const int f = frames[i].frame_in_segment;
     database.body().WorldTransforms(frames[i].pose, &rotations, &positions[i]);
     const std::vector<Eigen::Vector3f>& p = positions[i];
-    double all = 0, legs = 0, angle = 0, angle_sq = 0;
-    int leg_count = 0;
+    double all = 0, legs = 0, upper = 0, angle = 0, angle_sq = 0;
+    int leg_count = 0, upper_count = 0;
     for (int j = 0; j < joints; ++j) {
       if (!measured[j]) continue;
       const double e = (p[j] - truth.position(f, j)).norm();
@@ -56,6 +59,9 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
       if (lower[j]) {
         legs += e;
         ++leg_count;
+      } else {
+        upper += e;
+        ++upper_count;
       }
       if (j != l.pelvis) {  // the pelvis' local rotation is relative to the static root
         const double degrees = frames[i].pose.rotations[j].angularDistance(clip.motion.rotation(f, j)) * 180.0 / M_PI;
@@ -66,6 +72,8 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
     m.frames += 1;
     m.joint_error_m += all / measured_count;
     m.lower_body_error_m += leg_count ? legs / leg_count : 0.0;
+    m.upper_body_error_m += upper_count ? upper / upper_count : 0.0;
+    m.wrist_error_m += 0.5 * ((p[wrists[0]] - truth.position(f, wrists[0])).norm() + (p[wrists[1]] - truth.position(f, wrists[1])).norm());
     m.pelvis_error_m += (p[l.pelvis] - truth.position(f, l.pelvis)).norm();
     m.ankle_error_m += 0.5 * ((p[ankles[0]] - truth.position(f, ankles[0])).norm() + (p[ankles[1]] - truth.position(f, ankles[1])).norm());
     m.angle_error_deg += angle / (measured_count - 1);

@@ -16,8 +16,10 @@ struct Metrics {
   double frames = 0;
   double joint_error_m = 0;        // Σ per-frame mean joint distance (world space, all joints)
   double lower_body_error_m = 0;   // legs and pelvis
+  double upper_body_error_m = 0;   // spine, head and arms (pelvis excluded)
   double pelvis_error_m = 0;
   double ankle_error_m = 0;        // both ankle joints
+  double wrist_error_m = 0;        // both wrist joints against the captured ones ("input fidelity")
   double angle_error_deg = 0;      // Σ per-frame mean local rotation error over joints
   double angle_error_sq_deg = 0;   // Σ per-frame mean squared error (for RMS)
   double planted_frames = 0;       // foot-frames where the captured foot is planted

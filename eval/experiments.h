@@ -1,5 +1,5 @@
-// The runs mocap-eval makes: the full method, the two baselines, and the ablations of issue #3
-// (window L, noise σ, fixed lag D).
+// The runs mocap-eval makes: the full method, the three baselines (nearest neighbour, average of
+// the 10 nearest, wrists-only pose model), and the ablations of issue #3 (window L, noise σ, lag D).
 #pragma once
 
 #include <string>

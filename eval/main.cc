@@ -2,6 +2,7 @@
 // (or any database and test clips named on the command line) through the full method, the two
 // baselines and (with --ablations) the window / noise / lag ablations, and writes report.json,
 // report.md, SVG plots and every reconstruction as BVH.
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <iostream>
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
   CLI::App app{"mocap-eval — accuracy, motion quality and speed of the wrist-to-body reconstruction"};
   std::string out_dir = "out/eval";
   std::vector<std::string> database_dirs, test_paths;
-  bool quick = false, ablations = false, generalisation = false, no_bvh = false;
+  bool quick = false, ablations = false, generalisation = false, no_bvh = false, development = false;
   double noise_cm = 0.5;
   unsigned seed = 1;
   int max_frames = 0, max_clips = 0, threads = 2;
@@ -58,6 +59,9 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "output folder (report.json, report.md, plots/, bvh/)");
   app.add_option("--database-dir", database_dirs, "BVH folders forming the database (default: the standard split)");
   app.add_option("--test", test_paths, "test BVH files or folders (default: the standard split's held-out takes)");
+  app.add_flag("--dev-split", development,
+               "the development split (tests = takes ≡ 5 mod 10, database without takes ≡ 3 or 5): tune here, "
+               "report on the standard split");
   app.add_flag("--quick", quick, "one held-out clip per content type, 120 frames each; fails on regression");
   app.add_flag("--ablations", ablations, "also run window L ∈ {10,50,100}, noise σ ∈ {0,1,2} cm, lag D ∈ {0,5,15,30}");
   app.add_flag("--generalisation", generalisation, "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
@@ -75,6 +79,19 @@ int main(int argc, char** argv) {
   app.add_option("--contact-speed", base.footskate.contact_speed, "A7 planted below this ground speed, m/s")
       ->capture_default_str();
   app.add_option("--joint-smoothing", base.joint_smoothing_sigma, "A7 joint-space Gaussian σ, frames")->capture_default_str();
+  app.add_option("--hand-sigma", base.hand_target_sigma, "hand IK target: input smoothed by a centred Gaussian of this σ (frames); < 0: no hand IK")
+      ->capture_default_str();
+  app.add_option("--components", base.pose_components, "A5 PCA components D'")->capture_default_str();
+  app.add_option("--prior-weight", base.solver.prior_weight, "A6 E_prior weight")->capture_default_str();
+  app.add_option("--control-weight", base.solver.control_weight, "A6 E_ctrl weight")->capture_default_str();
+  app.add_option("--smooth-weight", base.solver.smooth_weight, "A6 E_smooth weight")->capture_default_str();
+  app.add_option("--wrist-sigma", base.smoothing.local_linear_sigma,
+                 "A2 as a local linear fit over a Gaussian window of this σ (frames); 0: the patent's exponential")
+      ->capture_default_str();
+  app.add_option("--lookahead", base.smoothing.lookahead, "A2 local linear fit: frames of look-ahead")->capture_default_str();
+  app.add_option("--smoothing", base.smoothing.smoothing, "A2 exponential smoothing s (1 = none)")->capture_default_str();
+  std::vector<std::string> only_runs;
+  app.add_option("--runs", only_runs, "only these runs (full, nearest_neighbour, nearest_average, wrists_only, ...)");
   app.add_flag("--no-bvh", no_bvh, "do not write the reconstructions as BVH");
   app.add_option("--thresholds", thresholds_file, "regression thresholds for --quick (JSON)");
   CLI11_PARSE(app, argc, argv);
@@ -86,19 +103,29 @@ int main(int argc, char** argv) {
   nlohmann::json context;
   std::vector<std::filesystem::path> database_files, test_files;
   if (database_dirs.empty()) {
-    auto split = mocap::eval::LoadStandardSplit();
+    auto split = development ? mocap::eval::LoadDevelopmentSplit() : mocap::eval::LoadStandardSplit();
     if (!split.ok()) {
       std::cerr << "mocap-eval: " << split.status().message() << "\n";
       return kExitNoData;
     }
     database_files = split->database_files;
     test_files = test_paths.empty() ? split->test_files : BvhFiles(test_paths);
-    context["database"] = "bandai-namco-2 takes not ≡ 3 (mod 10) (standard split)";
-    context["test_set"] = test_paths.empty() ? "bandai-namco-2 takes ≡ 3 (mod 10)" : "named on the command line";
+    context["database"] = development ? "bandai-namco-2 takes not ≡ 3 or 5 (mod 10) (development split)"
+                                      : "bandai-namco-2 takes not ≡ 3 (mod 10) (standard split)";
+    context["test_set"] = !test_paths.empty() ? "named on the command line"
+                          : development       ? "bandai-namco-2 takes ≡ 5 (mod 10)"
+                                              : "bandai-namco-2 takes ≡ 3 (mod 10)";
   } else {
+    if (test_paths.empty()) {
+      std::cerr << "mocap-eval: --database-dir needs --test (the clips to reconstruct)\n";
+      return kExitError;
+    }
     database_files = BvhFiles(database_dirs);
     test_files = BvhFiles(test_paths);
-    context["database"] = database_dirs;
+    std::string folders;
+    for (const std::string& d : database_dirs) folders += (folders.empty() ? "" : ", ") + d;
+    context["database"] = folders;  // one string: the report prints it
+    context["test_set"] = "named on the command line";
   }
   if (quick) {
     test_files = QuickSubset(test_files);
@@ -146,7 +173,12 @@ int main(int argc, char** argv) {
   context["k1"] = base.ankle_candidates;
   context["k2"] = base.pose_neighbours;
   context["quick"] = quick;
-  const auto experiments = mocap::eval::MakeExperiments(base, noise_cm, ablations);
+  auto experiments = mocap::eval::MakeExperiments(base, noise_cm, ablations);
+  if (!only_runs.empty()) {
+    std::erase_if(experiments, [&](const mocap::eval::Experiment& e) {
+      return std::find(only_runs.begin(), only_runs.end(), e.name) == only_runs.end();
+    });
+  }
   mocap::eval::EvaluationConfig config{.seed = seed, .threads = threads, .bvh_dir = no_bvh ? "" : std::filesystem::path(out_dir) / "bvh"};
   std::cerr << "reconstructing " << tests->size() << " clips with " << experiments.size() << " runs...\n";
   auto results = mocap::eval::RunEvaluation(*database, *tests, experiments, config, [](const std::string& line) { std::cerr << "  " << line << "\n"; });

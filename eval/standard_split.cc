@@ -12,7 +12,10 @@
 
 namespace mocap::eval {
 
-absl::StatusOr<StandardSplit> LoadStandardSplit() {
+namespace {
+
+// Test takes ≡ `test_residue` (mod 10); takes ≡ `excluded_residue` are in neither part (−1: none).
+absl::StatusOr<StandardSplit> LoadSplit(int test_residue, int excluded_residue) {
   std::string why;
   auto folder = testing::SharedDataSet("bandai-namco-2", &why);
   if (!folder) return absl::NotFoundError("shared data unavailable: " + why);
@@ -21,13 +24,20 @@ absl::StatusOr<StandardSplit> LoadStandardSplit() {
   for (const std::filesystem::path& file : testing::BvhFilesIn(*folder)) {
     const std::string take = LabelValue(ParseClipLabels(file.filename().string()), "take");
     if (take.empty()) continue;
-    (std::stoi(take) % 10 == 3 ? split.test_files : split.database_files).push_back(file);
+    const int residue = std::stoi(take) % 10;
+    if (residue == excluded_residue) continue;
+    (residue == test_residue ? split.test_files : split.database_files).push_back(file);
   }
   if (split.database_files.empty() || split.test_files.empty()) return absl::NotFoundError("no bandai-namco-2 takes");
   MOCAP_ASSIGN_OR_RETURN(BvhClip first, ReadBvhFile(split.database_files.front()));
   MOCAP_ASSIGN_OR_RETURN(split.rig, BuildRigModel(first, {}));
   return split;
 }
+
+}  // namespace
+
+absl::StatusOr<StandardSplit> LoadStandardSplit() { return LoadSplit(3, -1); }
+absl::StatusOr<StandardSplit> LoadDevelopmentSplit() { return LoadSplit(5, 3); }
 
 absl::Status PrepareAll(const std::vector<std::filesystem::path>& files, const RigModel& rig,
                         const std::function<void(size_t, PreparedClip&&)>& consume) {

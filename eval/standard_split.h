@@ -23,6 +23,11 @@ struct StandardSplit {
 // Unpacks bandai-namco-2 when needed; NotFound when the shared data is absent.
 absl::StatusOr<StandardSplit> LoadStandardSplit();
 
+// The development split, for choosing methods and parameters without looking at the standard
+// split's test clips: test = takes ≡ 5 (mod 10); database = takes ≢ 3 and ≢ 5 (mod 10), so the
+// standard split's test clips are in neither part.
+absl::StatusOr<StandardSplit> LoadDevelopmentSplit();
+
 // Reads and prepares `files` on all cores, handing each result to `consume(index, clip)` from
 // the worker threads (calls for different indices may run at once). Returns the first error.
 absl::Status PrepareAll(const std::vector<std::filesystem::path>& files, const RigModel& rig,

@@ -13,6 +13,7 @@ enum class ReconstructionMethod {
   kFull,              // A2–A7: estimated ankles, then the pose model driven by wrists and ankles
   kWristsOnly,        // baseline: the A5/A6 pose model driven by the wrists alone (patent §5)
   kNearestNeighbour,  // baseline: the database pose nearest by eq. 2 (a plain motion-matching lookup)
+  kNearestAverage,    // baseline: the mean of the `average_neighbours` poses nearest by eq. 2
 };
 
 enum class StreamMode {
@@ -25,15 +26,24 @@ struct ReconstructionOptions {
   StreamMode mode = StreamMode::kSubInterval;
   int window = 0;  // L, frames
   int lag = 0;     // D, frames
+  // Whole-segment mode (window 0) holds every frame's ankle cloud (~64 kB per frame at K1 = 1000)
+  // until the segment ends. A positive cap solves the held frames as one window once it is reached
+  // (the next window starts from its last node, §3.3.1), bounding memory; 0 = no cap (offline).
+  int max_window_frames = 0;
 
   WristSmoothingOptions smoothing;  // A2: s = 0.5
   int ankle_candidates = 1000;      // A3: K1
   AnklePathOptions ankle_path;      // A4: β, sliding rule, Gaussian σ
   int pose_neighbours = 200;        // A5: K2
   int pose_components = 6;          // A5: D'
+  int average_neighbours = 10;      // the kNearestAverage baseline's K
   PoseSolverOptions solver;         // A6: energy weights, LM
   FootskateOptions footskate;       // A7: contacts, leg IK
   float joint_smoothing_sigma = 1.0f;  // A7: Gaussian in joint space, frames (0 = none)
+  // After the joint filter, two-bone arm IK puts each hand on the input wrist (as the legs are put
+  // on their pins): the input smoothed by a centred Gaussian of this σ over the samples that have
+  // arrived (zero phase where the lag allows, unlike A2's exponential smoothing); < 0 = off.
+  float hand_target_sigma = 1.0f;
 
   double max_gap_seconds = 0.25;    // longer input dropouts end the segment
 };

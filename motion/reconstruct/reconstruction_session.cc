@@ -60,6 +60,7 @@ struct ReconstructionSession::Segment {
   WristSmoother smoother;
   float cloud_heading = 0.0f, pose_heading = 0.0f;
   std::vector<SmoothedWrists> wrists;
+  std::vector<std::array<Eigen::Vector3f, 2>> input;  // resampled, unsmoothed wrists
   std::vector<double> times;
   std::vector<bool> bridged;
   std::vector<float> wrist_distance;
@@ -85,11 +86,19 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
   ankle_kernel_ = GaussianKernel(options_.ankle_path.smoothing_sigma_frames);
   joint_kernel_ = GaussianKernel(options_.joint_smoothing_sigma);
+  hand_kernel_ = GaussianKernel(std::max(0.0f, options_.hand_target_sigma));
+  const bool local_linear = options_.smoothing.local_linear_sigma > 0.0f;
+  if (local_linear) wrist_kernel_ = GaussianKernel(options_.smoothing.local_linear_sigma);
   const int radius = static_cast<int>(joint_kernel_.size()) / 2;
+  const int reach = static_cast<int>(wrist_kernel_.size()) / 2;
+  const int lookahead = local_linear ? std::clamp(options_.smoothing.lookahead, 0, reach) : 0;
   if (options_.mode == StreamMode::kFixedLag) {
-    joint_filter_lag_ = std::min(radius, options_.lag);
-    ankle_lag_ = options_.lag - joint_filter_lag_;
+    // The lag D is shared: A2's look-ahead first, then the joint filter, the rest for the ankle path.
+    lookahead_ = std::min(lookahead, options_.lag);
+    joint_filter_lag_ = std::min(radius, options_.lag - lookahead_);
+    ankle_lag_ = options_.lag - lookahead_ - joint_filter_lag_;
   } else {
+    lookahead_ = lookahead;
     joint_filter_lag_ = radius;
   }
 }
@@ -119,9 +128,10 @@ absl::StatusOr<std::unique_ptr<ReconstructionSession>> ReconstructionSession::Cr
 }
 
 int ReconstructionSession::latency_frames() const {
-  if (options_.method != ReconstructionMethod::kFull) return joint_filter_lag_;
+  if (options_.method != ReconstructionMethod::kFull) return lookahead_ + joint_filter_lag_;
   if (options_.mode == StreamMode::kFixedLag) return options_.lag;
-  return options_.window > 0 ? options_.window - 1 + joint_filter_lag_ : -1;
+  const int window = options_.window > 0 ? options_.window : options_.max_window_frames;
+  return window > 0 ? lookahead_ + window - 1 + joint_filter_lag_ : -1;
 }
 
 absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<ReconstructedFrame>* out) {
@@ -141,18 +151,40 @@ absl::Status ReconstructionSession::Finish(std::vector<ReconstructedFrame>* out)
   return absl::OkStatus();
 }
 
+absl::Status ReconstructionSession::CheckCancelled() const {
+  if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed)) return absl::CancelledError("reconstruction cancelled");
+  return absl::OkStatus();
+}
+
 absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, std::vector<ReconstructedFrame>* out) {
+  MOCAP_RETURN_IF_ERROR(CheckCancelled());
   if (sample.starts_segment) MOCAP_RETURN_IF_ERROR(EndSegment(out));
   if (!segment_) {
     segment_ = std::make_unique<Segment>(next_segment_id_++, *database_, options_);
     ++statistics_.segments;
   }
   Segment& s = *segment_;
-  const int t = static_cast<int>(s.wrists.size());
-  auto start = Clock::now();
-  s.wrists.push_back(s.smoother.Push(sample.left, sample.right));
+  s.input.push_back({sample.left, sample.right});
   s.times.push_back(sample.time);
   s.bridged.push_back(sample.bridged);
+  // A2 looks `lookahead_` frames ahead: frame t is processed once t + lookahead_ has arrived.
+  while (static_cast<int>(s.wrists.size()) + lookahead_ < static_cast<int>(s.input.size())) {
+    MOCAP_RETURN_IF_ERROR(ProcessFrame(out));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>* out) {
+  MOCAP_RETURN_IF_ERROR(CheckCancelled());
+  Segment& s = *segment_;
+  const int t = static_cast<int>(s.wrists.size());
+  auto start = Clock::now();
+  if (options_.smoothing.local_linear_sigma > 0.0f) {
+    s.wrists.push_back(LocalLinearWrists(s.input, t, static_cast<int>(s.input.size()) - 1, wrist_kernel_,
+                                         static_cast<float>(1.0 / database_->frame_time())));
+  } else {
+    s.wrists.push_back(s.smoother.Push(s.input[t][0], s.input[t][1]));
+  }
   if (options_.method != ReconstructionMethod::kFull) {
     s.wrist_distance.push_back(0.0f);
     statistics_.cloud_seconds += SecondsSince(start);
@@ -167,8 +199,9 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
   const float dt = static_cast<float>(database_->frame_time());
   if (options_.mode == StreamMode::kSubInterval) {
     s.window.push_back(std::move(cloud));
-    if (options_.window > 0 && static_cast<int>(s.window.size()) == options_.window) {
-      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path));
+    const int window = options_.window > 0 ? options_.window : options_.max_window_frames;
+    if (window > 0 && static_cast<int>(s.window.size()) == window) {
+      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
       s.start = s.window.back()[solved.nodes.back()];
       for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
       s.raw.insert(s.raw.end(), solved.ankles.begin(), solved.ankles.end());
@@ -229,6 +262,7 @@ absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
 }
 
 absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedFrame>* out) {
+  MOCAP_RETURN_IF_ERROR(CheckCancelled());
   Segment& s = *segment_;
   const auto start = Clock::now();
   const ReconstructionDatabase& db = *database_;
@@ -256,17 +290,41 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   } else {
     float feature[kWristFeatureDims];
     WristFeature(query, {.position_weight = db.position_weight()}, feature);
-    const int k = options_.method == ReconstructionMethod::kNearestNeighbour ? 1 : options_.pose_neighbours;
+    const int k = options_.method == ReconstructionMethod::kNearestNeighbour ? 1
+                  : options_.method == ReconstructionMethod::kNearestAverage ? options_.average_neighbours
+                                                                             : options_.pose_neighbours;
     MOCAP_ASSIGN_OR_RETURN(neighbours, db.wrist_index().Search(feature, k));
     s.wrist_distance[f] = neighbours.front().distance;
   }
   const int nearest = neighbours.front().row;
+  const bool lookup = options_.method == ReconstructionMethod::kNearestNeighbour ||
+                      options_.method == ReconstructionMethod::kNearestAverage;
   SolvedPose solved;
-  if (options_.method == ReconstructionMethod::kNearestNeighbour || !s.previous) {
+  if (lookup || !s.previous) {
     solved.pose_feature = db.pose_features().row(nearest).transpose();
     PelvisInQueryFrame(db.frames()[nearest], ref, &solved);
   }
-  if (options_.method != ReconstructionMethod::kNearestNeighbour) {
+  if (options_.method == ReconstructionMethod::kNearestAverage) {
+    // The mean pose feature (joint rotation vectors about the rig's reference) and the mean
+    // pelvis, each neighbour placed in the query's wrist frame.
+    Eigen::Vector3f position = Eigen::Vector3f::Zero();
+    Eigen::Vector4f rotation = Eigen::Vector4f::Zero();
+    solved.pose_feature.setZero();
+    for (const Neighbour& n : neighbours) {
+      SolvedPose one;
+      PelvisInQueryFrame(db.frames()[n.row], ref, &one);
+      position += one.pelvis_position;
+      Eigen::Vector4f q = one.pelvis_rotation.coeffs();
+      if (q.dot(solved.pelvis_rotation.coeffs()) < 0) q = -q;
+      rotation += q;
+      solved.pose_feature += db.pose_features().row(n.row).transpose();
+    }
+    const float count = static_cast<float>(neighbours.size());
+    solved.pose_feature /= count;
+    solved.pelvis_position = position / count;
+    solved.pelvis_rotation = Eigen::Quaternionf(rotation.normalized());
+  }
+  if (!lookup) {
     Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_features().cols());
     for (size_t i = 0; i < neighbours.size(); ++i) examples.row(static_cast<Eigen::Index>(i)) = db.pose_features().row(neighbours[i].row);
     MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, options_.pose_components));
@@ -343,6 +401,23 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
         if (frame.ankle_targets[side]) SolveLegIk(body, ankle_joints[side], *frame.ankle_targets[side], &frame.pose);
       }
     }
+    if (options_.hand_target_sigma >= 0.0f) {
+      // Hands on the input, smoothed over the samples that have arrived (centred where they allow).
+      const BodyLandmarks& l = database_->rig().topology.landmarks;
+      const int wrist_joints[2] = {l.left_wrist, l.right_wrist};
+      const int newest = static_cast<int>(s.input.size()) - 1;
+      const int reach = static_cast<int>(hand_kernel_.size()) / 2;
+      for (int side = 0; side < 2; ++side) {
+        Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+        float weight = 0.0f;
+        for (int k = std::max(0, e - reach); k <= std::min(newest, e + reach); ++k) {
+          const float w = hand_kernel_[k - e + reach];
+          sum += w * s.input[k][side];
+          weight += w;
+        }
+        SolveLegIk(body, wrist_joints[side], sum / weight, &frame.pose);
+      }
+    }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
     const int pelvis = database_->rig().topology.landmarks.pelvis;
     frame.pelvis_rotation = world_rotations[pelvis];
@@ -361,11 +436,12 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
 absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* out) {
   if (!segment_) return absl::OkStatus();
   Segment& s = *segment_;
+  while (s.wrists.size() < s.input.size()) MOCAP_RETURN_IF_ERROR(ProcessFrame(out));  // one-sided A2 window at the end
   const auto start = Clock::now();
   const float dt = static_cast<float>(database_->frame_time());
   if (options_.method == ReconstructionMethod::kFull) {
     if (options_.mode == StreamMode::kSubInterval && !s.window.empty()) {
-      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path));
+      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
       for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
       s.raw.insert(s.raw.end(), solved.ankles.begin(), solved.ankles.end());
       s.window.clear();

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -72,6 +73,10 @@ class ReconstructionSession {
   absl::Status Push(const WristSample& sample, std::vector<ReconstructedFrame>* out);
   // End of input: every remaining frame.
   absl::Status Finish(std::vector<ReconstructedFrame>* out);
+  // Once `*cancel` is set (by another thread: the client went away, the deadline passed), Push
+  // and Finish stop within one frame's work and return Cancelled; the session is then unusable.
+  // The flag must outlive the session.
+  void SetCancelFlag(const std::atomic<bool>* cancel) { cancel_ = cancel; }
 
   const ReconstructionDatabase& database() const { return *database_; }
   const ReconstructionOptions& options() const { return options_; }
@@ -83,7 +88,10 @@ class ReconstructionSession {
  private:
   struct Segment;
   ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database, const ReconstructionOptions& options);
+  absl::Status CheckCancelled() const;
   absl::Status AcceptGridSample(const GridSample& sample, std::vector<ReconstructedFrame>* out);
+  // A2 and onwards for the segment's next frame whose input has arrived.
+  absl::Status ProcessFrame(std::vector<ReconstructedFrame>* out);
   absl::Status EndSegment(std::vector<ReconstructedFrame>* out);
   absl::Status DecideAnkles(int up_to_frame, int available, const std::vector<AnklePair>& tentative, std::vector<ReconstructedFrame>* out);
   absl::Status SolveFrame(int frame, std::vector<ReconstructedFrame>* out);
@@ -97,8 +105,10 @@ class ReconstructionSession {
   int next_output_index_ = 0;
   int joint_filter_lag_ = 0;
   int ankle_lag_ = 0;
-  std::vector<float> ankle_kernel_, joint_kernel_;
+  int lookahead_ = 0;  // A2 frames (local linear smoothing)
+  std::vector<float> ankle_kernel_, joint_kernel_, hand_kernel_, wrist_kernel_;
   SessionStatistics statistics_;
+  const std::atomic<bool>* cancel_ = nullptr;
 };
 
 // The offline path: the same session fed every sample, then finished.

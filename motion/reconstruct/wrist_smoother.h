@@ -4,12 +4,24 @@
 // usable sample by sample in a stream and identically over a whole clip.
 #pragma once
 
+#include <array>
+#include <vector>
+
 #include <Eigen/Core>
 
 namespace mocap {
 
 struct WristSmoothingOptions {
   float smoothing = 0.5f;  // s, METHOD.md A2; 1 = no smoothing
+  // > 0: instead of the exponential filter (which trails the input by (1 − s)/s frames: 4 cm at
+  // walking pace), a local linear fit over a Gaussian window of this σ (frames), position and
+  // velocity from the same fit: no lag for steady motion. The window reaches `lookahead` frames
+  // into the future, which delays each frame by as much (within a fixed lag D: min(lookahead, D));
+  // at a segment's edges it is one-sided.
+  // Default on: measured on mocap-eval --dev-split, MPJPE 3.85 → 2.56 cm (walk 5.5 → 2.9, run
+  // 10.5 → 5.1): the exponential filter's lag was the largest single error in locomotion.
+  float local_linear_sigma = 1.0f;
+  int lookahead = 2;
 };
 
 struct SmoothedWrists {
@@ -32,5 +44,10 @@ class WristSmoother {
   bool has_previous_ = false;
   Eigen::Vector3f previous_[2];
 };
+
+// The local linear fit of frame `t` from `input` frames [t − r, min(t + r, newest)] weighted by
+// `kernel` (2r + 1 Gaussian weights): the fitted position and slope at t.
+SmoothedWrists LocalLinearWrists(const std::vector<std::array<Eigen::Vector3f, 2>>& input, int t, int newest,
+                                 const std::vector<float>& kernel, float rate);
 
 }  // namespace mocap

@@ -74,7 +74,9 @@ TEST_F(ReconstructionServiceTest, StreamReconstructsEveryFrameAndMatchesTheUnary
   ImportWalks(*client);
   const std::vector<v1::WristSample> samples = QueryWrists();
 
-  Streamed streamed = Stream(*client, Config(/*lag=*/4), samples);
+  v1::SessionConfig config = Config(/*lag=*/4);
+  config.mutable_overrides()->set_wrist_fit_frames(0);  // the patent's A2, which the loop below replays
+  Streamed streamed = Stream(*client, config, samples);
   ASSERT_TRUE(streamed.summary.ok()) << streamed.summary.status();
   EXPECT_FALSE(streamed.started.session_id().empty());
   EXPECT_EQ(streamed.started.skeleton().joints_size(), 22);
@@ -105,7 +107,7 @@ TEST_F(ReconstructionServiceTest, StreamReconstructsEveryFrameAndMatchesTheUnary
     EXPECT_LT(Distance(frame.left_wrist(), smoothed), 0.002) << "frame " << i;
   }
 
-  auto unary = client->ReconstructTrajectory(Config(4), samples);
+  auto unary = client->ReconstructTrajectory(config, samples);
   ASSERT_TRUE(unary.ok()) << unary.status();
   ASSERT_EQ(unary->frames_size(), static_cast<int>(samples.size()));
   for (size_t i = 0; i < samples.size(); ++i) {
