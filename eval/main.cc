@@ -81,6 +81,8 @@ int main(int argc, char** argv) {
   app.add_option("--joint-smoothing", base.joint_smoothing_sigma, "A7 joint-space Gaussian σ, frames")->capture_default_str();
   app.add_option("--hand-sigma", base.hand_target_sigma, "hand IK target: input smoothed by a centred Gaussian of this σ (frames); < 0: no hand IK")
       ->capture_default_str();
+  app.add_option("--ankle-data-weight", base.ankle_path.data_weight, "A4 node cost weight on the eq. 2 wrist distance")
+      ->capture_default_str();
   app.add_option("--components", base.pose_components, "A5 PCA components D'")->capture_default_str();
   app.add_option("--prior-weight", base.solver.prior_weight, "A6 E_prior weight")->capture_default_str();
   app.add_option("--control-weight", base.solver.control_weight, "A6 E_ctrl weight")->capture_default_str();

@@ -62,6 +62,7 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
   if (o.has_wrist_fit_frames()) options.smoothing.local_linear_sigma = o.wrist_fit_frames();
   if (o.has_wrist_lookahead_frames()) options.smoothing.lookahead = o.wrist_lookahead_frames();
   if (o.has_hand_target_frames()) options.hand_target_sigma = o.hand_target_frames();
+  if (o.has_ankle_data_weight()) options.ankle_path.data_weight = o.ankle_data_weight();
   switch (o.foot_contacts()) {
     case v1::FOOT_CONTACTS_ESTIMATED_ANKLES: options.footskate.contact_source = ContactSource::kEstimatedAnkles; break;
     case v1::FOOT_CONTACTS_DATABASE_FRAME: options.footskate.contact_source = ContactSource::kDatabaseFrame; break;
@@ -79,6 +80,7 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
            CheckRange("overrides.wrist_fit_frames", options.smoothing.local_linear_sigma, 0, 10),
            CheckRange("overrides.wrist_lookahead_frames", options.smoothing.lookahead, 0, 30),
            CheckRange("overrides.hand_target_frames", options.hand_target_sigma, -1e9, 10),
+           CheckRange("overrides.ankle_data_weight", options.ankle_path.data_weight, 0, 100),
            CheckRange("min_confidence", config.min_confidence(), 0, 1),
        }) {
     if (!s.ok()) return s;
@@ -105,6 +107,7 @@ v1::SessionConfig EffectiveConfig(const v1::SessionConfig& config, const Reconst
   o->set_wrist_fit_frames(options.smoothing.local_linear_sigma);
   o->set_wrist_lookahead_frames(options.smoothing.lookahead);
   o->set_hand_target_frames(options.hand_target_sigma);
+  o->set_ankle_data_weight(options.ankle_path.data_weight);
   return out;
 }
 

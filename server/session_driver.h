@@ -26,7 +26,7 @@ struct SessionLimits {
   double max_session_seconds = 4 * 3600.0;  // span of the input's timestamps
   // Whole-trajectory sessions (window 0) solve their ankle path in windows of at most this many
   // frames, so a session's memory stays bounded (ReconstructionOptions::max_window_frames).
-  int max_window_frames = 3000;
+  int max_window_frames = 600;  // 20 s at 30 fps: ~20 MB of ankle clouds at K1 = 500
 };
 
 class SessionDriver {

@@ -165,8 +165,8 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   auto* lag = command->add_option("--lag", o->lag, "Fixed lag D in frames (frame t-D leaves when t arrives)")
                   ->check(CLI::NonNegativeNumber);
   window->excludes(lag);
-  command->add_option("--k1", o->k1, "Ankle candidates K1 (server default 1000)")->check(CLI::PositiveNumber);
-  command->add_option("--k2", o->k2, "Pose neighbours K2 (server default 200)")->check(CLI::PositiveNumber);
+  command->add_option("--k1", o->k1, "Ankle candidates K1 (server default 500)")->check(CLI::PositiveNumber);
+  command->add_option("--k2", o->k2, "Pose neighbours K2 (server default 50)")->check(CLI::PositiveNumber);
   command->add_option("--foot-contacts", o->foot_contacts,
                       "A7 foot contacts: estimated (most accurate), database (least skating) or both")
       ->check(CLI::IsMember({"estimated", "database", "both"}))->capture_default_str();

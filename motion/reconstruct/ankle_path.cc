@@ -23,12 +23,19 @@ AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<
   return sum;
 }
 
+void AddAnkleDataCost(const std::vector<AnkleCandidate>& cloud, const AnklePathOptions& options, std::vector<float>* cost) {
+  if (options.data_weight <= 0.0f) return;
+  const float weight = options.data_weight * options.prior_length_scale * options.prior_length_scale;
+  for (size_t k = 0; k < cloud.size(); ++k) (*cost)[k] += weight * cloud[k].wrist_distance;
+}
+
 std::vector<float> AnkleStartCosts(const std::optional<AnkleCandidate>& start, const std::vector<AnkleCandidate>& first,
                                    float dt, const AnklePathOptions& options) {
   std::vector<float> cost(first.size(), 0.0f);
   if (start) {
     for (size_t k = 0; k < first.size(); ++k) cost[k] = AnkleEdgeCost(*start, first[k], dt, options);
   }
+  AddAnkleDataCost(first, options, &cost);
   return cost;
 }
 
@@ -48,6 +55,7 @@ absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector
   for (int t = 1; t < frames; ++t) {
     if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return absl::CancelledError("ankle path cancelled");
     AnkleDagStep(clouds[t - 1], cost[t - 1], clouds[t], dt, options, &cost[t], &from[t]);
+    AddAnkleDataCost(clouds[t], options, &cost[t]);
   }
   AnkleWindowResult result;
   result.nodes.resize(frames);

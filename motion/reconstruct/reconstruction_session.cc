@@ -217,8 +217,10 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
   if (s.dp.empty()) {
     frame.cost.assign(cloud.size(), 0.0f);
     frame.from.assign(cloud.size(), -1);
+    AddAnkleDataCost(cloud, options_.ankle_path, &frame.cost);
   } else {
     AnkleDagStep(s.dp.back().cloud, s.dp.back().cost, cloud, dt, options_.ankle_path, &frame.cost, &frame.from);
+    AddAnkleDataCost(cloud, options_.ankle_path, &frame.cost);
     const float lowest = *std::min_element(frame.cost.begin(), frame.cost.end());
     for (float& c : frame.cost) c -= lowest;  // path costs only compare within a frame: keep them small
   }
