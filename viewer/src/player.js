@@ -1,0 +1,150 @@
+// The player: the page's clip sets ("scenes") on the stage, one shared timeline in seconds
+// (the first clip's frames count it), the animation loop and the controls' actions.
+import { Box3, Vector3 } from 'three';
+import { ClipActor } from './clip_actor.js';
+import { Controls, LAYOUTS, SPEEDS } from './controls.js';
+import { Stage } from './stage.js';
+
+export const CLIP_COLOURS = ['#ff8a1f', '#2f9bff', '#3ddc52', '#e84ef0', '#ffe03a', '#26d9d0'];
+const MAX_STEP_SECONDS = 0.25;
+
+function setState(root, state) {
+  root.dataset.state = state;
+  document.body.dataset.viewerState = state;
+}
+
+export class Player {
+  // options: { layout, play, speed, scene, frame } (from the page's URL)
+  constructor(root, data, options = {}) {
+    this.root = root;
+    this.scenes = data.scenes;
+    this.layout = LAYOUTS[options.layout] ? options.layout : LAYOUTS[data.layout] ? data.layout : 'overlay';
+    this.speed = SPEEDS.includes(options.speed) ? options.speed : 1;
+    this.playing = Boolean(options.play);
+    this.time = 0;
+    this.actors = [];
+    this.controls = new Controls(root, this.scenes, {
+      onPlayToggle: () => this.setPlaying(!this.playing),
+      onSeek: (frame) => this.seek(frame),
+      onSpeed: (speed) => { this.speed = speed; },
+      onLayout: (layout) => this.setLayout(layout),
+      onScene: (index) => this.loadScene(index),
+    });
+    this.controls.select('speed', this.speed);
+    this.controls.select('layout', this.layout);
+    this.controls.showPlaying(this.playing);
+    this.stage = new Stage(this.controls.viewport);
+    const scene = Number.isInteger(options.scene) && options.scene >= 0 && options.scene < this.scenes.length ? options.scene : 0;
+    this.controls.select('scene', scene);
+    this.loadScene(scene);
+    if (Number.isInteger(options.frame)) this.seek(options.frame);
+    this.listenToKeys();
+    this.lastTick = null;
+    requestAnimationFrame((now) => this.tick(now));
+  }
+
+  loadScene(index) {
+    for (const actor of this.actors) this.stage.remove(actor.group);
+    this.actors = [];
+    const errors = [];
+    this.scenes[index].clips.forEach((spec) => {
+      const name = spec.name || 'clip';
+      if (spec.error) {
+        errors.push(`${name} could not be read: ${spec.error}`);
+        return;
+      }
+      const colour = CLIP_COLOURS[this.actors.length % CLIP_COLOURS.length];
+      try {
+        const actor = new ClipActor(spec, colour, this.actors.length + 1);
+        actor.note = spec.note;
+        this.actors.push(actor);
+        this.stage.add(actor.group);
+      } catch (error) {
+        errors.push(`${name} could not be read: ${error.message}`);
+      }
+    });
+    this.controls.showClips(this.actors.map(({ name, colour, note, traces }) => ({
+      name, colour, note: [note, traces.labels.length ? `traces: ${traces.labels.join(', ')}` : ''].filter(Boolean).join(' — '),
+    })));
+    this.controls.showErrors(errors);
+    if (this.actors.length === 0) {
+      this.rendered = false;
+      setState(this.root, 'error');
+      return;
+    }
+    const reference = this.actors[0].clip;
+    this.frameRate = 1 / reference.frameTime;
+    this.frames = Math.max(...this.actors.map((a) => Math.round(a.duration * this.frameRate)));
+    this.duration = this.frames / this.frameRate;
+    this.controls.setTimeline(this.frames);
+    this.time = Math.min(this.time, this.duration - 1e-9);
+    this.fitCamera();
+    this.rendered = false;
+    setState(this.root, 'loading');
+  }
+
+  fitCamera() {
+    const bounds = new Box3();
+    const point = new Vector3();
+    for (const actor of this.actors) actor.forEachExtentPoint((x, y, z) => bounds.expandByPoint(point.set(x, y, z)));
+    bounds.expandByPoint(point.set(bounds.min.x, 0, bounds.min.z));  // keep the ground in view
+    this.stage.setGround(bounds);
+    this.stage.fit(bounds, this.panels().length);
+  }
+
+  panels() {
+    if (this.layout === 'side-by-side' && this.actors.length > 1) return this.actors.map((a) => [a.layer]);
+    return [this.actors.map((a) => a.layer)];
+  }
+
+  setLayout(layout) {
+    this.layout = layout;
+    if (this.actors.length) this.fitCamera();
+  }
+
+  setPlaying(playing) {
+    this.playing = playing;
+    this.controls.showPlaying(playing);
+  }
+
+  seek(frame) {
+    if (!this.frames) return;
+    this.time = Math.max(0, Math.min(this.frames - 1, frame)) / this.frameRate;
+  }
+
+  step(frames) {
+    this.setPlaying(false);
+    this.seek(this.currentFrame() + frames);
+  }
+
+  currentFrame() {
+    return Math.min(this.frames - 1, Math.floor(this.time * this.frameRate + 1e-6));
+  }
+
+  listenToKeys() {
+    this.root.tabIndex = 0;
+    this.root.addEventListener('keydown', (event) => {
+      if (event.target.closest && event.target.closest('select, input')) return;
+      if (event.key === ' ') this.setPlaying(!this.playing);
+      else if (event.key === 'ArrowRight') this.step(1);
+      else if (event.key === 'ArrowLeft') this.step(-1);
+      else return;
+      event.preventDefault();
+    });
+  }
+
+  tick(now) {
+    requestAnimationFrame((t) => this.tick(t));
+    const elapsed = this.lastTick === null ? 0 : Math.min(MAX_STEP_SECONDS, (now - this.lastTick) / 1000);
+    this.lastTick = now;
+    if (!this.actors.length) return;
+    if (this.playing) this.time = (this.time + elapsed * this.speed) % this.duration;
+    for (const actor of this.actors) actor.setTime(this.time);
+    this.controls.showFrame(this.currentFrame(), this.time);
+    this.stage.render(this.panels());
+    if (!this.rendered) {
+      this.rendered = true;
+      setState(this.root, 'ready');
+    }
+  }
+}

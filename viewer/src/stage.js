@@ -1,0 +1,98 @@
+// The 3D stage: renderer, scene, lights, ground grid, a perspective camera with orbit controls,
+// and drawing either all clips over each other or each clip in its own panel, side by side.
+import { Box3, Color, DirectionalLight, GridHelper, HemisphereLight, PerspectiveCamera, Scene, Vector3,
+  WebGLRenderer } from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+
+const BACKGROUND = '#1d2127';
+const FOV_DEGREES = 40;
+
+export class Stage {
+  // Throws when WebGL is unavailable.
+  constructor(holder) {
+    this.holder = holder;
+    this.renderer = new WebGLRenderer({ antialias: true });
+    this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
+    this.renderer.setScissorTest(true);
+    holder.appendChild(this.renderer.domElement);
+    this.scene = new Scene();
+    this.scene.background = new Color(BACKGROUND);
+    this.scene.add(new HemisphereLight('#ffffff', '#445060', 2.2));
+    const sun = new DirectionalLight('#ffffff', 1.6);
+    sun.position.set(3, 6, 4);
+    this.scene.add(sun);
+    this.grid = null;
+    this.camera = new PerspectiveCamera(FOV_DEGREES, 1, 0.05, 500);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.enableDamping = true;
+    this.bounds = new Box3(new Vector3(-1, 0, -1), new Vector3(1, 2, 1));
+    this.panels = 1;
+  }
+
+  add(object) {
+    this.scene.add(object);
+  }
+
+  remove(object) {
+    this.scene.remove(object);
+  }
+
+  // A grid of 0.5 m cells on y = 0 under the motion's ground-plane extent (lines on whole metres).
+  setGround(bounds) {
+    if (this.grid) this.scene.remove(this.grid);
+    const size = 2 * Math.ceil(Math.max(bounds.max.x - bounds.min.x, bounds.max.z - bounds.min.z) / 2 + 1);
+    this.grid = new GridHelper(size, size * 2, '#8a94a3', '#454d58');
+    this.grid.position.set(Math.round((bounds.min.x + bounds.max.x) / 2), 0, Math.round((bounds.min.z + bounds.max.z) / 2));
+    this.scene.add(this.grid);
+  }
+
+  // Points the camera at `bounds` from the side its longer ground-plane extent faces (a walk is
+  // seen crossing the view), far enough back for the box to fit one panel of `panels`.
+  fit(bounds, panels) {
+    this.bounds = bounds.clone();
+    this.panels = panels;
+    const size = bounds.getSize(new Vector3());
+    const centre = bounds.getCenter(new Vector3());
+    const sideways = size.x >= size.z ? new Vector3(0.34, 0.3, 1) : new Vector3(1, 0.3, -0.34);
+    const radius = Math.max(0.6, size.length() / 2);
+    const aspect = this.panelAspect();
+    const vertical = (FOV_DEGREES * Math.PI) / 360;
+    const horizontal = Math.atan(Math.tan(vertical) * aspect);
+    const distance = (radius / Math.sin(Math.min(vertical, horizontal))) * 1.02;
+    this.camera.position.copy(centre).addScaledVector(sideways.normalize(), distance);
+    this.camera.near = Math.max(0.01, distance / 200);
+    this.camera.far = distance * 20;
+    this.controls.target.copy(centre);
+    this.controls.update();
+  }
+
+  panelAspect() {
+    const { clientWidth: w, clientHeight: h } = this.holder;
+    return Math.max(1, w) / this.panels / Math.max(1, h);
+  }
+
+  // layersPerPanel: one array of layer numbers per panel (left to right).
+  render(layersPerPanel) {
+    const { clientWidth: w, clientHeight: h } = this.holder;
+    const canvas = this.renderer.domElement;
+    if (canvas.width !== Math.floor(w * this.renderer.getPixelRatio()) || canvas.height !== Math.floor(h * this.renderer.getPixelRatio())) {
+      this.renderer.setSize(w, h, false);
+      canvas.style.width = '100%';
+      canvas.style.height = '100%';
+    }
+    this.controls.update();
+    const panelWidth = w / layersPerPanel.length;
+    this.camera.aspect = panelWidth / Math.max(1, h);
+    this.camera.updateProjectionMatrix();
+    layersPerPanel.forEach((layers, i) => {
+      const x = Math.round(i * panelWidth);
+      const width = Math.round((i + 1) * panelWidth) - x;
+      this.renderer.setViewport(x, 0, width, h);
+      this.renderer.setScissor(x, 0, width, h);
+      this.camera.layers.set(0);
+      for (const layer of layers) this.camera.layers.enable(layer);
+      this.renderer.render(this.scene, this.camera);
+    });
+    this.camera.layers.enableAll();
+  }
+}
