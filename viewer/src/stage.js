@@ -1,6 +1,6 @@
 // The 3D stage: renderer, scene, lights, ground grid, a perspective camera with orbit controls,
 // and drawing either all clips over each other or each clip in its own panel, side by side.
-import { Box3, Color, DirectionalLight, GridHelper, HemisphereLight, PerspectiveCamera, Scene, Vector3,
+import { Color, DirectionalLight, GridHelper, HemisphereLight, PerspectiveCamera, Scene, Vector3,
   WebGLRenderer } from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 
@@ -25,7 +25,6 @@ export class Stage {
     this.camera = new PerspectiveCamera(FOV_DEGREES, 1, 0.05, 500);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.enableDamping = true;
-    this.bounds = new Box3(new Vector3(-1, 0, -1), new Vector3(1, 2, 1));
     this.panels = 1;
   }
 
@@ -47,19 +46,27 @@ export class Stage {
   }
 
   // Points the camera at `bounds` from the side its longer ground-plane extent faces (a walk is
-  // seen crossing the view), far enough back for the box to fit one panel of `panels`.
+  // seen crossing the view), just far enough back for every corner to fit one panel of `panels`.
   fit(bounds, panels) {
-    this.bounds = bounds.clone();
     this.panels = panels;
     const size = bounds.getSize(new Vector3());
     const centre = bounds.getCenter(new Vector3());
-    const sideways = size.x >= size.z ? new Vector3(0.34, 0.3, 1) : new Vector3(1, 0.3, -0.34);
-    const radius = Math.max(0.6, size.length() / 2);
-    const aspect = this.panelAspect();
-    const vertical = (FOV_DEGREES * Math.PI) / 360;
-    const horizontal = Math.atan(Math.tan(vertical) * aspect);
-    const distance = (radius / Math.sin(Math.min(vertical, horizontal))) * 1.02;
-    this.camera.position.copy(centre).addScaledVector(sideways.normalize(), distance);
+    const back = (size.x >= size.z ? new Vector3(0.34, 0.3, 1) : new Vector3(1, 0.3, -0.34)).normalize();
+    const right = new Vector3().crossVectors(new Vector3(0, 1, 0), back).normalize();
+    const up = new Vector3().crossVectors(back, right);
+    const tanVertical = Math.tan((FOV_DEGREES * Math.PI) / 360);
+    const tanHorizontal = tanVertical * this.panelAspect();
+    let distance = 1;
+    const corner = new Vector3();
+    for (let i = 0; i < 8; i++) {
+      corner.set(i & 1 ? bounds.max.x : bounds.min.x, i & 2 ? bounds.max.y : bounds.min.y, i & 4 ? bounds.max.z : bounds.min.z);
+      corner.sub(centre);
+      const towardCamera = corner.dot(back);
+      distance = Math.max(distance, towardCamera + Math.abs(corner.dot(right)) / tanHorizontal,
+        towardCamera + Math.abs(corner.dot(up)) / tanVertical);
+    }
+    distance *= 1.08;
+    this.camera.position.copy(centre).addScaledVector(back, distance);
     this.camera.near = Math.max(0.01, distance / 200);
     this.camera.far = distance * 20;
     this.controls.target.copy(centre);
