@@ -76,13 +76,16 @@ std::string PageHtml(const Page& page) {
   html += page.extra_css;
   html += "</style>\n</head>\n<body>\n";
   html += page.html_before;
-  html += "\n<div id=\"mocap-viewer\"></div>\n";
+  if (!page.data.is_null()) html += "\n<div id=\"mocap-viewer\"></div>\n";
   html += page.html_after;
-  html += "\n<script type=\"application/json\" id=\"mocap-viewer-data\">";
-  html += ScriptSafeJson(page.data);
-  html += "</script>\n<script>";
-  html += InlineScript(ViewerBundleJs());
-  html += "</script>\n</body>\n</html>\n";
+  if (!page.data.is_null()) {
+    html += "\n<script type=\"application/json\" id=\"mocap-viewer-data\">";
+    html += ScriptSafeJson(page.data);
+    html += "</script>\n<script>";
+    html += InlineScript(ViewerBundleJs());
+    html += "</script>";
+  }
+  html += "\n</body>\n</html>\n";
   return html;
 }
 

@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
-#include <sstream>
 
+#include "html_view/text_file.h"
 #include "html_view/view_clip.h"
 #include "html_view/view_page.h"
 #include "motion/core/status_macros.h"
@@ -22,14 +21,6 @@ struct ViewOptions {
   std::string layout = "overlay";
   std::string title;
 };
-
-absl::StatusOr<std::string> ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return absl::NotFoundError("cannot read " + path.string());
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // The reconstruction JSON of each BVH: one named on the command line with the same stem, else
 // NAME.json beside NAME.bvh when there is one. A JSON that matches no BVH is an error.
@@ -51,7 +42,7 @@ absl::StatusOr<std::map<fs::path, fs::path>> PairJsonWithBvh(const std::vector<f
 }
 
 absl::StatusOr<nlohmann::json> TracesFromFile(const fs::path& json_path) {
-  MOCAP_ASSIGN_OR_RETURN(std::string text, ReadText(json_path));
+  MOCAP_ASSIGN_OR_RETURN(std::string text, html_view::ReadTextFile(json_path));
   const nlohmann::json reconstruction = nlohmann::json::parse(text, nullptr, false);
   if (reconstruction.is_discarded()) return absl::InvalidArgumentError("not JSON");
   return html_view::ReconstructionTraces(reconstruction);
@@ -78,7 +69,7 @@ int Run(const ViewOptions& o) {
   std::string names;
   int unreadable = 0;
   for (const fs::path& bvh : bvh_files) {
-    absl::StatusOr<std::string> text = ReadText(bvh);
+    absl::StatusOr<std::string> text = html_view::ReadTextFile(bvh);
     if (!text.ok()) return Fail(text.status());
     nlohmann::json clip = html_view::ClipJson(bvh.filename().string(), *text);
     if (const std::string error = html_view::ClipError(clip); !error.empty()) {
@@ -93,9 +84,7 @@ int Run(const ViewOptions& o) {
   html_view::Page page;
   page.title = o.title.empty() ? "mocap view — " + names : o.title;
   page.data = {{"layout", o.layout}, {"scenes", {{{"label", page.title}, {"clips", std::move(clips)}}}}};
-  std::ofstream out(o.output, std::ios::binary);
-  out << html_view::PageHtml(page);
-  if (!out) return Fail(absl::DataLossError("cannot write " + o.output));
+  if (absl::Status s = html_view::WriteTextFile(o.output, html_view::PageHtml(page)); !s.ok()) return Fail(s);
   std::cout << "wrote " << o.output << " (" << names << ")\n";
   return unreadable == 0 ? 0 : 1;
 }
