@@ -45,7 +45,7 @@ export class BvhClip {
   // Throws an Error whose message says what is wrong with the text.
   constructor(text) {
     const layout = readBvhLayout(text);
-    const { result, thrown, problems } = parseQuietly(text);
+    const { result, thrown, problems } = parseQuietly(layout.text);
     if (!result) throw new Error(describeFailure(problems, thrown));
     if (problems.length) throw new Error(problems[0]);
     if (!(layout.frames >= 1)) throw new Error('the file has no frames');

@@ -3,9 +3,9 @@
 import { Box3, Vector3 } from 'three';
 import { ClipActor } from './clip_actor.js';
 import { Controls, LAYOUTS, SPEEDS } from './controls.js';
+import { CLIP_COLOURS } from './palette.js';
 import { Stage } from './stage.js';
 
-export const CLIP_COLOURS = ['#ff8a1f', '#2f9bff', '#3ddc52', '#e84ef0', '#ffe03a', '#26d9d0'];
 const MAX_STEP_SECONDS = 0.25;
 
 function setState(root, state) {

@@ -33,8 +33,12 @@ export class SkeletonFigure {
     const material = new MeshStandardMaterial({ color: colour, roughness: 0.55, metalness: 0.0 });
     this.bones = subtree(bodyTop(bvhClip.bones, pelvis));
     const inBody = new Set(this.bones);
+    // The head is a ball between the head joint and its end (no stick out of the top of the head).
+    const headBone = head && this.bones.find((b) => b.name === head);
+    this.headEnd = headBone && headBone.children.length === 1 ? headBone.children[0] : null;
     this.segments = [];
     for (const bone of this.bones) {
+      if (bone === this.headEnd) continue;
       if (bone.parent && inBody.has(bone.parent)) {
         const mesh = new Mesh(boneGeometry, material);
         this.group.add(mesh);
@@ -42,11 +46,10 @@ export class SkeletonFigure {
       }
     }
     this.joints = this.bones.filter((b) => b.name !== 'ENDSITE').map((bone) => {
-      const radius = bone.name === head ? HEAD_RADIUS : JOINT_RADIUS;
       const mesh = new Mesh(ballGeometry, material);
-      mesh.scale.setScalar(radius);
+      mesh.scale.setScalar(bone === headBone ? HEAD_RADIUS : JOINT_RADIUS);
       this.group.add(mesh);
-      return { bone, mesh };
+      return { bone, mesh, end: bone === headBone ? this.headEnd : null };
     });
   }
 
@@ -65,7 +68,10 @@ export class SkeletonFigure {
       mesh.quaternion.setFromUnitVectors(UP, direction.divideScalar(length));
       mesh.scale.set(BONE_RADIUS, length, BONE_RADIUS);
     }
-    for (const { bone, mesh } of this.joints) bone.getWorldPosition(mesh.position);
+    for (const { bone, mesh, end } of this.joints) {
+      bone.getWorldPosition(mesh.position);
+      if (end) mesh.position.add(end.getWorldPosition(a)).multiplyScalar(0.5);
+    }
   }
 
   // World positions of the drawn joints (for camera fitting).

@@ -65,7 +65,7 @@ export class Stage {
       distance = Math.max(distance, towardCamera + Math.abs(corner.dot(right)) / tanHorizontal,
         towardCamera + Math.abs(corner.dot(up)) / tanVertical);
     }
-    distance *= 1.08;
+    distance *= 1.15;
     this.camera.position.copy(centre).addScaledVector(back, distance);
     this.camera.near = Math.max(0.01, distance / 200);
     this.camera.far = distance * 20;
