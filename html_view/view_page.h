@@ -12,7 +12,7 @@ namespace mocap::html_view {
 
 struct Page {
   std::string title;
-  // {"layout": "overlay" | "side-by-side", "scenes": [{"label", "clips": [ClipJson(...), ...]}, ...]};
+  // {"layout": "overlay" | "side-by-side", "follow": bool, "scenes": [{"label", "clips": [ClipJson(...), ...]}, ...]};
   // null: a page without the player.
   nlohmann::json data;
   // HTML placed before and after the player (escaped by the caller); empty: the player fills the window.

@@ -42,7 +42,7 @@ stream_clips() {
 # One page playing every streamed reconstruction side by side, with its wrist inputs and estimated
 # ankles as traces (from NAME.json beside NAME.bvh): out/view.html, opened by any browser.
 view_streamed() {
-  "$mocap" view "$out"/stream/*.bvh --layout side-by-side --title "mocap quick start: streamed reconstructions" \
+  "$mocap" view "$out"/stream/*.bvh --layout side-by-side --follow --title "mocap quick start: streamed reconstructions" \
     -o "$out/view.html"
 }
 

@@ -20,6 +20,7 @@ struct ViewOptions {
   std::string output = "view.html";
   std::string layout = "overlay";
   std::string title;
+  bool follow = false;
 };
 
 // The reconstruction JSON of each BVH: one named on the command line with the same stem, else
@@ -39,6 +40,17 @@ absl::StatusOr<std::map<fs::path, fs::path>> PairJsonWithBvh(const std::vector<f
     if (!json_of.contains(bvh) && fs::is_regular_file(beside)) json_of[bvh] = beside;
   }
   return json_of;
+}
+
+// File names, with their folder where two would read the same (a reconstruction beside its capture).
+std::vector<std::string> DisplayNames(const std::vector<fs::path>& files) {
+  std::vector<std::string> names;
+  for (const fs::path& file : files) {
+    const bool shared = std::count_if(files.begin(), files.end(), [&](const fs::path& f) { return f.filename() == file.filename(); }) > 1;
+    const fs::path folder = fs::absolute(file).parent_path().filename();
+    names.push_back(shared && !folder.empty() ? (folder / file.filename()).string() : file.filename().string());
+  }
+  return names;
 }
 
 absl::StatusOr<nlohmann::json> TracesFromFile(const fs::path& json_path) {
@@ -66,24 +78,26 @@ int Run(const ViewOptions& o) {
   if (!json_of.ok()) return Fail(json_of.status());
 
   nlohmann::json clips = nlohmann::json::array();
+  const std::vector<std::string> display_names = DisplayNames(bvh_files);
   std::string names;
   int unreadable = 0;
-  for (const fs::path& bvh : bvh_files) {
+  for (size_t i = 0; i < bvh_files.size(); ++i) {
+    const fs::path& bvh = bvh_files[i];
     absl::StatusOr<std::string> text = html_view::ReadTextFile(bvh);
     if (!text.ok()) return Fail(text.status());
-    nlohmann::json clip = html_view::ClipJson(bvh.filename().string(), *text);
+    nlohmann::json clip = html_view::ClipJson(display_names[i], *text);
     if (const std::string error = html_view::ClipError(clip); !error.empty()) {
       spdlog::error("{} (the page shows this in its place)", error);
       ++unreadable;
     } else if (auto json = json_of->find(bvh); json != json_of->end()) {
       AddTraces(clip, json->second);
     }
-    names += (names.empty() ? "" : ", ") + bvh.filename().string();
+    names += (names.empty() ? "" : ", ") + display_names[i];
     clips.push_back(std::move(clip));
   }
   html_view::Page page;
   page.title = o.title.empty() ? "mocap view — " + names : o.title;
-  page.data = {{"layout", o.layout}, {"scenes", {{{"label", page.title}, {"clips", std::move(clips)}}}}};
+  page.data = {{"layout", o.layout}, {"follow", o.follow}, {"scenes", {{{"label", page.title}, {"clips", std::move(clips)}}}}};
   if (absl::Status s = html_view::WriteTextFile(o.output, html_view::PageHtml(page)); !s.ok()) return Fail(s);
   std::cout << "wrote " << o.output << " (" << names << ")\n";
   return unreadable == 0 ? 0 : 1;
@@ -102,6 +116,7 @@ void RegisterView(CLI::App& app, Registry& registry) {
   command->add_option("--layout", o->layout, "Clips drawn over each other or in panels side by side")
       ->check(CLI::IsMember({"overlay", "side-by-side"}))->capture_default_str();
   command->add_option("--title", o->title, "The page's title (default: the file names)");
+  command->add_flag("--follow", o->follow, "Start with the camera following the bodies (a toggle on the page)");
   registry.AddLocal(command, [o] { return Run(*o); });
 }
 

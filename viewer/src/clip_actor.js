@@ -52,6 +52,11 @@ export class ClipActor {
     this.traces.setFrame(f);
   }
 
+  // Calls back with the world positions of the body's joints at the current frame.
+  forEachCurrentJoint(callback) {
+    this.figure.forEachJointPosition((p) => callback(p.x, p.y, p.z));
+  }
+
   // Calls back with world points the camera should see: joints over the clip and trace points.
   forEachExtentPoint(callback) {
     const step = Math.max(1, Math.floor(this.clip.frameCount / 60));

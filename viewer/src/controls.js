@@ -15,7 +15,7 @@ function element(tag, attributes = {}, children = []) {
 }
 
 export class Controls {
-  // handlers: { onPlayToggle(), onSeek(frame), onSpeed(speed), onLayout(name), onScene(index) }
+  // handlers: { onPlayToggle(), onSeek(frame), onSpeed(speed), onLayout(name), onFollow(on), onScene(index) }
   constructor(root, scenes, handlers) {
     this.handlers = handlers;
     this.viewport = element('div', { class: 'mv-viewport' });
@@ -29,7 +29,9 @@ export class Controls {
       SPEEDS.map((s) => element('option', { value: String(s), text: `${s}×` })));
     this.layout = element('select', { class: 'mv-layout', 'aria-label': 'layout' },
       Object.entries(LAYOUTS).map(([value, text]) => element('option', { value, text })));
-    const bar = element('div', { class: 'mv-bar' }, [this.play, this.slider, this.counter, this.speed, this.layout]);
+    this.follow = element('input', { type: 'checkbox', class: 'mv-follow' });
+    const follow = element('label', { title: 'Keep the bodies in view as they travel' }, [this.follow, ' Follow']);
+    const bar = element('div', { class: 'mv-bar' }, [this.play, this.slider, this.counter, this.speed, this.layout, follow]);
     if (scenes.length > 1) {
       this.scene = element('select', { class: 'mv-scene', 'aria-label': 'clip set' },
         scenes.map((s, i) => element('option', { value: String(i), text: s.label || `clip set ${i + 1}` })));
@@ -41,6 +43,7 @@ export class Controls {
     this.slider.addEventListener('input', () => handlers.onSeek(Number(this.slider.value)));
     this.speed.addEventListener('change', () => handlers.onSpeed(Number(this.speed.value)));
     this.layout.addEventListener('change', () => handlers.onLayout(this.layout.value));
+    this.follow.addEventListener('change', () => handlers.onFollow(this.follow.checked));
   }
 
   showClips(items) {  // [{ name, colour, note }]
@@ -72,6 +75,7 @@ export class Controls {
   }
 
   select(control, value) {
-    if (this[control]) this[control].value = String(value);
+    if (this[control] && this[control].type === 'checkbox') this[control].checked = Boolean(value);
+    else if (this[control]) this[control].value = String(value);
   }
 }

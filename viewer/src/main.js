@@ -17,12 +17,12 @@ function showFatal(root, message) {
   document.body.dataset.viewerState = 'error';
 }
 
-// #layout=side-by-side&play=1&speed=0.5&scene=2&frame=40 (or the same as a query string).
+// #layout=side-by-side&play=1&speed=0.5&scene=2&frame=40&follow=1 (or the same as a query string).
 function urlOptions() {
   const params = new URLSearchParams(`${location.search.slice(1)}&${location.hash.slice(1)}`);
   const number = (key) => (params.has(key) ? Number(params.get(key)) : undefined);
   return { layout: params.get('layout') ?? undefined, play: params.get('play') === '1', speed: number('speed'),
-    scene: number('scene'), frame: number('frame') };
+    scene: number('scene'), frame: number('frame'), follow: params.has('follow') ? params.get('follow') === '1' : undefined };
 }
 
 function readData() {

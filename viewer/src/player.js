@@ -8,19 +8,32 @@ import { Stage } from './stage.js';
 
 const MAX_STEP_SECONDS = 0.25;
 
+// The box around clips' joints (over the whole motion, or at the current frame) down to the ground.
+function panelBounds(actors, now) {
+  const bounds = new Box3();
+  const point = new Vector3();
+  const add = (x, y, z) => bounds.expandByPoint(point.set(x, y, z));
+  for (const actor of actors) {
+    if (now) actor.forEachCurrentJoint(add);
+    else actor.forEachExtentPoint(add);
+  }
+  return bounds.expandByPoint(point.set(bounds.min.x, 0, bounds.min.z));
+}
+
 function setState(root, state) {
   root.dataset.state = state;
   document.body.dataset.viewerState = state;
 }
 
 export class Player {
-  // options: { layout, play, speed, scene, frame } (from the page's URL)
+  // options: { layout, play, speed, scene, frame, follow } (from the page's URL)
   constructor(root, data, options = {}) {
     this.root = root;
     this.scenes = data.scenes;
     this.layout = LAYOUTS[options.layout] ? options.layout : LAYOUTS[data.layout] ? data.layout : 'overlay';
     this.speed = SPEEDS.includes(options.speed) ? options.speed : 1;
     this.playing = Boolean(options.play);
+    this.following = Boolean(options.follow ?? data.follow);
     this.time = 0;
     this.actors = [];
     this.controls = new Controls(root, this.scenes, {
@@ -28,10 +41,12 @@ export class Player {
       onSeek: (frame) => this.seek(frame),
       onSpeed: (speed) => { this.speed = speed; },
       onLayout: (layout) => this.setLayout(layout),
+      onFollow: (on) => this.setFollow(on),
       onScene: (index) => this.loadScene(index),
     });
     this.controls.select('speed', this.speed);
     this.controls.select('layout', this.layout);
+    this.controls.select('follow', this.following);
     this.controls.showPlaying(this.playing);
     this.stage = new Stage(this.controls.viewport);
     const scene = Number.isInteger(options.scene) && options.scene >= 0 && options.scene < this.scenes.length ? options.scene : 0;
@@ -83,18 +98,32 @@ export class Player {
     setState(this.root, 'loading');
   }
 
+  // Each panel (all clips overlaid, or one clip each side by side) centred on its own clips, seen
+  // by one camera: the whole motion in view, or, when following, the bodies as they are now.
   fitCamera() {
-    const bounds = new Box3();
-    const point = new Vector3();
-    for (const actor of this.actors) actor.forEachExtentPoint((x, y, z) => bounds.expandByPoint(point.set(x, y, z)));
-    bounds.expandByPoint(point.set(bounds.min.x, 0, bounds.min.z));  // keep the ground in view
-    this.stage.setGround(bounds);
-    this.stage.fit(bounds, this.panels().length);
+    const groups = this.panelGroups();
+    const whole = groups.map((actors) => panelBounds(actors, false));
+    this.stage.setGround(whole.reduce((all, b) => all.union(b), new Box3()));
+    this.setActorsTime();
+    const boxes = this.following ? groups.map((actors) => panelBounds(actors, true).expandByScalar(0.6)) : whole;
+    this.centres = boxes.map((b) => b.getCenter(new Vector3()));
+    const fitted = new Box3();
+    boxes.forEach((b, i) => fitted.union(b.clone().translate(this.centres[0].clone().sub(this.centres[i]))));
+    this.stage.fit(fitted, groups.length);
   }
 
-  panels() {
-    if (this.layout === 'side-by-side' && this.actors.length > 1) return this.actors.map((a) => [a.layer]);
-    return [this.actors.map((a) => a.layer)];
+  setFollow(on) {
+    this.following = on;
+    if (this.actors.length) this.fitCamera();
+  }
+
+  setActorsTime() {
+    for (const actor of this.actors) actor.setTime(this.time);
+  }
+
+  panelGroups() {
+    if (this.layout === 'side-by-side' && this.actors.length > 1) return this.actors.map((a) => [a]);
+    return [this.actors];
   }
 
   setLayout(layout) {
@@ -139,9 +168,15 @@ export class Player {
     this.lastTick = now;
     if (!this.actors.length) return;
     if (this.playing) this.time = (this.time + elapsed * this.speed) % this.duration;
-    for (const actor of this.actors) actor.setTime(this.time);
+    this.setActorsTime();
+    const groups = this.panelGroups();
+    if (this.following) {
+      this.centres = groups.map((actors) => panelBounds(actors, true).getCenter(new Vector3()));
+      this.stage.follow(this.centres[0]);
+    }
     this.controls.showFrame(this.currentFrame(), this.time);
-    this.stage.render(this.panels());
+    this.stage.render(groups.map((actors, i) => ({
+      layers: actors.map((a) => a.layer), offset: this.centres[i].clone().sub(this.centres[0]) })));
     if (!this.rendered) {
       this.rendered = true;
       setState(this.root, 'ready');

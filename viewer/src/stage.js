@@ -1,8 +1,9 @@
 // The 3D stage: renderer, scene, lights, ground grid, a perspective camera with orbit controls,
 // and drawing either all clips over each other or each clip in its own panel, side by side.
-import { Color, DirectionalLight, GridHelper, HemisphereLight, PerspectiveCamera, Scene, Vector3,
+import { Color, DirectionalLight, HemisphereLight, PerspectiveCamera, Scene, Vector3,
   WebGLRenderer } from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { groundGrid } from './ground_grid.js';
 
 const BACKGROUND = '#1d2127';
 const FOV_DEGREES = 40;
@@ -40,7 +41,7 @@ export class Stage {
   setGround(bounds) {
     if (this.grid) this.scene.remove(this.grid);
     const size = 2 * Math.ceil(Math.max(bounds.max.x - bounds.min.x, bounds.max.z - bounds.min.z) / 2 + 1);
-    this.grid = new GridHelper(size, size * 2, '#8a94a3', '#454d58');
+    this.grid = groundGrid(size, 0.5);
     this.grid.position.set(Math.round((bounds.min.x + bounds.max.x) / 2), 0, Math.round((bounds.min.z + bounds.max.z) / 2));
     this.scene.add(this.grid);
   }
@@ -73,32 +74,41 @@ export class Stage {
     this.controls.update();
   }
 
+  // Moves the camera with its target so the target is `point` (the view keeps its angle and distance).
+  follow(point) {
+    const delta = point.clone().sub(this.controls.target);
+    this.controls.target.add(delta);
+    this.camera.position.add(delta);
+  }
+
   panelAspect() {
     const { clientWidth: w, clientHeight: h } = this.holder;
     return Math.max(1, w) / this.panels / Math.max(1, h);
   }
 
-  // layersPerPanel: one array of layer numbers per panel (left to right).
-  render(layersPerPanel) {
+  // panels, left to right: { layers: the render layers it shows, offset: where its camera stands
+  // relative to the shared one (each panel centred on its own clips) }.
+  render(panels) {
     const { clientWidth: w, clientHeight: h } = this.holder;
     const canvas = this.renderer.domElement;
-    if (canvas.width !== Math.floor(w * this.renderer.getPixelRatio()) || canvas.height !== Math.floor(h * this.renderer.getPixelRatio())) {
+    const ratio = this.renderer.getPixelRatio();
+    if (canvas.width !== Math.floor(w * ratio) || canvas.height !== Math.floor(h * ratio)) {
       this.renderer.setSize(w, h, false);
-      canvas.style.width = '100%';
-      canvas.style.height = '100%';
     }
     this.controls.update();
-    const panelWidth = w / layersPerPanel.length;
+    const panelWidth = w / panels.length;
     this.camera.aspect = panelWidth / Math.max(1, h);
     this.camera.updateProjectionMatrix();
-    layersPerPanel.forEach((layers, i) => {
+    panels.forEach(({ layers, offset }, i) => {
       const x = Math.round(i * panelWidth);
       const width = Math.round((i + 1) * panelWidth) - x;
       this.renderer.setViewport(x, 0, width, h);
       this.renderer.setScissor(x, 0, width, h);
       this.camera.layers.set(0);
       for (const layer of layers) this.camera.layers.enable(layer);
+      this.camera.position.add(offset);
       this.renderer.render(this.scene, this.camera);
+      this.camera.position.sub(offset);
     });
     this.camera.layers.enableAll();
   }

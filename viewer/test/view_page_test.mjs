@@ -181,6 +181,10 @@ if (data) {
       expect(a.count > 150, `${a.count} pixels of the clip's colour`);
       expect(a.height > a.width, `not upright: ${a.width.toFixed(2)} wide, ${a.height.toFixed(2)} high`);
       await page.close();
+      const following = await openPage(browser, `${built.url}#frame=30&follow=1`);
+      const [b] = await colourRegions(following, [ORANGE], join(out, `real-${name}-follow.png`));
+      expect(b.height > 0.3, `following: the body fills ${(b.height * 100).toFixed(0)}% of the view's height`);
+      await following.close();
     });
   }
   if (args['mocap-eval']) {
