@@ -33,37 +33,42 @@ std::string InlineScript(const std::string& script) {
   return out;
 }
 
-}  // namespace
-
-std::string HtmlEscape(std::string_view text) {
+// `text` with each character that `replacement` maps to a string (not null) replaced by that string.
+template <typename Replacement>
+std::string Escaped(std::string_view text, Replacement replacement) {
   std::string out;
   out.reserve(text.size());
   for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
-    }
+    if (const char* r = replacement(c)) out += r;
+    else out += c;
   }
   return out;
 }
 
-std::string ScriptSafeJson(const nlohmann::json& value) {
-  const std::string json = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  std::string out;
-  out.reserve(json.size());
-  for (char c : json) {
+}  // namespace
+
+std::string HtmlEscape(std::string_view text) {
+  return Escaped(text, [](char c) -> const char* {
     switch (c) {
-      case '<': out += "\\u003c"; break;
-      case '>': out += "\\u003e"; break;
-      case '&': out += "\\u0026"; break;
-      default: out += c;
+      case '&': return "&amp;";
+      case '<': return "&lt;";
+      case '>': return "&gt;";
+      case '"': return "&quot;";
+      case '\'': return "&#39;";
+      default: return nullptr;
     }
-  }
-  return out;
+  });
+}
+
+std::string ScriptSafeJson(const nlohmann::json& value) {
+  return Escaped(value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), [](char c) -> const char* {
+    switch (c) {
+      case '<': return "\\u003c";
+      case '>': return "\\u003e";
+      case '&': return "\\u0026";
+      default: return nullptr;
+    }
+  });
 }
 
 std::string PageHtml(const Page& page) {
