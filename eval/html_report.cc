@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "eval/report_player_scenes.h"
+#include "eval/svg_chart.h"
 #include "html_view/text_file.h"
 #include "html_view/view_page.h"
 #include "motion/core/str_cat.h"
@@ -178,14 +179,45 @@ std::string OtherSections(const Json& report) {
   return StrCat("<dl>", facts, "</dl>\n", tables);
 }
 
-std::string Plots(const std::filesystem::path& plots_dir) {
+// Position error per body part (the metrics named *_mpjpe_cm or *_error_cm, and MPJPE over all
+// joints) for the main runs: a bar chart made here from the report's figures.
+std::string BodyPartChart(const Json& experiments) {
+  std::vector<std::string> metrics;
+  for (const std::string& m : MetricColumns(experiments)) {
+    if (m.rfind("truth_", 0) != 0 && (m == "mpjpe_cm" || m.ends_with("_mpjpe_cm") || m.ends_with("_error_cm"))) metrics.push_back(m);
+  }
+  std::vector<Series> series;
+  for (const std::string& name : RunOrder(experiments)) {
+    const Json& run = experiments[name];
+    if (run.value("group", std::string()) != "main") continue;
+    Series s{name, {}};
+    for (const std::string& m : metrics) {
+      const Json value = run.value("overall", Json::object()).value(m, Json());
+      s.values.push_back(value.is_number() ? value.get<double>() : 0.0);
+    }
+    series.push_back(std::move(s));
+  }
+  if (metrics.empty() || series.empty()) return "";
+  std::vector<std::string> categories;
+  for (const std::string& m : metrics) {
+    std::string label = m == "mpjpe_cm" ? "all joints" : Label(m.substr(0, m.size() - 3));  // without " (cm)"
+    for (const char* word : {" MPJPE", " error"}) {
+      if (label.ends_with(word)) label.resize(label.size() - std::string_view(word).size());
+    }
+    categories.push_back(label);
+  }
+  return StrCat("<figure>", BarChartSvg("Position error per body part", "error (cm)", categories, series),
+                "<figcaption>per body part, from report.json</figcaption></figure>\n");
+}
+
+std::string Plots(const std::filesystem::path& plots_dir, const Json& experiments) {
   std::vector<std::filesystem::path> files;
   std::error_code ignored;
   for (const auto& entry : std::filesystem::directory_iterator(plots_dir, ignored)) {
     if (entry.path().extension() == ".svg") files.push_back(entry.path());
   }
   std::sort(files.begin(), files.end());
-  std::string html = "<h2>Plots</h2>\n<div class=\"plots\">";
+  std::string html = "<h2>Plots</h2>\n<div class=\"plots\">" + BodyPartChart(experiments);
   for (const auto& file : files) {
     absl::StatusOr<std::string> svg = html_view::ReadTextFile(file);
     if (!svg.ok()) continue;
@@ -194,7 +226,7 @@ std::string Plots(const std::filesystem::path& plots_dir) {
     html += StrCat("<figure>", svg->substr(start), "<figcaption>plots/", HtmlEscape(file.filename().string()),
                    "</figcaption></figure>\n");
   }
-  return files.empty() ? "" : html + "</div>\n";
+  return html + "</div>\n";
 }
 
 }  // namespace
@@ -216,7 +248,7 @@ absl::Status WriteHtmlReport(const Json& report, const std::filesystem::path& ou
                                "MPJPE first). Choose a clip below the player; drag to orbit, scroll to zoom.</p>\n");
     page.data = {{"layout", "overlay"}, {"scenes", scenes}};
   }
-  page.html_after = Plots(out_dir / "plots");
+  page.html_after = Plots(out_dir / "plots", experiments);
   return html_view::WriteTextFile(out_dir / "report.html", html_view::PageHtml(page));
 }
 

@@ -71,6 +71,7 @@ TEST_F(HtmlReportTest, WritesTablesPlotsAndThePlayerFromAnyReport) {
   EXPECT_LT(html->find("<td>full</td>"), html->find("<td>lag_5</td>"));  // main runs first
   EXPECT_NE(html->find("MPJPE (cm) per content type"), std::string::npos);
   EXPECT_NE(html->find("<svg id=\"chart\"></svg>"), std::string::npos);
+  EXPECT_NE(html->find("Position error per body part"), std::string::npos);
   EXPECT_NE(html->find("id=\"mocap-viewer-data\""), std::string::npos);
 }
 
