@@ -79,7 +79,7 @@ export class Player {
       }
     });
     this.controls.showClips(this.actors.map(({ name, colour, note, traces }) => ({
-      name, colour, note: [note, traces.labels.length ? `traces: ${traces.labels.join(', ')}` : ''].filter(Boolean).join(' — '),
+      name, colour, note: [note, traces.summary && `traces: ${traces.summary}`].filter(Boolean).join(' · '),
     })));
     this.controls.showErrors(errors);
     if (this.actors.length === 0) {

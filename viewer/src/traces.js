@@ -27,8 +27,10 @@ export class Traces {
     });
   }
 
-  get labels() {
-    return this.items.map((i) => i.trace.label);
+  // What the legend says: "wrist inputs, estimated ankles" (each trace's label for other kinds).
+  get summary() {
+    const names = { wrist: 'wrist inputs', ankle: 'estimated ankles' };
+    return [...new Set(this.items.map(({ trace }) => names[trace.kind] ?? trace.label))].join(', ');
   }
 
   setFrame(f) {
