@@ -13,6 +13,7 @@
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/reconstruct/reconstruction_export.h"
+#include "motion/skeleton/local_motion.h"
 
 namespace mocap::eval {
 
@@ -69,6 +70,11 @@ std::vector<WristSample> NoisyWrists(const TestClip& test, const RigModel& rig, 
   return samples;
 }
 
+// The captured clip as measured (database rate, cut, metres, Y up) on its own skeleton.
+BvhClip TruthBvh(const TestClip& test) {
+  return {test.clip.skeleton, test.clip.motion.frame_time, ChannelsFromMotion(test.clip.skeleton, test.clip.motion)};
+}
+
 }  // namespace
 
 absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<const ReconstructionDatabase> database,
@@ -77,7 +83,7 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<cons
                                                             const EvaluationConfig& config,
                                                             const std::function<void(const std::string&)>& progress) {
   std::vector<ExperimentResult> results;
-  if (!config.bvh_dir.empty()) std::filesystem::create_directories(config.bvh_dir);
+  if (!config.bvh_dir.empty()) std::filesystem::create_directories(config.bvh_dir / "truth");
   for (const Experiment& experiment : experiments) {
     ExperimentResult result{experiment, {}, {}};
     std::vector<Metrics> per_clip(tests.size());
@@ -100,7 +106,9 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<cons
         per_clip[i].seconds = seconds;
         if (experiment.name == "full" && !config.bvh_dir.empty()) {
           const std::filesystem::path out = config.bvh_dir / tests[i].name;
-          if (absl::Status status = WriteBvhFile(ReconstructionToBvh(*database, *frames), out); !status.ok()) {
+          absl::Status status = WriteBvhFile(ReconstructionToBvh(*database, *frames), out);
+          if (status.ok()) status = WriteBvhFile(TruthBvh(tests[i]), config.bvh_dir / "truth" / tests[i].name);
+          if (!status.ok()) {
             std::lock_guard<std::mutex> lock(mutex);
             if (error.ok()) error = status;
           }
@@ -114,6 +122,7 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<cons
     for (size_t i = 0; i < tests.size(); ++i) {
       result.overall.Add(per_clip[i]);
       result.by_content[tests[i].content].Add(per_clip[i]);
+      result.clips.push_back({tests[i].name, tests[i].content, per_clip[i]});
     }
     if (progress) {
       progress(StrCat(experiment.name, ": MPJPE ", 100 * result.overall.Mean(result.overall.joint_error_m), " cm over ",

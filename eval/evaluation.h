@@ -22,10 +22,17 @@ struct TestClip {
   GlobalPoses truth;
 };
 
+struct ClipResult {
+  std::string name;  // test file name
+  std::string content;
+  Metrics metrics;
+};
+
 struct ExperimentResult {
   Experiment experiment;
   Metrics overall;
   std::map<std::string, Metrics> by_content;
+  std::vector<ClipResult> clips;  // in test order
 };
 
 // Database from BVH files (all cores). The rig comes from the first file.
@@ -37,7 +44,7 @@ absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::files
 struct EvaluationConfig {
   unsigned seed = 1;
   int threads = 2;
-  std::filesystem::path bvh_dir;  // where the "full" run's reconstructions go; empty = nowhere
+  std::filesystem::path bvh_dir;  // where the "full" run's reconstructions go (the captured clips in truth/); empty = nowhere
 };
 
 absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<const ReconstructionDatabase> database,

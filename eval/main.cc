@@ -192,7 +192,7 @@ int main(int argc, char** argv) {
     std::cerr << "mocap-eval: " << status.message() << "\n";
     return kExitError;
   }
-  std::cout << "wrote " << out_dir << "/report.md, report.json, plots/" << (no_bvh ? "" : ", bvh/") << "\n";
+  std::cout << "wrote " << out_dir << "/report.html, report.md, report.json, plots/" << (no_bvh ? "" : ", bvh/") << "\n";
   if (!quick) return 0;
   // Regression check against stored thresholds.
   std::ifstream in(thresholds_file);

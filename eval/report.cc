@@ -5,6 +5,7 @@
 #include <functional>
 #include <set>
 
+#include "eval/html_report.h"
 #include "eval/svg_chart.h"
 #include "motion/core/str_cat.h"
 
@@ -62,6 +63,7 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
     nlohmann::json entry = {{"group", r.experiment.group}, {"x", r.experiment.x}, {"noise_cm", r.experiment.noise_cm},
                             {"overall", MetricsJson(r.overall)}};
     for (const auto& [content, metrics] : r.by_content) entry["by_content"][content] = MetricsJson(metrics);
+    for (const ClipResult& c : r.clips) (entry["clips"][c.name] = MetricsJson(c.metrics))["content"] = c.content;
     report["experiments"][r.experiment.name] = entry;
   }
   const ExperimentResult* full = Find(results, "full");
@@ -208,7 +210,8 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
     md += StrCat(", `plots/", file, "`");
   }
   md += "\n";
-  return WriteText(out_dir / "report.md", md);
+  if (absl::Status s = WriteText(out_dir / "report.md", md); !s.ok()) return s;
+  return WriteHtmlReport(report, out_dir);
 }
 
 }  // namespace mocap::eval

@@ -2,7 +2,8 @@
 # The README's main command: sets up everything, imports motion into a SQLite motion store, starts
 # the server on that store, streams held-out wrist trajectories to it through the client SDK
 # (`mocap reconstruct`) and writes the reconstructed whole-body motion (BVH + JSON + summary in
-# out/stream/), plus the offline evaluation (report + plots in out/reconstruction/).
+# out/stream/, played in a browser by out/view.html), plus the offline evaluation (report.html,
+# report.md and plots in out/reconstruction/).
 #   usage: scripts/quickstart.sh [BVH_FILE_OR_FOLDER...]
 # Without arguments it imports the shared data sets (../shared/data) when present.
 # Output: var/mocap.db (the store) and out/.
@@ -38,6 +39,13 @@ stream_clips() {
   done
 }
 
+# One page playing every streamed reconstruction side by side, with its wrist inputs and estimated
+# ankles as traces (from NAME.json beside NAME.bvh): out/view.html, opened by any browser.
+view_streamed() {
+  "$mocap" view "$out"/stream/*.bvh --layout side-by-side --follow --title "mocap quick start: streamed reconstructions" \
+    -o "$out/view.html"
+}
+
 inputs=("$@")
 database=motion
 if [ ${#inputs[@]} -eq 0 ]; then
@@ -70,6 +78,7 @@ if [ ${#inputs[@]} -eq 0 ]; then
   start_server
   echo "== Streaming held-out clips' wrists to the server (mocap reconstruct --lag 5)"
   stream_clips bandai-namco-2 "$data"/bandai-namco-2/dataset-2_{walk,run,wave-both-hands}_normal_003.bvh
+  view_streamed
   # The same engine offline on a subset of the standard split, measured against the captured motion.
   echo
   echo "== Evaluating held-out clips offline (mocap-eval --quick)"
@@ -86,6 +95,7 @@ else
   # clip is in the database; mocap-eval --test with held-out files measures for real).
   start_server
   stream_clips "$database" "$first"
+  view_streamed
   "$repo/build/eval/mocap-eval" --database-dir "${inputs[@]}" --test "$first" --out "$out/reconstruction"
 fi
 echo
@@ -93,7 +103,9 @@ echo "== Motion databases in $store"
 "$mocapd" databases --store "$store"
 "$mocapd" databases --store "$store" --json > "$out/databases.json"
 echo
-echo "Wrote $out/: databases.json, inspect.json (groups, landmarks, up axis, units of sample files)$([ -f "$out/similar.json" ] && echo ', similar.json'),"
-echo "  stream/ (*.bvh: motion reconstructed by the server from streamed wrists, to open in Blender or any"
-echo "  BVH viewer; *.json: every frame, the session's skeleton and summary; summary.txt),"
-echo "  reconstruction/ (offline evaluation: report.md, plots/*.svg, bvh/*.bvh)."
+echo "Wrote $out/: view.html (open it in a browser: the streamed reconstructions played side by side, with"
+echo "  their wrist inputs and estimated ankles as traces), databases.json, inspect.json (groups, landmarks,"
+echo "  up axis, units of sample files)$([ -f "$out/similar.json" ] && echo ', similar.json'),"
+echo "  stream/ (*.bvh: motion reconstructed by the server from streamed wrists; *.json: every frame, the"
+echo "  session's skeleton and summary; summary.txt),"
+echo "  reconstruction/ (offline evaluation: report.html with an embedded player, report.md, plots/*.svg, bvh/)."

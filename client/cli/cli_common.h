@@ -49,11 +49,14 @@ std::string JsonList(const std::vector<Message>& messages) {
 }
 
 using Action = std::function<int(client::Client&)>;
+using LocalAction = std::function<int()>;  // a command that needs no server
 
 struct Registry {
   std::shared_ptr<GlobalOptions> global = std::make_shared<GlobalOptions>();
   std::vector<std::pair<CLI::App*, Action>> actions;
+  std::vector<std::pair<CLI::App*, LocalAction>> local_actions;
   void Add(CLI::App* command, Action action) { actions.emplace_back(command, std::move(action)); }
+  void AddLocal(CLI::App* command, LocalAction action) { local_actions.emplace_back(command, std::move(action)); }
 };
 
 }  // namespace mocap::cli

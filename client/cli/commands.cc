@@ -14,6 +14,7 @@
 #include "cli_util/progress_bar.h"
 #include "client/cli/cli_common.h"
 #include "client/cli/reconstruct_command.h"
+#include "client/cli/view_command.h"
 #include "mocap/client.h"
 
 namespace mocap::cli {
@@ -204,7 +205,11 @@ std::function<int()> RegisterCommands(CLI::App& app) {
   RegisterImport(app, *registry);
   RegisterExport(app, *registry);
   RegisterReconstruct(app, *registry);
+  RegisterView(app, *registry);
   return [registry] {
+    for (const auto& [command, action] : registry->local_actions) {
+      if (command->parsed()) return action();
+    }
     // The deepest parsed command wins (databases describe before databases).
     for (auto it = registry->actions.rbegin(); it != registry->actions.rend(); ++it) {
       if (!it->first->parsed()) continue;

@@ -1,0 +1,86 @@
+#include "html_view/view_clip.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <spdlog/spdlog.h>
+
+#include "motion/bvh/bvh_reader.h"
+#include "motion/core/units.h"
+#include "motion/skeleton/body_topology.h"
+#include "motion/skeleton/local_motion.h"
+
+namespace mocap::html_view {
+namespace {
+
+std::string Note(const BvhClip& clip) {
+  std::ostringstream note;
+  note << clip.num_frames() << " frames at " << std::setprecision(3) << clip.frame_rate() << " fps";
+  return note.str();
+}
+
+// 0.1 mm is finer than any capture: keeps the page small.
+double Rounded(double metres) { return std::round(metres * 1e4) / 1e4; }
+
+}  // namespace
+
+nlohmann::json ClipJson(std::string_view name, std::string_view bvh_text) {
+  nlohmann::json clip = {{"name", name}, {"bvh", bvh_text}};
+  absl::StatusOr<BvhClip> parsed = ParseBvh(bvh_text, name);
+  if (!parsed.ok()) {
+    clip["error"] = std::string(parsed.status().message());
+    return clip;
+  }
+  clip["note"] = Note(*parsed);
+  const LocalMotion motion = MotionFromChannels(parsed->skeleton, parsed->channels, parsed->frame_time);
+  absl::StatusOr<BodyTopology> body = AnalyseBody(parsed->skeleton, motion);
+  if (!body.ok()) {
+    spdlog::warn("{}: not read as a humanoid ({}); the page guesses its unit and takes +Y as up", name,
+                 std::string(body.status().message()));
+    return clip;
+  }
+  const Eigen::Quaternionf to_y_up = Eigen::Quaternionf::FromTwoVectors(body->up(), Eigen::Vector3f::UnitY());
+  clip["metresPerUnit"] = MetresPerUnit(body->unit);
+  clip["toYUp"] = {to_y_up.x(), to_y_up.y(), to_y_up.z(), to_y_up.w()};
+  clip["pelvis"] = parsed->skeleton.joint(body->landmarks.pelvis).name;
+  clip["head"] = parsed->skeleton.joint(body->landmarks.head).name;
+  return clip;
+}
+
+absl::StatusOr<nlohmann::json> ReconstructionTraces(const nlohmann::json& reconstruction) {
+  const nlohmann::json* frames = reconstruction.is_object() && reconstruction.contains("frames") ? &reconstruction["frames"] : nullptr;
+  if (!frames || !frames->is_array() || frames->empty()) return absl::InvalidArgumentError("no \"frames\" to draw traces from");
+  struct Field {
+    const char* key;
+    const char* label;
+    const char* kind;
+  };
+  static constexpr Field kFields[] = {{"left_wrist", "left wrist (input)", "wrist"},
+                                      {"right_wrist", "right wrist (input)", "wrist"},
+                                      {"left_ankle", "left ankle (estimated)", "ankle"},
+                                      {"right_ankle", "right ankle (estimated)", "ankle"}};
+  nlohmann::json traces = nlohmann::json::array();
+  try {
+  for (const Field& field : kFields) {
+    nlohmann::json points = nlohmann::json::array();
+    double last[3] = {0, 0, 0};
+    bool seen = false;
+    for (const nlohmann::json& frame : *frames) {
+      const nlohmann::json* p = frame.is_object() && frame.contains(field.key) ? &frame[field.key] : nullptr;
+      if (p && p->is_object()) {  // proto JSON leaves out a point never set: repeat the last one
+        last[0] = p->value("x", 0.0), last[1] = p->value("y", 0.0), last[2] = p->value("z", 0.0);
+        seen = true;
+      }
+      for (double v : last) points.push_back(Rounded(v));
+    }
+    if (seen) traces.push_back({{"label", field.label}, {"kind", field.kind}, {"points", std::move(points)}});
+  }
+  } catch (const nlohmann::json::exception& error) {
+    return absl::InvalidArgumentError(std::string("a frame's point is not {x, y, z} numbers: ") + error.what());
+  }
+  return traces;
+}
+
+}  // namespace mocap::html_view

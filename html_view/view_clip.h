@@ -1,0 +1,29 @@
+// The page data of one clip: its BVH text, and what the player needs to draw it standing on the
+// ground in metres — the length unit, the rotation making its up axis +Y, the pelvis and head
+// joints — from the importer's own body analysis (motion/skeleton/body_topology.h). Also the
+// traces of a `mocap reconstruct` JSON output (smoothed wrist inputs, estimated ankles).
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "absl/status/statusor.h"
+
+namespace mocap::html_view {
+
+// {"name", "bvh", "note", "metresPerUnit", "toYUp": [x, y, z, w], "pelvis", "head"}. A text that does
+// not parse gives {"name", "bvh", "error": "NAME:LINE: what was expected"}, which the page shows in
+// place of the clip; a rig the analysis does not recognise leaves the unit and up axis to the page.
+nlohmann::json ClipJson(std::string_view name, std::string_view bvh_text);
+
+// The clip's parse error, if any (the "error" member of ClipJson).
+inline std::string ClipError(const nlohmann::json& clip) { return clip.value("error", std::string()); }
+
+// [{"label", "kind": "wrist" | "ankle", "points": [x, y, z, ...]}] (metres, Y up, one point per
+// frame) from the JSON `mocap reconstruct` writes (its "frames": left_wrist, right_wrist,
+// left_ankle, right_ankle). InvalidArgument when it holds no frames.
+absl::StatusOr<nlohmann::json> ReconstructionTraces(const nlohmann::json& reconstruction);
+
+}  // namespace mocap::html_view
