@@ -57,6 +57,16 @@ class ServiceRegressionTest : public testing::ServerFixture {
     ADD_FAILURE() << "no metric " << name;
     return -1;
   }
+  // mocap_sessions_active once it is 0, or after 5 s.
+  double ActiveSessionsAfterWaiting(Client& client) {
+    double active = -1;
+    for (int i = 0; i < 100; ++i) {
+      active = Metric(client, "mocap_sessions_active");
+      if (active == 0) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return active;
+  }
   // Streams `samples` one per message at full speed; the session's wall time in seconds.
   static double TimedSession(Client& client, const v1::SessionConfig& config, const std::vector<v1::WristSample>& samples,
                              size_t* frames) {
@@ -95,13 +105,7 @@ TEST_F(ServiceRegressionTest, CancelledSessionsStopComputingAtOnce) {
   std::this_thread::sleep_for(std::chrono::seconds(1));
   for (auto& stream : streams) stream->Cancel();
   // Both sessions end within a frame's work, not when their 25,000 samples are done.
-  double active = -1;
-  for (int i = 0; i < 100; ++i) {
-    active = Metric(*acme, "mocap_sessions_active");
-    if (active == 0) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  EXPECT_EQ(active, 0) << "cancelled sessions still computing 5 s after the cancel";
+  EXPECT_EQ(ActiveSessionsAfterWaiting(*acme), 0) << "cancelled sessions still computing 5 s after the cancel";
   size_t frames = 0;
   const double seconds = TimedSession(*other, Config(0), Samples(150), &frames);
   EXPECT_EQ(frames, 150u);
@@ -151,13 +155,7 @@ TEST_F(ServiceRegressionTest, CancelledUnaryCallStopsComputing) {
   const auto start = Clock::now();
   auto result = acme->ReconstructTrajectory(Config(0), Samples(25'000), std::chrono::milliseconds(1500));
   EXPECT_EQ(result.status().code(), absl::StatusCode::kDeadlineExceeded) << result.status();
-  double active = -1;
-  for (int i = 0; i < 100; ++i) {
-    active = Metric(*acme, "mocap_sessions_active");
-    if (active == 0) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  EXPECT_EQ(active, 0) << "the expired call still computes";
+  EXPECT_EQ(ActiveSessionsAfterWaiting(*acme), 0) << "the expired call still computes";
   EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 20.0);
 }
 
