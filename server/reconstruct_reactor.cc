@@ -18,8 +18,21 @@ ReconstructReactor::ReconstructReactor(ReconstructionState& state, grpc::Callbac
   std::lock_guard lock(mutex_);
   if (state_.draining) {
     CompleteLocked(absl::UnavailableError("the server is shutting down; connect again"), true);
+  } else if (absl::Status key = call_.CheckKeyPresent(); !key.ok()) {
+    CompleteLocked(key, true);  // refused before anything is read: a keyless stream holds nothing
+  } else {
+    // The key is checked and the tenant's session admitted before the first read.
+    Post([this] { Authenticate(); });
   }
   PumpLocked();
+}
+
+void ReconstructReactor::Authenticate() {
+  absl::Status status = call_.Begin(&state_.sessions, "sessions_per_tenant");
+  if (!status.ok()) return Deliver({}, status);
+  pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
+  std::lock_guard lock(mutex_);
+  authenticated_ = true;
 }
 
 void ReconstructReactor::Post(std::function<void()> work) {
@@ -101,9 +114,6 @@ void ReconstructReactor::OnReadDone(bool ok) {
 }
 
 void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
-  absl::Status status = call_.Begin(&state_.sessions, "sessions_per_tenant");
-  if (!status.ok()) return Deliver({}, status);
-  pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
   {
     std::lock_guard lock(mutex_);
     ++tasks_;  // the database wait; AcquireSessionDatabase always answers
@@ -118,6 +128,7 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
       status = driver.status();
       if (driver.ok()) {
         driver_ = std::move(*driver);
+        session_started_ = true;
         replies.emplace_back().mutable_started()->CopyFrom(driver_->started());
         spdlog::info("session={} request={} tenant={} database={} label=\"{}\" started: {} frames in database, latency {} frames",
                      session_id_, call_.request_id(), call_.tenant().name, LogText(config.database()), LogText(config.client_label()),
@@ -152,9 +163,7 @@ void ReconstructReactor::EndInput(absl::Status final_status) {
     if (driver_) {
       absl::Status finished = driver_->Finish(&replies);
       if (!finished.ok()) status = finished;
-      spdlog::info("session={} ended: {} frames, {} samples rejected", session_id_, driver_->frames_emitted(),
-                   driver_->samples_rejected());
-      driver_.reset();  // frees the session now; the database stays shared with others
+      ReleaseDriverLocked();  // frees the session now; the database stays shared with others
     }
   }
   std::lock_guard lock(mutex_);
@@ -206,7 +215,7 @@ void ReconstructReactor::PumpLocked() {
     if (tasks_ == 0 && outbox_.size() < kMaxQueuedReplies) PostSliceLocked();
     return;
   }
-  if (!writing_ && outbox_.empty() && !reading_ && !input_done_ && tasks_ == 0) {
+  if (authenticated_ && !writing_ && outbox_.empty() && !reading_ && !input_done_ && tasks_ == 0) {
     reading_ = true;
     last_read_ = Clock::now();
     StartRead(&request_);
@@ -222,7 +231,11 @@ void ReconstructReactor::OnWriteDone(bool ok) {
 
 void ReconstructReactor::OnCancel() {
   std::lock_guard lock(mutex_);
-  CompleteLocked(absl::CancelledError("the client went away"), true);
+  // gRPC does not say why: the client cancelled or disconnected, its deadline passed, or the
+  // transport refused a message over the size limit (the client was told RESOURCE_EXHAUSTED).
+  CompleteLocked(absl::CancelledError("call cancelled: by the client, its deadline, a lost connection or a message over "
+                                      "the server's size limit"),
+                 true);
   PumpLocked();
 }
 
@@ -253,7 +266,24 @@ void ReconstructReactor::EndForShutdown() {
   Post([this, status] { EndInput(status); });
 }
 
+void ReconstructReactor::ReleaseDriverLocked() {
+  if (!driver_) return;
+  frames_emitted_ = driver_->frames_emitted();
+  samples_rejected_ = driver_->samples_rejected();
+  driver_.reset();
+}
+
 void ReconstructReactor::OnDone() {
+  {
+    // One line per session end, however it ended, with the code the client was sent (finding 8).
+    std::lock_guard session(session_mutex_);
+    ReleaseDriverLocked();
+    if (session_started_) {
+      std::lock_guard lock(mutex_);
+      spdlog::info("session={} request={} ended code={}: {} frames, {} samples rejected", session_id_, call_.request_id(),
+                   GrpcCodeName(final_status_.error_code()), frames_emitted_, samples_rejected_);
+    }
+  }
   {
     std::lock_guard live(state_.live_mutex);
     state_.live.erase(this);

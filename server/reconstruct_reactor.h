@@ -1,7 +1,8 @@
 // The Reconstruct stream of one session (reconstruction_service.h): a state machine with at most
 // one read, one write and one compute task outstanding.
 //
-//   read config → [compute] authenticate, find the database, wait for its index → write `started`
+//   open → [compute] authenticate, admit the tenant's session (nothing is read before)
+//   read config → [compute] find the database, wait for its index → write `started`
 //   read samples → [compute] SessionDriver::Push of a few samples → write their frames → [compute]
 //                  the next few ... → read next message
 //   half-close or `finish` → [compute] SessionDriver::Finish → write frames, summary → Finish(OK)
@@ -56,7 +57,10 @@ class ReconstructReactor : public grpc::ServerBidiReactor<v1::ReconstructRequest
   void PostSliceLocked();
   // Samples [begin, end) of `samples`; `arrival` for the message's last slice (its reply latency).
   void HandleSlice(const v1::WristSamples& samples, int begin, int end, std::optional<Clock::time_point> arrival);
+  void Authenticate();
   void HandleConfig(const v1::SessionConfig& config);
+  // With session_mutex_ held: frees the session, keeping its counts for the end-of-session line.
+  void ReleaseDriverLocked();
   void EndInput(absl::Status final_status);
   // Queues replies; `status` not OK ends the call after them.
   void Deliver(Replies replies, const absl::Status& status);
@@ -72,11 +76,14 @@ class ReconstructReactor : public grpc::ServerBidiReactor<v1::ReconstructRequest
   v1::ReconstructRequest request_;  // read buffer
   std::mutex session_mutex_;        // driver_ and the config phase (compute tasks)
   std::unique_ptr<SessionDriver> driver_;
+  bool session_started_ = false;  // a driver was created: the session's end is logged
+  std::int64_t frames_emitted_ = 0, samples_rejected_ = 0;  // kept when the driver is freed
   std::atomic<bool> cancelled_{false};  // set once the outcome is decided: stops the session's compute
   std::atomic<WorkPool::Key> pool_key_{WorkPool::kSharedKey};  // the tenant, once authenticated
 
   std::mutex mutex_;  // everything below
   bool reading_ = false, writing_ = false;
+  bool authenticated_ = false;  // key checked, session admitted: reads may start
   int tasks_ = 0;            // compute tasks queued or running, and a database wait
   bool configured_ = false;  // config received
   bool input_done_ = false;  // half-close, `finish`, or drain: no more reads

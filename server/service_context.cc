@@ -20,7 +20,9 @@ std::string BearerKey(const grpc::CallbackServerContext& context) {
   return value.substr(kPrefix.size());
 }
 
-const char* CodeName(grpc::StatusCode code) {
+}  // namespace
+
+const char* GrpcCodeName(grpc::StatusCode code) {
   static const char* const kNames[] = {"OK", "CANCELLED", "UNKNOWN", "INVALID_ARGUMENT", "DEADLINE_EXCEEDED",
                                        "NOT_FOUND", "ALREADY_EXISTS", "PERMISSION_DENIED", "RESOURCE_EXHAUSTED",
                                        "FAILED_PRECONDITION", "ABORTED", "OUT_OF_RANGE", "UNIMPLEMENTED", "INTERNAL",
@@ -28,8 +30,6 @@ const char* CodeName(grpc::StatusCode code) {
   const int index = static_cast<int>(code);
   return index >= 0 && index < 17 ? kNames[index] : "UNKNOWN";
 }
-
-}  // namespace
 
 grpc::Status ToGrpcStatus(const absl::Status& status, const std::string& request_id) {
   if (status.ok()) return grpc::Status::OK;
@@ -59,14 +59,17 @@ absl::Status CallScope::RequireWritableStore() const {
                                               "change the store with mocapd import on its writer and roll the file out"));
 }
 
+absl::Status CallScope::CheckKeyPresent() {
+  if (!BearerKey(*context_).empty()) return absl::OkStatus();
+  service_.metrics.Rejected("no_key");
+  return absl::UnauthenticatedError("no API key: send metadata 'authorization: Bearer <key>'");
+}
+
 absl::Status CallScope::Begin(TenantAdmission* admission, const char* limit_name) {
+  MOCAP_RETURN_IF_ERROR(CheckKeyPresent());
+  const std::string key = BearerKey(*context_);
   MOCAP_ASSIGN_OR_RETURN(StorePool::Lease lease, service_.stores.Acquire());
   store_ = std::move(lease);
-  const std::string key = BearerKey(*context_);
-  if (key.empty()) {
-    service_.metrics.Rejected("no_key");
-    return absl::UnauthenticatedError("no API key: send metadata 'authorization: Bearer <key>'");
-  }
   absl::StatusOr<Tenant> tenant = TenantDirectory(**store_).Authenticate(key);
   if (!tenant.ok()) {
     if (tenant.status().code() == absl::StatusCode::kUnauthenticated) service_.metrics.Rejected("bad_key");
@@ -86,14 +89,14 @@ grpc::Status CallScope::End(const absl::Status& status) {
   ended_ = true;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const grpc::Status mapped = ToGrpcStatus(status, request_id_);
-  service_.metrics.CallFinished(method_, CodeName(mapped.error_code()), seconds);
+  service_.metrics.CallFinished(method_, GrpcCodeName(mapped.error_code()), seconds);
   const std::string tenant = tenant_.name.empty() ? "-" : tenant_.name;
   if (status.ok()) {
     spdlog::info("request={} method={} tenant={} peer={} code=OK ms={:.1f}", request_id_, method_, tenant,
                  LogText(context_->peer()), seconds * 1e3);
   } else {
     spdlog::warn("request={} method={} tenant={} peer={} code={} ms={:.1f} error=\"{}\"", request_id_, method_, tenant,
-                 LogText(context_->peer()), CodeName(mapped.error_code()), seconds * 1e3, LogText(std::string(status.message())));
+                 LogText(context_->peer()), GrpcCodeName(mapped.error_code()), seconds * 1e3, LogText(std::string(status.message())));
   }
   ticket_.reset();
   store_.reset();

@@ -37,6 +37,9 @@ struct ServiceContext {
 
 // absl codes map 1:1 onto gRPC's. Internal, DataLoss and Unknown details stay in the server log;
 // the client gets the request id to quote.
+// "OK", "CANCELLED", ...: the code as gRPC documents it, for logs and metrics.
+const char* GrpcCodeName(grpc::StatusCode code);
+
 grpc::Status ToGrpcStatus(const absl::Status& status, const std::string& request_id);
 
 class CallScope {
@@ -50,6 +53,9 @@ class CallScope {
   // its tenant (ResourceExhausted) by `admission` (default: the service's calls per tenant).
   // Call once, first.
   absl::Status Begin(TenantAdmission* admission = nullptr, const char* limit_name = "calls_per_tenant");
+  // Unauthenticated when the call carries no bearer key at all: checked without the store, so a
+  // stream can refuse a keyless client before reading anything. Begin checks it too.
+  absl::Status CheckKeyPresent();
   // FailedPrecondition when the server serves a read-only store (call from write RPCs).
   absl::Status RequireWritableStore() const;
   // Returns the store connection early (long calls that no longer need the store).

@@ -61,6 +61,13 @@ void TrajectoryReactor::Slice(int begin) {
       response_->mutable_summary()->Swap(reply.mutable_summary());
     }
   }
+  // An answer over the send limit would fail in the transport after this call logged OK.
+  const size_t bytes = response_->ByteSizeLong();
+  if (bytes > static_cast<size_t>(state_.service.limits.max_message_bytes)) {
+    return Complete(absl::ResourceExhaustedError(
+        StrCat("the answer has ", bytes, " bytes, over the server's message limit of ", state_.service.limits.max_message_bytes,
+               " bytes: send fewer samples per call, or stream them with Reconstruct")));
+  }
   Complete(absl::OkStatus());
 }
 

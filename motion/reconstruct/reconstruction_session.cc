@@ -404,21 +404,13 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       }
     }
     if (options_.hand_target_sigma >= 0.0f) {
-      // Hands on the input, smoothed over the samples that have arrived (centred where they allow).
+      // Hands on the input: a local linear fit over the samples that have arrived, which is the
+      // Gaussian average where the window is centred and has no lag where it is one-sided.
       const BodyLandmarks& l = database_->rig().topology.landmarks;
       const int wrist_joints[2] = {l.left_wrist, l.right_wrist};
-      const int newest = static_cast<int>(s.input.size()) - 1;
-      const int reach = static_cast<int>(hand_kernel_.size()) / 2;
-      for (int side = 0; side < 2; ++side) {
-        Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-        float weight = 0.0f;
-        for (int k = std::max(0, e - reach); k <= std::min(newest, e + reach); ++k) {
-          const float w = hand_kernel_[k - e + reach];
-          sum += w * s.input[k][side];
-          weight += w;
-        }
-        SolveLegIk(body, wrist_joints[side], sum / weight, &frame.pose);
-      }
+      const SmoothedWrists target = LocalLinearWrists(s.input, e, static_cast<int>(s.input.size()) - 1, hand_kernel_,
+                                                      static_cast<float>(1.0 / database_->frame_time()));
+      for (int side = 0; side < 2; ++side) SolveLegIk(body, wrist_joints[side], target.position[side], &frame.pose);
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
     const int pelvis = database_->rig().topology.landmarks.pelvis;

@@ -13,6 +13,7 @@
 
 #include "cli_util/wrist_source.h"
 #include "mocap/v1/motion_store.grpc.pb.h"
+#include "mocap/v1/reconstruction.grpc.pb.h"
 #include "tests/support/server_fixture.h"
 
 namespace mocap {
@@ -282,6 +283,83 @@ TEST_F(ServiceRegressionTest, OversizedDatabaseNamesAreRefusedWithoutEcho) {
   auto described = acme->DescribeDatabase(name);
   EXPECT_EQ(described.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_LT(described.status().message().size(), 300u);
+}
+
+// Finding 7: a keyless stream was read before authentication (samples first → INVALID_ARGUMENT)
+// and 2,000 keyless silent streams were all held until the idle limit.
+TEST_F(ServiceRegressionTest, StreamsAreAuthenticatedBeforeAnythingIsRead) {
+  StartServer({"--idle-seconds", "60"});
+  auto stub = v1::Reconstruction::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
+  for (const std::string& key : {std::string(), std::string("not-a-key")}) {
+    // First message samples: the answer is about the key, not the message order.
+    {
+      grpc::ClientContext context;
+      if (!key.empty()) context.AddMetadata("authorization", "Bearer " + key);
+      auto stream = stub->Reconstruct(&context);
+      v1::ReconstructRequest samples;
+      *samples.mutable_samples()->add_samples() = Samples(1)[0];
+      stream->Write(samples);
+      stream->WritesDone();
+      v1::ReconstructResponse reply;
+      while (stream->Read(&reply)) {
+      }
+      const grpc::Status status = stream->Finish();
+      EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "key '" << key << "': " << status.error_message();
+    }
+    // A silent stream is answered at once, not held until the 60 s idle limit.
+    const auto start = Clock::now();
+    grpc::ClientContext context;
+    if (!key.empty()) context.AddMetadata("authorization", "Bearer " + key);
+    context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(20));
+    auto stream = stub->Reconstruct(&context);
+    v1::ReconstructResponse reply;
+    EXPECT_FALSE(stream->Read(&reply));
+    const grpc::Status status = stream->Finish();
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "key '" << key << "': " << status.error_message();
+    EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 10.0) << "a keyless silent stream was held";
+  }
+}
+
+// Finding 8: cancelled sessions never logged their end; the log said "client went away" for
+// every cancellation.
+TEST_F(ServiceRegressionTest, EverySessionEndIsLoggedWithTheClientsCode) {
+  StartServer();
+  auto acme = Connect(keys_["acme"]);
+  ImportLongWalks(*acme);
+  auto stream = acme->OpenReconstruction(Config(0));
+  ASSERT_TRUE(stream.ok()) << stream.status();
+  ASSERT_TRUE((*stream)->Write(Samples(3'000)).ok());
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  (*stream)->Cancel();
+  EXPECT_EQ((*stream)->Finish().status().code(), absl::StatusCode::kCancelled);
+  size_t frames = 0;
+  TimedSession(*acme, Config(0), Samples(10), &frames);
+  ASSERT_EQ(ActiveSessionsAfterWaiting(*acme), 0);
+  const std::string log = ServerLog();
+  EXPECT_NE(log.find("ended code=CANCELLED"), std::string::npos) << log;
+  EXPECT_NE(log.find("ended code=OK: 10 frames"), std::string::npos) << log;
+  EXPECT_EQ(log.find("client went away"), std::string::npos);
+}
+
+// Finding 8: a ReconstructTrajectory answer over the message limit failed in the transport after
+// the server had logged code=OK.
+TEST_F(ServiceRegressionTest, OversizedUnaryAnswersAreRefusedAndLoggedAsSuch) {
+  StartServer();
+  ImportLongWalks(*Connect(keys_["acme"]));
+  StartServer({"--max-message-bytes", "65536"});  // the same store, a small message limit
+  auto acme = Connect(keys_["acme"]);
+  auto result = acme->ReconstructTrajectory(Config(0), Samples(400));  // ~25 kB in, ~10× that out
+  EXPECT_EQ(result.status().code(), absl::StatusCode::kResourceExhausted) << result.status();
+  EXPECT_NE(result.status().message().find("Reconstruct"), std::string::npos) << result.status();
+  const std::string log = ServerLog();
+  std::istringstream lines(log);
+  int logged = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("method=ReconstructTrajectory") == std::string::npos) continue;
+    ++logged;
+    EXPECT_NE(line.find("code=RESOURCE_EXHAUSTED"), std::string::npos) << line;
+  }
+  EXPECT_EQ(logged, 1);
 }
 
 }  // namespace
