@@ -10,6 +10,7 @@
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "motion/reconstruct/ankle_cloud.h"
+#include "motion/reconstruct/frame_history.h"
 #include "motion/reconstruct/local_pose_model.h"
 
 namespace mocap {
@@ -59,19 +60,20 @@ struct ReconstructionSession::Segment {
   int id;
   WristSmoother smoother;
   float cloud_heading = 0.0f, pose_heading = 0.0f;
-  std::vector<SmoothedWrists> wrists;
-  std::vector<std::array<Eigen::Vector3f, 2>> input;  // resampled, unsmoothed wrists
-  std::vector<double> times;
-  std::vector<bool> bridged;
-  std::vector<float> wrist_distance;
+  // Per frame of the segment; frames no stage reads again are forgotten (ForgetSettledFrames).
+  FrameHistory<SmoothedWrists> wrists;
+  FrameHistory<std::array<Eigen::Vector3f, 2>> input;  // resampled, unsmoothed wrists
+  FrameHistory<double> times;
+  FrameHistory<char> bridged;
+  FrameHistory<float> wrist_distance;
   // A4 state.
-  std::vector<AnklePair> raw;  // decided (unsmoothed) path
-  std::vector<int> raw_rows;
+  FrameHistory<AnklePair> raw;  // decided (unsmoothed) path
+  FrameHistory<int> raw_rows;
   std::vector<std::vector<AnkleCandidate>> window;  // sub-interval mode: the open window's clouds
   std::optional<AnkleCandidate> start;
   std::deque<DpFrame> dp;  // fixed-lag mode: frames dp_first.. of the running DP
   int dp_first = 0;
-  std::vector<AnklePair> ankles;  // decided and smoothed ankle controls
+  FrameHistory<AnklePair> ankles;  // decided and smoothed ankle controls
   // A5–A7 state.
   std::optional<SolvedPose> previous, before_previous;
   FootskateCleaner cleaner;
@@ -134,6 +136,15 @@ int ReconstructionSession::latency_frames() const {
   return window > 0 ? lookahead_ + window - 1 + joint_filter_lag_ : -1;
 }
 
+int ReconstructionSession::frames_held() const {
+  if (!segment_) return 0;
+  const Segment& s = *segment_;
+  auto held = [](const auto& history) { return history.stored(); };
+  return std::max({held(s.input), held(s.wrists), held(s.times), held(s.bridged), held(s.wrist_distance), held(s.raw),
+                   held(s.raw_rows), held(s.ankles), static_cast<int>(s.window.size()), static_cast<int>(s.dp.size()),
+                   static_cast<int>(s.post.size())});
+}
+
 absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<ReconstructedFrame>* out) {
   std::vector<GridSample> grid;
   if (absl::Status status = resampler_.Push(sample, &grid); !status.ok()) {
@@ -180,8 +191,7 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
   const int t = static_cast<int>(s.wrists.size());
   auto start = Clock::now();
   if (options_.smoothing.local_linear_sigma > 0.0f) {
-    s.wrists.push_back(LocalLinearWrists(s.input, t, static_cast<int>(s.input.size()) - 1, wrist_kernel_,
-                                         static_cast<float>(1.0 / database_->frame_time())));
+    s.wrists.push_back(FitInput(s, t, wrist_kernel_));
   } else {
     s.wrists.push_back(s.smoother.Push(s.input[t][0], s.input[t][1]));
   }
@@ -204,7 +214,7 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
       MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
       s.start = s.window.back()[solved.nodes.back()];
       for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
-      s.raw.insert(s.raw.end(), solved.ankles.begin(), solved.ankles.end());
+      s.raw.append(solved.ankles.begin(), solved.ankles.end());
       s.window.clear();
       statistics_.path_seconds += SecondsSince(start);
       return DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, out);
@@ -242,18 +252,19 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
     ++s.dp_first;
   }
   statistics_.path_seconds += SecondsSince(start);
-  return DecideAnkles(decide + 1, static_cast<int>(s.raw.size() + tentative.size()), tentative, out);
+  return DecideAnkles(decide + 1, s.raw.size() + static_cast<int>(tentative.size()), tentative, out);
 }
 
 absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available, const std::vector<AnklePair>& tentative,
                                                  std::vector<ReconstructedFrame>* out) {
   Segment& s = *segment_;
   const int radius = static_cast<int>(ankle_kernel_.size()) / 2;
-  const int first = static_cast<int>(s.ankles.size());
+  const int first = s.ankles.size();
   if (first >= up_to_frame) return absl::OkStatus();
   // The decided path, then the tentative continuation, from the filter's reach onwards.
   const int low = std::max(0, first - radius);
-  std::vector<AnklePair> path(s.raw.begin() + low, s.raw.end());
+  const std::span<const AnklePair> decided = s.raw.Since(low);
+  std::vector<AnklePair> path(decided.begin(), decided.end());
   path.insert(path.end(), tentative.begin(), tentative.end());
   const int count = available - low;
   for (int f = first; f < up_to_frame; ++f) {
@@ -408,8 +419,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // Gaussian average where the window is centred and has no lag where it is one-sided.
       const BodyLandmarks& l = database_->rig().topology.landmarks;
       const int wrist_joints[2] = {l.left_wrist, l.right_wrist};
-      const SmoothedWrists target = LocalLinearWrists(s.input, e, static_cast<int>(s.input.size()) - 1, hand_kernel_,
-                                                      static_cast<float>(1.0 / database_->frame_time()));
+      const SmoothedWrists target = FitInput(s, e, hand_kernel_);
       for (int side = 0; side < 2; ++side) SolveLegIk(body, wrist_joints[side], target.position[side], &frame.pose);
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
@@ -425,6 +435,31 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       ++s.post_first;
     }
   }
+  ForgetSettledFrames();
+}
+
+SmoothedWrists ReconstructionSession::FitInput(const Segment& s, int frame, const std::vector<float>& kernel) const {
+  const int first = s.input.first();
+  return LocalLinearWrists(s.input.Since(first), frame - first, s.input.size() - 1 - first, kernel,
+                           static_cast<float>(1.0 / database_->frame_time()));
+}
+
+void ReconstructionSession::ForgetSettledFrames() {
+  // Every frame before the oldest one still to be emitted is settled; the stages look back from
+  // there by at most one kernel reach (A2 fit, hand target, ankle smoothing) plus one frame (the
+  // ankle velocity of the next solve).
+  Segment& s = *segment_;
+  const int reach = static_cast<int>(std::max({wrist_kernel_.size(), hand_kernel_.size(), ankle_kernel_.size()})) / 2;
+  const int keep_from = s.emitted - reach - 1;
+  if (keep_from <= 0) return;
+  s.input.ForgetBefore(keep_from);
+  s.wrists.ForgetBefore(keep_from);
+  s.times.ForgetBefore(keep_from);
+  s.bridged.ForgetBefore(keep_from);
+  s.wrist_distance.ForgetBefore(keep_from);
+  s.raw.ForgetBefore(keep_from);
+  s.raw_rows.ForgetBefore(keep_from);
+  s.ankles.ForgetBefore(keep_from);
 }
 
 absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* out) {
@@ -437,7 +472,7 @@ absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* 
     if (options_.mode == StreamMode::kSubInterval && !s.window.empty()) {
       MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
       for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
-      s.raw.insert(s.raw.end(), solved.ankles.begin(), solved.ankles.end());
+      s.raw.append(solved.ankles.begin(), solved.ankles.end());
       s.window.clear();
     } else if (options_.mode == StreamMode::kFixedLag && !s.dp.empty() &&
                s.dp_first + static_cast<int>(s.dp.size()) > static_cast<int>(s.raw.size())) {

@@ -84,6 +84,9 @@ class ReconstructionSession {
   // Frames between a sample's arrival and its frame leaving (fixed lag: D; sub-interval: up to
   // L − 1 + the joint filter's lag; whole segment: unbounded, returns −1).
   int latency_frames() const;
+  // Frames of per-frame state the open segment holds (its longest history): bounded by the
+  // window, lag and kernel reaches, not by the session's length.
+  int frames_held() const;
 
  private:
   struct Segment;
@@ -96,6 +99,10 @@ class ReconstructionSession {
   absl::Status DecideAnkles(int up_to_frame, int available, const std::vector<AnklePair>& tentative, std::vector<ReconstructedFrame>* out);
   absl::Status SolveFrame(int frame, std::vector<ReconstructedFrame>* out);
   void EmitFiltered(bool flush, std::vector<ReconstructedFrame>* out);
+  // A2's local linear fit of the input at `frame` over the samples that have arrived.
+  SmoothedWrists FitInput(const Segment& s, int frame, const std::vector<float>& kernel) const;
+  // Drops per-frame state no stage will read again: memory bounded by window and lag.
+  void ForgetSettledFrames();
 
   std::shared_ptr<const ReconstructionDatabase> database_;
   ReconstructionOptions options_;

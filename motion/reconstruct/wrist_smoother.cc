@@ -26,7 +26,7 @@ SmoothedWrists WristSmoother::Push(const Eigen::Vector3f& left, const Eigen::Vec
 
 void WristSmoother::Reset() { has_previous_ = false; }
 
-SmoothedWrists LocalLinearWrists(const std::vector<std::array<Eigen::Vector3f, 2>>& input, int t, int newest,
+SmoothedWrists LocalLinearWrists(std::span<const std::array<Eigen::Vector3f, 2>> input, int t, int newest,
                                  const std::vector<float>& kernel, float rate) {
   const int r = static_cast<int>(kernel.size()) / 2;
   const int low = std::max(0, t - r), high = std::min(newest, t + r);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,8 +47,9 @@ class WristSmoother {
 };
 
 // The local linear fit of frame `t` from `input` frames [t − r, min(t + r, newest)] weighted by
-// `kernel` (2r + 1 Gaussian weights): the fitted position and slope at t.
-SmoothedWrists LocalLinearWrists(const std::vector<std::array<Eigen::Vector3f, 2>>& input, int t, int newest,
+// `kernel` (2r + 1 Gaussian weights): the fitted position and slope at t. Frame numbers index
+// `input`; frames before its start are treated as absent.
+SmoothedWrists LocalLinearWrists(std::span<const std::array<Eigen::Vector3f, 2>> input, int t, int newest,
                                  const std::vector<float>& kernel, float rate);
 
 }  // namespace mocap

@@ -114,6 +114,32 @@ TEST_F(ReconstructionSessionTest, FixedLagEmitsFrameTMinusDWhenFrameTArrives) {
   }
 }
 
+// Issue #14: a session kept every frame's state for its whole life (~118 kB per 1,000 frames).
+TEST_F(ReconstructionSessionTest, ALongSessionHoldsOnlyWhatItsWindowAndLagReach) {
+  const auto clip = testing::WristSamplesOf(setup_);
+  for (const bool fixed_lag : {true, false}) {
+    options_.mode = fixed_lag ? StreamMode::kFixedLag : StreamMode::kSubInterval;
+    options_.lag = 5;
+    options_.window = 30;
+    auto session = ReconstructionSession::Create(setup_.database, options_);
+    ASSERT_TRUE(session.ok());
+    std::vector<ReconstructedFrame> out;
+    const double period = clip[1].time - clip[0].time;
+    int most_held = 0;
+    for (int t = 0; t < 5'000; ++t) {  // the clip played forwards again and again, time running on
+      WristSample sample = clip[t % clip.size()];
+      sample.time = t * period;
+      ASSERT_TRUE((*session)->Push(sample, &out).ok());
+      most_held = std::max(most_held, (*session)->frames_held());
+    }
+    ASSERT_TRUE((*session)->Finish(&out).ok());
+    EXPECT_EQ(out.size(), 5'000u);
+    // Window or lag, plus the kernels' reach and the forgotten prefix awaiting compaction.
+    EXPECT_LE(most_held, 200) << (fixed_lag ? "fixed lag" : "sub-interval");
+    EXPECT_GT(most_held, 5);
+  }
+}
+
 TEST_F(ReconstructionSessionTest, RefusedSamplesLeaveTheSessionAsItWas) {
   options_.mode = StreamMode::kFixedLag;
   options_.lag = 4;
