@@ -38,6 +38,7 @@ absl::StatusOr<v1::DatabaseSummary> Client::CreateDatabase(const std::string& na
   request.set_frame_rate(frame_rate);
   v1::CreateDatabaseResponse response;
   absl::Status status = impl_->Unary(
+      Client::Impl::Retry::kNever,
       [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->CreateDatabase(c, r, out); }, request,
       &response);
   if (!status.ok()) return status;
@@ -47,6 +48,7 @@ absl::StatusOr<v1::DatabaseSummary> Client::CreateDatabase(const std::string& na
 absl::StatusOr<std::vector<v1::DatabaseSummary>> Client::ListDatabases() {
   v1::ListDatabasesResponse response;
   absl::Status status = impl_->Unary(
+      Client::Impl::Retry::kIdempotent,
       [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->ListDatabases(c, r, out); },
       v1::ListDatabasesRequest(), &response);
   if (!status.ok()) return status;
@@ -58,6 +60,7 @@ absl::StatusOr<v1::DatabaseInfo> Client::DescribeDatabase(const std::string& nam
   request.set_name(name);
   v1::DescribeDatabaseResponse response;
   absl::Status status = impl_->Unary(
+      Client::Impl::Retry::kIdempotent,
       [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->DescribeDatabase(c, r, out); },
       request, &response);
   if (!status.ok()) return status;
@@ -69,6 +72,7 @@ absl::Status Client::DeleteDatabase(const std::string& name) {
   request.set_name(name);
   v1::DeleteDatabaseResponse response;
   return impl_->Unary(
+      Client::Impl::Retry::kNever,
       [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->DeleteDatabase(c, r, out); }, request,
       &response);
 }
@@ -139,6 +143,7 @@ absl::StatusOr<std::vector<v1::Clip>> Client::ListClips(const std::string& datab
   request.set_database(database);
   v1::ListClipsResponse response;
   absl::Status status = impl_->Unary(
+      Client::Impl::Retry::kIdempotent,
       [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->ListClips(c, r, out); }, request,
       &response);
   if (!status.ok()) return status;
@@ -166,6 +171,7 @@ absl::Status Client::DeleteClip(const std::string& database, std::int64_t clip_i
   request.set_clip_id(clip_id);
   v1::DeleteClipResponse response;
   return impl_->Unary(
+      Client::Impl::Retry::kNever,
       [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->DeleteClip(c, r, out); }, request,
       &response);
 }
@@ -173,6 +179,7 @@ absl::Status Client::DeleteClip(const std::string& database, std::int64_t clip_i
 absl::StatusOr<std::string> Client::GetMetrics() {
   v1::GetMetricsResponse response;
   absl::Status status = impl_->Unary(
+      Client::Impl::Retry::kIdempotent,
       [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->status->GetMetrics(c, r, out); },
       v1::GetMetricsRequest(), &response);
   if (!status.ok()) return status;

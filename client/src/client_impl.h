@@ -31,16 +31,23 @@ struct Client::Impl {
     Prepare(context, with_deadline ? options.deadline : std::chrono::milliseconds(0));
   }
 
-  // One unary call with deadline (default: options.deadline) and retries on UNAVAILABLE.
+  // Whether a call may be sent again after UNAVAILABLE. UNAVAILABLE can come after the server
+  // acted (it went away before answering), so only calls that are safe to repeat are retried;
+  // gRPC itself already retries calls that never left the client (transparent retry).
+  enum class Retry { kIdempotent, kNever };
+
+  // One unary call with deadline (default: options.deadline); idempotent calls are retried on
+  // UNAVAILABLE up to options.max_attempts times.
   template <typename Request, typename Response, typename Method>
-  absl::Status Unary(Method method, const Request& request, Response* response,
+  absl::Status Unary(Retry retry, Method method, const Request& request, Response* response,
                      std::chrono::milliseconds deadline = std::chrono::milliseconds(0)) const {
     std::chrono::milliseconds backoff = options.retry_backoff;
+    const int attempts = retry == Retry::kIdempotent ? options.max_attempts : 1;
     for (int attempt = 1;; ++attempt) {
       grpc::ClientContext context;
       Prepare(context, deadline.count() > 0 ? deadline : options.deadline);
       const grpc::Status status = method(&context, request, response);
-      if (status.error_code() != grpc::StatusCode::UNAVAILABLE || attempt >= options.max_attempts) {
+      if (status.error_code() != grpc::StatusCode::UNAVAILABLE || attempt >= attempts) {
         return FromGrpc(status);
       }
       std::this_thread::sleep_for(backoff);

@@ -122,6 +122,7 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Client::ReconstructTrajectory(
   request.mutable_samples()->Add(samples.begin(), samples.end());
   v1::ReconstructTrajectoryResponse response;
   absl::Status status = impl_->Unary(
+      Client::Impl::Retry::kIdempotent,
       [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->reconstruction->ReconstructTrajectory(c, r, out); },
       request, &response, deadline);
   if (!status.ok()) return status;

@@ -7,7 +7,9 @@
 // Payloads are the generated mocap.v1 messages (proto/mocap/v1/*.proto document every field:
 // metres, seconds, Y up). Errors are absl::Status with gRPC's codes: UNAUTHENTICATED (no or bad
 // key), NOT_FOUND (no such database or clip for this key's tenant), RESOURCE_EXHAUSTED (a server
-// limit; the message says which), UNAVAILABLE (no server; unary calls retried first), ...
+// limit; the message says which), UNAVAILABLE (no server; calls safe to repeat are retried first:
+// reads, exports, ReconstructTrajectory; CreateDatabase, DeleteDatabase and DeleteClip are not,
+// since the server may have acted before the connection broke: describe or list to find out), ...
 //
 // Thread safety: a Client may be shared by threads; each call is independent. Cost: Connect
 // makes a channel (no network traffic until the first call); calls reuse it.
@@ -37,8 +39,9 @@ struct ConnectOptions {
   std::string tls_root_certs_pem;
   // Deadline of each unary call attempt.
   std::chrono::milliseconds deadline{30000};
-  // Unary calls answered UNAVAILABLE are tried up to this many times in all, waiting
-  // retry_backoff, then twice that, and so on.
+  // Calls safe to repeat (reads, ReconstructTrajectory) answered UNAVAILABLE are tried up to this
+  // many times in all, waiting retry_backoff, then twice that, and so on. Creates and deletes are
+  // sent once.
   int max_attempts = 4;
   std::chrono::milliseconds retry_backoff{100};
   // Largest message accepted from the server.
