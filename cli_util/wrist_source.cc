@@ -57,7 +57,10 @@ std::optional<double> ParseNumber(std::string_view text) {
 absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) return absl::NotFoundError(StrCat(path.string(), ": cannot read the file"));
-  const std::string name = path.string();
+  return WristsFromCsv(in, path.string());
+}
+
+absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(std::istream& in, const std::string& name) {
   std::vector<v1::WristSample> samples;
   size_t columns = 0;  // 0 until the header has been read
   std::string line;
@@ -68,6 +71,7 @@ absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(const std::filesystem
     const std::vector<std::string_view> fields = SplitFields(text);
     if (columns == 0) {
       const bool names_match = [&] {
+        if (fields.size() > kCsvColumns.size()) return false;  // (a longer header read past the names)
         for (size_t i = 0; i < fields.size(); ++i) {
           if (fields[i] != kCsvColumns[i]) return false;
         }

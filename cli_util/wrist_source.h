@@ -4,6 +4,8 @@
 #pragma once
 
 #include <filesystem>
+#include <istream>
+#include <string>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -24,6 +26,8 @@ namespace mocap {
 // for a bad header, a wrong number of fields or a value that is not a number; InvalidArgument when
 // the file holds no samples.
 absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(const std::filesystem::path& path);
+// The same from a stream; `name` stands for the file in messages.
+absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(std::istream& in, const std::string& name);
 
 // The two wrist trajectories of a BVH clip on any humanoid rig: the clip is read with motion/bvh,
 // its rig analysed (landmarks, units, up axis) and converted to metres and Y up as an import does

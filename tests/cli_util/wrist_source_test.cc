@@ -83,6 +83,9 @@ TEST_F(WristSourceTest, CsvErrorsNameTheLine) {
   const std::vector<Case> cases = {
       {"t,lx,ly,lz,rx,ry,rz\n0,0,0,0,0,0,0\n", "w.csv:1: expected the header time,left_x"},
       {"time,left_x,left_y,left_z,right_x,right_y\n", "w.csv:1: expected the header"},
+      // Found while writing the CSV fuzz target: a header longer than the known columns was read past them.
+      {std::string("time,left_x,left_y,left_z,right_x,right_y,right_z,left_confidence,right_confidence,x,y\n"),
+       "w.csv:1: expected the header"},
       {std::string(kHeader) + "0,0,1,0,0,1,0\n0.1,0,1,0,0,1\n", "w.csv:3: expected 7 fields as in the header, found 6"},
       {std::string(kHeader) + "0,0,1,0,0,1,0,1\n", "w.csv:2: expected 7 fields"},
       {std::string(kHeader) + "\n0,0,1,0,0,abc,0\n", "w.csv:3: right_y is not a number: \"abc\""},

@@ -35,9 +35,9 @@ class ServerFixture : public ::testing::Test {
     }
   }
 
-  void StartServer(const std::vector<std::string>& extra = {}) {
+  void StartServer(const std::vector<std::string>& extra = {}, long max_file_bytes = 0) {
     server_.reset();
-    server_ = std::make_unique<ServerProcess>(MOCAPD_PATH, store_, dir_ / "server.log", extra);
+    server_ = std::make_unique<ServerProcess>(MOCAPD_PATH, store_, dir_ / "server.log", extra, max_file_bytes);
     ASSERT_FALSE(server_->address().empty()) << "mocapd serve did not start; see " << (dir_ / "server.log");
   }
   std::unique_ptr<client::Client> Connect(const std::string& key) {

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,7 +11,8 @@
 namespace mocap::testing {
 
 ServerProcess::ServerProcess(const std::string& mocapd, const std::filesystem::path& store,
-                             const std::filesystem::path& log, const std::vector<std::string>& extra) {
+                             const std::filesystem::path& log, const std::vector<std::string>& extra,
+                             long max_file_bytes) {
   int out[2];
   if (pipe(out) != 0) return;
   std::vector<std::string> args = {mocapd, "serve", "--store", store.string(), "--listen", "127.0.0.1:0"};
@@ -21,6 +23,11 @@ ServerProcess::ServerProcess(const std::string& mocapd, const std::filesystem::p
     const int err = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     if (err >= 0) dup2(err, STDERR_FILENO);
     close(out[0]);
+    if (max_file_bytes > 0) {
+      signal(SIGXFSZ, SIG_IGN);  // kept across exec: writes past the limit fail with EFBIG
+      const rlimit limit{static_cast<rlim_t>(max_file_bytes), static_cast<rlim_t>(max_file_bytes)};
+      setrlimit(RLIMIT_FSIZE, &limit);
+    }
     std::vector<char*> argv;
     for (std::string& arg : args) argv.push_back(arg.data());
     argv.push_back(nullptr);
@@ -40,6 +47,13 @@ ServerProcess::ServerProcess(const std::string& mocapd, const std::filesystem::p
 }
 
 ServerProcess::~ServerProcess() { Stop(); }
+
+void ServerProcess::Kill() {
+  if (pid_ <= 0) return;
+  kill(pid_, SIGKILL);
+  waitpid(pid_, nullptr, 0);
+  pid_ = -1;
+}
 
 int ServerProcess::Stop() {
   if (pid_ <= 0) return -1;
