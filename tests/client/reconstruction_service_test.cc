@@ -12,6 +12,7 @@
 
 #include "cli_util/wrist_source.h"
 #include "mocap/v1/reconstruction.grpc.pb.h"
+#include "tests/support/raw_reconstruct.h"
 #include "tests/support/server_fixture.h"
 
 namespace mocap {
@@ -162,18 +163,7 @@ TEST_F(ReconstructionServiceTest, BadSessionsGetClearErrors) {
   EXPECT_EQ(acme->OpenReconstruction(config).status().code(), absl::StatusCode::kInvalidArgument);
 
   // Samples before the config, on the raw stub.
-  auto stub = v1::Reconstruction::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
-  grpc::ClientContext context;
-  context.AddMetadata("authorization", "Bearer " + keys_["acme"]);
-  auto stream = stub->Reconstruct(&context);
-  v1::ReconstructRequest samples;
-  *samples.mutable_samples()->add_samples() = QueryWrists(2).front();
-  stream->Write(samples);
-  stream->WritesDone();
-  v1::ReconstructResponse reply;
-  while (stream->Read(&reply)) {
-  }
-  const grpc::Status status = stream->Finish();
+  const grpc::Status status = testing::SamplesBeforeConfig(server_->address(), keys_["acme"], QueryWrists(2).front());
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_NE(status.error_message().find("config"), std::string::npos) << status.error_message();
 }

@@ -14,6 +14,7 @@
 #include "cli_util/wrist_source.h"
 #include "mocap/v1/motion_store.grpc.pb.h"
 #include "mocap/v1/reconstruction.grpc.pb.h"
+#include "tests/support/raw_reconstruct.h"
 #include "tests/support/server_fixture.h"
 
 namespace mocap {
@@ -292,20 +293,8 @@ TEST_F(ServiceRegressionTest, StreamsAreAuthenticatedBeforeAnythingIsRead) {
   auto stub = v1::Reconstruction::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
   for (const std::string& key : {std::string(), std::string("not-a-key")}) {
     // First message samples: the answer is about the key, not the message order.
-    {
-      grpc::ClientContext context;
-      if (!key.empty()) context.AddMetadata("authorization", "Bearer " + key);
-      auto stream = stub->Reconstruct(&context);
-      v1::ReconstructRequest samples;
-      *samples.mutable_samples()->add_samples() = Samples(1)[0];
-      stream->Write(samples);
-      stream->WritesDone();
-      v1::ReconstructResponse reply;
-      while (stream->Read(&reply)) {
-      }
-      const grpc::Status status = stream->Finish();
-      EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "key '" << key << "': " << status.error_message();
-    }
+    const grpc::Status status = testing::SamplesBeforeConfig(server_->address(), key, Samples(1)[0]);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "key '" << key << "': " << status.error_message();
     // A silent stream is answered at once, not held until the 60 s idle limit.
     const auto start = Clock::now();
     grpc::ClientContext context;
@@ -314,8 +303,8 @@ TEST_F(ServiceRegressionTest, StreamsAreAuthenticatedBeforeAnythingIsRead) {
     auto stream = stub->Reconstruct(&context);
     v1::ReconstructResponse reply;
     EXPECT_FALSE(stream->Read(&reply));
-    const grpc::Status status = stream->Finish();
-    EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "key '" << key << "': " << status.error_message();
+    const grpc::Status silent = stream->Finish();
+    EXPECT_EQ(silent.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "key '" << key << "': " << silent.error_message();
     EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 10.0) << "a keyless silent stream was held";
   }
 }

@@ -1,0 +1,13 @@
+// libFuzzer target: the wrist CSV reader of `mocap reconstruct --csv` and mocap-load.
+#include <cstddef>
+#include <cstdint>
+#include <sstream>
+#include <string>
+
+#include "cli_util/wrist_source.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+  (void)mocap::WristsFromCsv(in, "fuzz.csv");
+  return 0;
+}
