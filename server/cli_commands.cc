@@ -13,6 +13,7 @@
 #include "server/import_command.h"
 #include "server/inspect_command.h"
 #include "cli_util/progress_bar.h"
+#include "cli_util/similar_json.h"
 #include "server/similar_command.h"
 #include "storage/motion_store.h"
 #include "storage/tenant_directory.h"
@@ -222,13 +223,10 @@ void RegisterSimilar(CLI::App& app) {
       }
     }
     if (!options->frames.empty()) {
-      const size_t colon = options->frames.find(':');
-      try {
-        similar.first_frame = std::stoi(options->frames.substr(0, colon));
-        similar.last_frame = colon == std::string::npos ? *similar.first_frame : std::stoi(options->frames.substr(colon + 1));
-      } catch (const std::exception&) {
-        return ReportError(absl::InvalidArgumentError("--frames takes A:B or A"));
-      }
+      auto range = ParseFrameRange(options->frames);
+      if (!range.ok()) return ReportError(range.status());
+      similar.first_frame = range->first;
+      similar.last_frame = range->second;
     }
     similar.search.weights = options->weights == "locomotion"   ? GroupWeights::Locomotion()
                              : options->weights == "upper-body" ? GroupWeights::UpperBody()
@@ -241,13 +239,7 @@ void RegisterSimilar(CLI::App& app) {
       std::cout << result->dump(2) << "\n";
       return 0;
     }
-    for (const auto& entry : (*result)["results"]) {
-      std::cout << "query frame " << entry["query_frame"] << ":\n";
-      for (const auto& match : entry["matches"]) {
-        std::cout << "  " << match["distance"].get<double>() << "  " << match["database"].get<std::string>() << "/"
-                  << match["file"].get<std::string>() << " frame " << match["frame"] << "\n";
-      }
-    }
+    PrintSimilarText(*result, std::cout);
     return 0;
   });
 }
