@@ -38,9 +38,10 @@ enum class ChainScaling {
 };
 
 // Chain lengths of the canonical body kPerChain assembles, in leg lengths, by BodyGroup
-// (spine pelvis -> chest, head neck -> head, arms shoulder -> wrist, legs hip -> ankle): round
-// figures of an adult's proportions.
-inline constexpr float kCanonicalChainLengths[kNumBodyGroups] = {0.5f, 0.25f, 0.8f, 0.8f, 1.0f, 1.0f};
+// (spine pelvis -> chest, head neck -> head joint, arms shoulder -> wrist, legs hip -> ankle):
+// the proportions both shared rigs measure, rounded (spine 0.29–0.31,
+// head 0.08, arms 0.65–0.66), so that each group keeps its natural share of the distance.
+inline constexpr float kCanonicalChainLengths[kNumBodyGroups] = {0.3f, 0.08f, 0.65f, 0.65f, 1.0f, 1.0f};
 
 struct BodyPointOptions {
   int points_per_group = 5;
