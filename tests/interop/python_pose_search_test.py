@@ -38,16 +38,9 @@ sys.path.insert(0, args.stubs)
 import grpc  # noqa: E402
 from mocap.v1 import pose_search_pb2 as ppb  # noqa: E402
 from mocap.v1 import pose_search_pb2_grpc as pgrpc  # noqa: E402
+from interop_checks import check, expect_error, failures, reflected_services, verdict  # noqa: E402
 
-failures = []
 metadata = (("authorization", f"Bearer {args.key}"),)
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-        print(f"  MISMATCH: {message}", file=sys.stderr)
-    return condition
 
 
 def request(database=None, top=None):
@@ -84,19 +77,6 @@ def compare(label, results, reference):
             break
 
 
-def expect_error(what, code, call, named=None):
-    try:
-        result = call()
-        if hasattr(result, "__iter__"):
-            for _ in result:
-                pass
-        check(False, f"{what}: succeeded, expected {code.name}")
-    except grpc.RpcError as error:
-        check(error.code() == code, f"{what}: {error.code()} ({error.details()}), expected {code.name}")
-        if named:
-            check(named in error.details(), f"{what}: the message '{error.details()}' does not name {named}")
-
-
 def main():
     with open(args.cxx_json, encoding="utf-8") as stream:
         reference = json.load(stream)["results"]
@@ -119,15 +99,9 @@ def main():
         expect_error("top_k over the limit", grpc.StatusCode.INVALID_ARGUMENT,
                      lambda: stub.StreamSimilarPoses(request(top=1000), metadata=metadata, timeout=30), named="top_k")
 
-        listing = b"".join(channel.stream_stream("/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo")(
-            iter([b"\x3a\x00"]), timeout=30))
-        check(b"mocap.v1.PoseSearch" in listing, "server reflection does not list mocap.v1.PoseSearch")
+        check(b"mocap.v1.PoseSearch" in reflected_services(channel), "server reflection does not list mocap.v1.PoseSearch")
 
-    if failures:
-        print(f"FAIL: {len(failures)} mismatches; first: {failures[0]}", file=sys.stderr)
-        return 1
-    print("PASS: Python grpcio PoseSearch client agrees with the C++ SDK")
-    return 0
+    return verdict("Python grpcio PoseSearch client agrees with the C++ SDK")
 
 
 if __name__ == "__main__":
