@@ -180,7 +180,7 @@ void RegisterDatabases(CLI::App& app) {
 void RegisterSimilar(CLI::App& app) {
   struct Options {
     SimilarOptions similar;
-    std::string store, query, pose_file, frames, weights = "uniform", sampling = "resample";
+    std::string store, query, pose_file, frames, weights = "uniform", sampling = "resample", scaling = "per-chain";
     bool json = false;
   };
   auto options = std::make_shared<Options>();
@@ -203,6 +203,9 @@ void RegisterSimilar(CLI::App& app) {
       ->check(CLI::IsMember({"uniform", "locomotion", "upper-body"}));
   command->add_option("--sampling", options->sampling, "Body points: resample chains or drop joints (the seed's rule)")
       ->check(CLI::IsMember({"resample", "drop"}));
+  command->add_option("--scaling", options->scaling,
+                      "Body points: each chain by its own length (posture only) or all by the leg length (the seed's)")
+      ->check(CLI::IsMember({"per-chain", "body-scale"}));
   command->add_option("--suppress", options->similar.search.suppress_within_frames,
                       "Drop matches within N frames of a better match in the same clip");
   command->add_flag("--exact", options->similar.search.exact, "Compare with every frame (no prefilter)");
@@ -233,6 +236,7 @@ void RegisterSimilar(CLI::App& app) {
                                                                 : GroupWeights::Uniform();
     similar.points.sampling =
         options->sampling == "drop" ? PointSampling::kDropNearestEndEffector : PointSampling::kResampleChains;
+    similar.points.scaling = options->scaling == "body-scale" ? ChainScaling::kBodyScale : ChainScaling::kPerChain;
     auto result = RunSimilar(similar);
     if (!result.ok()) return ReportError(result.status());
     if (options->json) {
