@@ -13,6 +13,7 @@
 #include "server/import_command.h"
 #include "server/inspect_command.h"
 #include "cli_util/progress_bar.h"
+#include "cli_util/similar_json.h"
 #include "server/similar_command.h"
 #include "storage/motion_store.h"
 #include "storage/tenant_directory.h"
@@ -179,7 +180,7 @@ void RegisterDatabases(CLI::App& app) {
 void RegisterSimilar(CLI::App& app) {
   struct Options {
     SimilarOptions similar;
-    std::string store, query, pose_file, frames, weights = "uniform", sampling = "resample";
+    std::string store, query, pose_file, frames, weights = "uniform", sampling = "resample", scaling = "per-chain";
     bool json = false;
   };
   auto options = std::make_shared<Options>();
@@ -202,6 +203,9 @@ void RegisterSimilar(CLI::App& app) {
       ->check(CLI::IsMember({"uniform", "locomotion", "upper-body"}));
   command->add_option("--sampling", options->sampling, "Body points: resample chains or drop joints (the seed's rule)")
       ->check(CLI::IsMember({"resample", "drop"}));
+  command->add_option("--scaling", options->scaling,
+                      "Body points: each chain by its own length (posture only) or all by the leg length (the seed's)")
+      ->check(CLI::IsMember({"per-chain", "body-scale"}));
   command->add_option("--suppress", options->similar.search.suppress_within_frames,
                       "Drop matches within N frames of a better match in the same clip");
   command->add_flag("--exact", options->similar.search.exact, "Compare with every frame (no prefilter)");
@@ -222,32 +226,24 @@ void RegisterSimilar(CLI::App& app) {
       }
     }
     if (!options->frames.empty()) {
-      const size_t colon = options->frames.find(':');
-      try {
-        similar.first_frame = std::stoi(options->frames.substr(0, colon));
-        similar.last_frame = colon == std::string::npos ? *similar.first_frame : std::stoi(options->frames.substr(colon + 1));
-      } catch (const std::exception&) {
-        return ReportError(absl::InvalidArgumentError("--frames takes A:B or A"));
-      }
+      auto range = ParseFrameRange(options->frames);
+      if (!range.ok()) return ReportError(range.status());
+      similar.first_frame = range->first;
+      similar.last_frame = range->second;
     }
     similar.search.weights = options->weights == "locomotion"   ? GroupWeights::Locomotion()
                              : options->weights == "upper-body" ? GroupWeights::UpperBody()
                                                                 : GroupWeights::Uniform();
     similar.points.sampling =
         options->sampling == "drop" ? PointSampling::kDropNearestEndEffector : PointSampling::kResampleChains;
+    similar.points.scaling = options->scaling == "body-scale" ? ChainScaling::kBodyScale : ChainScaling::kPerChain;
     auto result = RunSimilar(similar);
     if (!result.ok()) return ReportError(result.status());
     if (options->json) {
       std::cout << result->dump(2) << "\n";
       return 0;
     }
-    for (const auto& entry : (*result)["results"]) {
-      std::cout << "query frame " << entry["query_frame"] << ":\n";
-      for (const auto& match : entry["matches"]) {
-        std::cout << "  " << match["distance"].get<double>() << "  " << match["database"].get<std::string>() << "/"
-                  << match["file"].get<std::string>() << " frame " << match["frame"] << "\n";
-      }
-    }
+    PrintSimilarText(*result, std::cout);
     return 0;
   });
 }

@@ -11,6 +11,7 @@
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "server/motion_store_service.h"
+#include "server/pose_search_service.h"
 #include "server/server_status_service.h"
 
 namespace mocap {
@@ -49,6 +50,7 @@ struct MocapServer::State {
   std::unique_ptr<MotionStoreService> motion_store;
   std::unique_ptr<ServerStatusService> server_status;
   std::unique_ptr<ReconstructionService> reconstruction;
+  std::unique_ptr<PoseSearchService> pose_search;  // uses reconstruction's compute pool
   std::unique_ptr<grpc::Server> server;
   std::chrono::milliseconds drain_timeout{0};
   std::once_flag shutdown_once;
@@ -77,6 +79,8 @@ absl::StatusOr<std::unique_ptr<MocapServer>> MocapServer::Start(const ServeOptio
   state->motion_store = std::make_unique<MotionStoreService>(*state->context);
   state->server_status = std::make_unique<ServerStatusService>(*state->context);
   state->reconstruction = std::make_unique<ReconstructionService>(*state->context, options.reconstruction);
+  state->pose_search = std::make_unique<PoseSearchService>(*state->context, state->reconstruction->compute(),
+                                                           options.reconstruction.max_cached_databases);
   state->drain_timeout = options.drain_timeout;
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -89,6 +93,7 @@ absl::StatusOr<std::unique_ptr<MocapServer>> MocapServer::Start(const ServeOptio
   builder.RegisterService(state->motion_store.get());
   builder.RegisterService(state->server_status.get());
   builder.RegisterService(state->reconstruction.get());
+  builder.RegisterService(state->pose_search.get());
   state->server = builder.BuildAndStart();
   if (!state->server || port == 0) {
     return absl::UnavailableError(StrCat("cannot listen on ", options.listen));

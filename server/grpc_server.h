@@ -1,4 +1,4 @@
-// MocapServer: the gRPC server of `mocapd serve` — MotionStore, Reconstruction and ServerStatus services, health
+// MocapServer: the gRPC server of `mocapd serve` — MotionStore, Reconstruction, PoseSearch and ServerStatus services, health
 // checking, reflection, TLS, limits — over one store file.
 #pragma once
 

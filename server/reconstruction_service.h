@@ -64,6 +64,9 @@ class ReconstructionService final : public v1::Reconstruction::CallbackService {
   // and summary, then ends with UNAVAILABLE so the client reconnects elsewhere.
   void Drain();
 
+  // The compute pool (one thread per core, fair between tenants), shared with PoseSearch.
+  WorkPool& compute() { return state_.compute; }
+
  private:
   void Watch();
   ReconstructionState state_;

@@ -14,6 +14,7 @@
 #include "cli_util/progress_bar.h"
 #include "client/cli/cli_common.h"
 #include "client/cli/reconstruct_command.h"
+#include "client/cli/similar_command.h"
 #include "client/cli/view_command.h"
 #include "mocap/client.h"
 
@@ -205,6 +206,7 @@ std::function<int()> RegisterCommands(CLI::App& app) {
   RegisterImport(app, *registry);
   RegisterExport(app, *registry);
   RegisterReconstruct(app, *registry);
+  RegisterSimilar(app, *registry);
   RegisterView(app, *registry);
   return [registry] {
     for (const auto& [command, action] : registry->local_actions) {

@@ -1,4 +1,4 @@
-// The `mocap` subcommands: databases, clips, import, export, reconstruct (server calls) and view (local).
+// The `mocap` subcommands: databases, clips, import, export, reconstruct, similar (server calls) and view (local).
 #pragma once
 
 #include <functional>

@@ -92,42 +92,69 @@ float BodyScale(const GlobalPoses& poses, int frame, const BodyChains& chains) {
   return scale > 0 ? 0.5f * scale : 1.0f;
 }
 
+namespace {
+
+// The chain's points in world coordinates (sampled as options.sampling says); returns the
+// chain's length along its bones.
+float SampleChain(const GlobalPoses& poses, int frame, const std::vector<int>& chain, const BodyPointOptions& options,
+                  Eigen::Vector3f* out) {
+  const int n = options.points_per_group;
+  float cumulative[Skeleton::kMaxJoints];
+  cumulative[0] = 0.0f;
+  const size_t m = std::min<size_t>(chain.size(), Skeleton::kMaxJoints);
+  for (size_t i = 1; i < m; ++i) {
+    cumulative[i] = cumulative[i - 1] + (poses.position(frame, chain[i]) - poses.position(frame, chain[i - 1])).norm();
+  }
+  const float length = cumulative[m - 1];
+  if (options.sampling == PointSampling::kDropNearestEndEffector || m == 1) {
+    // The seed's rule: keep the first n joints, dropping those nearest the end effector; a
+    // shorter chain repeats its last joint.
+    for (int k = 0; k < n; ++k) out[k] = poses.position(frame, chain[std::min<size_t>(k, m - 1)]);
+    return length;
+  }
+  // Resample at equal fractions of the chain's length.
+  size_t segment = 1;
+  for (int k = 0; k < n; ++k) {
+    const float s = n > 1 ? length * k / (n - 1) : 0.0f;
+    while (segment < m - 1 && cumulative[segment] < s) ++segment;
+    const float span = cumulative[segment] - cumulative[segment - 1];
+    const float u = span > 0 ? std::clamp((s - cumulative[segment - 1]) / span, 0.0f, 1.0f) : 1.0f;
+    out[k] = (1 - u) * poses.position(frame, chain[segment - 1]) + u * poses.position(frame, chain[segment]);
+  }
+  return length;
+}
+
+}  // namespace
+
 void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& chains, const BodyPointOptions& options,
                        Eigen::Vector3f* out) {
   const int n = options.points_per_group;
   const Eigen::Vector3f pelvis = poses.position(frame, chains.pelvis);
-  const float inverse = 1.0f / BodyScale(poses, frame, chains);
+  std::array<float, kNumBodyGroups> lengths{};
+  for (int g = 0; g < kNumBodyGroups; ++g) lengths[g] = SampleChain(poses, frame, chains.joints[g], options, out + g * n);
 
+  if (options.scaling == ChainScaling::kBodyScale) {
+    const float inverse = 1.0f / BodyScale(poses, frame, chains);
+    for (int i = 0; i < kNumBodyGroups * n; ++i) out[i] = (out[i] - pelvis) * inverse;
+    return;
+  }
+  // Per chain: the chain's shape relative to where it hangs, in its own lengths, re-assembled at
+  // the canonical proportions. Legs and spine hang from the pelvis, arms and head from the
+  // spine's end (the chest, where the arms branch off).
+  const std::vector<int>& spine = chains.joints[static_cast<int>(BodyGroup::kSpine)];
+  const Eigen::Vector3f chest = poses.position(frame, spine.back());
+  const float spine_scale = kCanonicalChainLengths[static_cast<int>(BodyGroup::kSpine)] /
+                            std::max(lengths[static_cast<int>(BodyGroup::kSpine)], 1e-6f);
+  const Eigen::Vector3f canonical_chest = (chest - pelvis) * spine_scale;
   for (int g = 0; g < kNumBodyGroups; ++g) {
-    const std::vector<int>& chain = chains.joints[g];
-    Eigen::Vector3f* group_out = out + g * n;
-    if (options.sampling == PointSampling::kDropNearestEndEffector || chain.size() == 1) {
-      // The seed's rule: keep the first n joints, dropping those nearest the end effector; a
-      // shorter chain repeats its last joint.
-      for (int k = 0; k < n; ++k) {
-        const int joint = chain[std::min<size_t>(k, chain.size() - 1)];
-        group_out[k] = (poses.position(frame, joint) - pelvis) * inverse;
-      }
-      continue;
-    }
-    // Resample at equal fractions of the chain's length.
-    float cumulative[Skeleton::kMaxJoints];
-    cumulative[0] = 0.0f;
-    const size_t m = std::min<size_t>(chain.size(), Skeleton::kMaxJoints);
-    for (size_t i = 1; i < m; ++i) {
-      cumulative[i] = cumulative[i - 1] + (poses.position(frame, chain[i]) - poses.position(frame, chain[i - 1])).norm();
-    }
-    const float length = cumulative[m - 1];
-    size_t segment = 1;
-    for (int k = 0; k < n; ++k) {
-      const float s = n > 1 ? length * k / (n - 1) : 0.0f;
-      while (segment < m - 1 && cumulative[segment] < s) ++segment;
-      const float span = cumulative[segment] - cumulative[segment - 1];
-      const float u = span > 0 ? std::clamp((s - cumulative[segment - 1]) / span, 0.0f, 1.0f) : 1.0f;
-      const Eigen::Vector3f a = poses.position(frame, chain[segment - 1]);
-      const Eigen::Vector3f b = poses.position(frame, chain[segment]);
-      group_out[k] = ((1 - u) * a + u * b - pelvis) * inverse;
-    }
+    const BodyGroup group = static_cast<BodyGroup>(g);
+    const bool from_chest = group == BodyGroup::kHead || group == BodyGroup::kLeftArm || group == BodyGroup::kRightArm;
+    const Eigen::Vector3f& anchor = from_chest ? chest : pelvis;
+    const Eigen::Vector3f canonical_anchor = from_chest ? canonical_chest : Eigen::Vector3f::Zero();
+    // A chain of one joint has no length: the body's leg length stands in.
+    const float length = lengths[g] > 1e-6f ? lengths[g] : BodyScale(poses, frame, chains);
+    const float scale = kCanonicalChainLengths[g] / length;
+    for (int k = 0; k < n; ++k) out[g * n + k] = canonical_anchor + (out[g * n + k] - anchor) * scale;
   }
 }
 

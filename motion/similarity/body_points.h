@@ -25,9 +25,28 @@ enum class PointSampling {
   kDropNearestEndEffector,
 };
 
+// How the points are scaled, i.e. what of a body's build is factored out (issue #11).
+enum class ChainScaling {
+  // Each chain is divided by its own length and put back together at fixed proportions
+  // (kCanonicalChainLengths): legs and spine from the pelvis, arms and head from the spine's end.
+  // Only the posture is left: bodies with longer legs, shorter arms or a longer spine than
+  // another's give the same points for the same joint rotations. The default.
+  kPerChain,
+  // The seed's rule: every point relative to the pelvis, divided by the mean leg length (only
+  // the body's overall size is factored out).
+  kBodyScale,
+};
+
+// Chain lengths of the canonical body kPerChain assembles, in leg lengths, by BodyGroup
+// (spine pelvis -> chest, head neck -> head joint, arms shoulder -> wrist, legs hip -> ankle):
+// the proportions both shared rigs measure, rounded (spine 0.29–0.31,
+// head 0.08, arms 0.65–0.66), so that each group keeps its natural share of the distance.
+inline constexpr float kCanonicalChainLengths[kNumBodyGroups] = {0.3f, 0.08f, 0.65f, 0.65f, 1.0f, 1.0f};
+
 struct BodyPointOptions {
   int points_per_group = 5;
   PointSampling sampling = PointSampling::kResampleChains;
+  ChainScaling scaling = ChainScaling::kPerChain;
 };
 
 // The chains of a rig: per group, joint indices from the group's start to its end landmark
@@ -52,7 +71,8 @@ absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const B
 float BodyScale(const GlobalPoses& poses, int frame, const BodyChains& chains);
 
 // Points of one pose: kNumBodyGroups x points_per_group, Y up, relative to the pelvis, in body
-// scales. `out` must hold kNumBodyGroups * points_per_group points.
+// scales (leg lengths), scaled as options.scaling says. `out` must hold kNumBodyGroups *
+// points_per_group points.
 void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& chains, const BodyPointOptions& options,
                        Eigen::Vector3f* out);
 

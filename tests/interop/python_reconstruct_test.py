@@ -49,15 +49,7 @@ from mocap.v1 import reconstruction_pb2 as rpb  # noqa: E402
 from mocap.v1 import reconstruction_pb2_grpc as rgrpc  # noqa: E402
 from mocap.v1 import server_status_pb2 as spb  # noqa: E402
 from mocap.v1 import server_status_pb2_grpc as sgrpc  # noqa: E402
-
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-        print(f"  MISMATCH: {message}", file=sys.stderr)
-    return condition
+from interop_checks import check, expect_error, failures, reflected_services, verdict  # noqa: E402
 
 
 def read_samples(path):
@@ -166,17 +158,6 @@ def compare(label, frames, reference):
     return worst
 
 
-def expect_error(what, code, call):
-    try:
-        result = call()
-        if hasattr(result, "__iter__"):
-            for _ in result:
-                pass
-        check(False, f"{what}: succeeded, expected {code.name}")
-    except grpc.RpcError as error:
-        check(error.code() == code, f"{what}: {error.code()} ({error.details()}), expected {code.name}")
-
-
 def main():
     with open(args.cxx_json, encoding="utf-8") as stream:
         cxx = json.load(stream)
@@ -245,18 +226,12 @@ def main():
         # grpc.health.v1.Health/Check with an empty HealthCheckRequest: SERVING is field 1 = 1.
         health = channel.unary_unary("/grpc.health.v1.Health/Check")(b"", timeout=30)
         check(health == b"\x08\x01", f"health check answered {health!r}, not SERVING (b'\\x08\\x01')")
-        # grpc.reflection.v1alpha.ServerReflection: list_services (field 7, an empty string).
-        listing = b"".join(channel.stream_stream("/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo")(
-            iter([b"\x3a\x00"]), timeout=30))
+        listing = reflected_services(channel)
         for service in (b"mocap.v1.MotionStore", b"mocap.v1.Reconstruction", b"mocap.v1.ServerStatus"):
             check(service in listing, f"server reflection does not list {service.decode()}")
         print("health: SERVING; reflection lists MotionStore, Reconstruction, ServerStatus")
 
-    if failures:
-        print(f"FAIL: {len(failures)} mismatches; first: {failures[0]}", file=sys.stderr)
-        return 1
-    print("PASS: Python grpcio client agrees with the C++ SDK")
-    return 0
+    return verdict("Python grpcio client agrees with the C++ SDK")
 
 
 if __name__ == "__main__":

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# The Reconstruction service from Python's grpcio against the C++ SDK (python_reconstruct_test.py).
+# The Reconstruction and PoseSearch services from Python's grpcio against the C++ SDK
+# (python_reconstruct_test.py, python_pose_search_test.py).
 #   usage: python_reconstruct_test.sh MOCAPD MOCAP STUB_DIR
 # Generates the Python stubs of proto/mocap/v1/*.proto into STUB_DIR (in the build dir; generated
 # code is never committed) with `python3 -m grpc_tools.protoc` when available, else protoc and
 # grpc_python_plugin (Debian: protobuf-compiler, protobuf-compiler-grpc); starts one
 # `mocapd serve` on 127.0.0.1 over a store of synthetic walks; reconstructs a wrist CSV with
 # `mocap reconstruct --csv ... --json` (C++ SDK); then runs the Python client on the same CSV and
-# config and compares. Skips (exit code 77) without a python3 that has grpc and google.protobuf
+# config and compares; then searches similar poses of another walk with `mocap similar
+# --json` (C++ SDK) and from Python, and compares. Skips (exit code 77) without a python3 that has grpc and google.protobuf
 # (Debian: python3-grpcio, python3-protobuf) or without a stub generator.
 set -euo pipefail
 mocapd=${1:?usage: python_reconstruct_test.sh MOCAPD MOCAP STUB_DIR}
@@ -75,3 +77,10 @@ timeout 120 "$mocap" --address "$server_address" --key "$key" reconstruct --data
 timeout 300 "$python" "$here/python_reconstruct_test.py" --stubs "$stubs" --address "$server_address" --key "$key" \
   --database walks --csv "$dir/wrists.csv" --cxx-json "$dir/cxx.json" --lag $lag --k1 $k1 --k2 $k2 \
   --sessions-before 1
+
+# 5. PoseSearch: the C++ SDK's `mocap similar` on another walk, then Python's, compared.
+"$python" "$root/tests/deploy/synthetic_walk.py" bvh "$dir/query.bvh" --frames 80 --cycle 1.05 --speed 117
+timeout 300 "$mocap" --address "$server_address" --key "$key" similar --database walks --query "$dir/query.bvh" \
+  --frames 5:70 --step 5 --top 5 --json >"$dir/similar.json" || fail "mocap similar failed"
+timeout 300 "$python" "$here/python_pose_search_test.py" --stubs "$stubs" --address "$server_address" --key "$key" \
+  --database walks --query "$dir/query.bvh" --frames 5:70 --step 5 --top 5 --cxx-json "$dir/similar.json"

@@ -27,6 +27,7 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "mocap/v1/motion_store.pb.h"
+#include "mocap/v1/pose_search.pb.h"
 #include "mocap/v1/reconstruction.pb.h"
 
 namespace mocap::client {
@@ -104,6 +105,10 @@ class ReconstructionStream {
   virtual void Cancel() = 0;
 };
 
+// A BVH query for FindSimilarPoses: the file's text and name (NotFound when it cannot be read).
+// Set first_frame, last_frame and frame_step on the result to search part of it.
+absl::StatusOr<v1::BvhQuery> ReadBvhQuery(const std::filesystem::path& path);
+
 class Client {
  public:
   // InvalidArgument for an empty address.
@@ -140,6 +145,19 @@ class Client {
   absl::StatusOr<v1::ReconstructTrajectoryResponse> ReconstructTrajectory(
       const v1::SessionConfig& config, const std::vector<v1::WristSample>& samples,
       std::chrono::milliseconds deadline = std::chrono::minutes(10));
+
+  // Similar poses across skeletons (PoseSearch.FindSimilarPoses): per query frame, the most
+  // similar poses in the named databases. Retried on UNAVAILABLE; deadline `deadline`, since the
+  // first search on a database after a start or an import waits for its pose index to be built.
+  // Long query clips: StreamSimilarPoses (this call's limits: pose_search.proto).
+  absl::StatusOr<v1::FindSimilarPosesResponse> FindSimilarPoses(
+      const v1::FindSimilarPosesRequest& request, std::chrono::milliseconds deadline = std::chrono::minutes(10));
+  // The same search answered in parts as query frames are searched (PoseSearch.StreamSimilarPoses):
+  // `on_part` gets each part in query-frame order on the calling thread; returning false cancels
+  // the call (then CANCELLED). Not retried; no deadline unless `deadline` > 0.
+  absl::Status StreamSimilarPoses(const v1::FindSimilarPosesRequest& request,
+                                  const std::function<bool(const v1::FindSimilarPosesResponse&)>& on_part,
+                                  std::chrono::milliseconds deadline = std::chrono::milliseconds(0));
 
   // Server counters in the Prometheus text format.
   absl::StatusOr<std::string> GetMetrics();

@@ -19,6 +19,7 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
+#include "tests/support/rig_variants.h"
 #include "tests/support/synthetic_clip.h"
 
 namespace mocap {
@@ -55,67 +56,15 @@ void RaiseLeftArmOverTime(BvhClip& clip, float degrees = 45.0f) {
   clip.channels = ChannelsFromMotion(clip.skeleton, motion);
 }
 
-// Turns the whole clip about the vertical and moves it on the ground (file units).
-void MoveOnGround(BvhClip& clip, float yaw_degrees, const Eigen::Vector3f& ground_translation) {
-  LocalMotion motion = MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time);
-  RotateWorld(motion, Eigen::Quaternionf(Eigen::AngleAxisf(yaw_degrees * kDegree, Eigen::Vector3f::UnitY())));
-  for (int f = 0; f < motion.num_frames(); ++f) {
-    motion.SetTranslation(f, 0, motion.translation(f, 0) + ground_translation);
-  }
-  clip.channels = ChannelsFromMotion(clip.skeleton, motion);
-}
+using testing::MoveOnGround;
+using testing::RenameJoints;
 
-void RenameJoints(BvhClip& clip) {
-  std::vector<Joint> joints = clip.skeleton.joints();
-  for (size_t j = 0; j < joints.size(); ++j) joints[j].name = "j" + std::to_string(j);
-  clip.skeleton = Skeleton(std::move(joints));
-}
-
-// Inserts a joint halfway along the bone ending at `child` (a split bone): the new joint has
-// rotation channels, all zero, and `child` hangs off it with half its offset.
+// Splits the bone ending at the joint named `child_name` (tests/support/rig_variants.h).
 void SplitBone(BvhClip& clip, const std::string& child_name, const std::string& new_name) {
-  const Skeleton& old = clip.skeleton;
-  const int child = old.Find(child_name);
+  const int child = clip.skeleton.Find(child_name);
   ASSERT_GT(child, 0);
-  const int parent = old.parent(child);
-  ASSERT_TRUE(old.joint(child).channels.size() == 3 || old.joint(child).channels.size() == 6);
-  auto shifted = [&](int index) { return index >= child ? index + 1 : index; };
-
-  std::vector<Joint> joints;
-  std::vector<int> source;  // old joint index per new joint, -1 for the inserted one
-  for (int j = 0; j < old.num_joints(); ++j) {
-    if (j == child) {
-      Joint middle;
-      middle.name = new_name;
-      middle.parent = parent;
-      middle.offset = 0.5f * old.joint(child).offset;
-      for (ChannelType type : old.joint(child).channels) {
-        if (IsRotation(type)) middle.channels.push_back(type);
-      }
-      joints.push_back(std::move(middle));
-      source.push_back(-1);
-    }
-    Joint joint = old.joint(j);
-    if (j == child) {
-      joint.parent = child;  // the inserted joint's index
-      joint.offset *= 0.5f;
-    } else if (joint.parent >= 0) {
-      joint.parent = shifted(joint.parent);
-    }
-    joints.push_back(std::move(joint));
-    source.push_back(j);
-  }
-  Skeleton skeleton(std::move(joints));
-  ASSERT_TRUE(skeleton.Validate().ok()) << skeleton.Validate();
-  ChannelMatrix channels = ChannelMatrix::Zero(clip.num_frames(), skeleton.num_channels());
-  for (int j = 0; j < skeleton.num_joints(); ++j) {
-    if (source[j] < 0) continue;  // zero rotation
-    const int count = static_cast<int>(skeleton.joint(j).channels.size());
-    channels.middleCols(skeleton.channel_start(j), count) =
-        clip.channels.middleCols(old.channel_start(source[j]), count);
-  }
-  clip.skeleton = std::move(skeleton);
-  clip.channels = std::move(channels);
+  const absl::Status status = testing::SplitBone(clip, child, new_name);
+  ASSERT_TRUE(status.ok()) << status;
 }
 
 // The root keeps its first frame's ground position: the same poses, walking on the spot.
@@ -548,6 +497,62 @@ TEST(PoseIndexTest, SearchChecksItsArguments) {
   ASSERT_TRUE(other_points.ok());
   options.window = 1;
   EXPECT_EQ(index.Search(*other_points, 0, options).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace mocap
+
+namespace mocap {
+namespace {
+
+// Issue #11: the same joint rotations on a differently built body (each group's bones scaled)
+// are the same posture. Per-chain scaling finds every frame of the walk itself with a distance
+// near zero; the seed's body scale leaves the build in the points.
+TEST(PoseIndexTest, PerChainScalingFactorsOutBodyProportions) {
+  const BvhClip database_clip = Walk();
+  const BvhClip original = Walk({.fingers_and_toes = true});
+  BvhClip query_clip = original;
+  absl::StatusOr<RigModel> rig = BuildRigModel(query_clip, {});
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  testing::ScaleProportions(query_clip, rig->topology, {.legs = 1.2f, .arms = 0.8f, .spine = 1.25f, .head = 0.85f});
+  // The generator changed the build: the legs' chain is 1.2 times as long, the arm's 0.8 times.
+  const BodyChains chains = MakeBodyChains(rig->skeleton, rig->topology);
+  const GlobalPoses poses_before =
+      ForwardKinematics(original.skeleton, MotionFromChannels(original.skeleton, original.channels, 1.0 / 30));
+  const GlobalPoses poses_after =
+      ForwardKinematics(query_clip.skeleton, MotionFromChannels(query_clip.skeleton, query_clip.channels, 1.0 / 30));
+  auto chain_length = [&](const GlobalPoses& poses, BodyGroup group) {
+    const std::vector<int>& chain = chains.joints[static_cast<int>(group)];
+    float length = 0;
+    for (size_t i = 1; i < chain.size(); ++i) length += (poses.position(10, chain[i]) - poses.position(10, chain[i - 1])).norm();
+    return length;
+  };
+  EXPECT_NEAR(chain_length(poses_after, BodyGroup::kLeftLeg) / chain_length(poses_before, BodyGroup::kLeftLeg), 1.2f, 1e-3f);
+  EXPECT_NEAR(chain_length(poses_after, BodyGroup::kRightArm) / chain_length(poses_before, BodyGroup::kRightArm), 0.8f, 1e-3f);
+
+  float worst_per_chain = 0, best_body_scale = 1e9f;
+  for (ChainScaling scaling : {ChainScaling::kPerChain, ChainScaling::kBodyScale}) {
+    const BodyPointOptions points{.scaling = scaling};
+    absl::StatusOr<PoseIndex> index = BuildIndex({database_clip}, points);
+    ASSERT_TRUE(index.ok()) << index.status();
+    absl::StatusOr<ClipPoints> query = QueryPoints(query_clip, points);
+    ASSERT_TRUE(query.ok()) << query.status();
+    PoseSearchOptions options;
+    options.exact = true;
+    for (int f = 0; f < kFrames; f += 7) {
+      absl::StatusOr<std::vector<PoseMatch>> matches = index->Search(*query, f, options);
+      ASSERT_TRUE(matches.ok()) << matches.status();
+      const PoseMatch& best = matches->front();
+      if (scaling == ChainScaling::kPerChain) {
+        EXPECT_LE(std::abs(best.frame - f), 1) << "frame " << f;
+        worst_per_chain = std::max(worst_per_chain, best.distance.total);
+      } else {
+        best_body_scale = std::min(best_body_scale, best.distance.total);
+      }
+    }
+  }
+  EXPECT_LT(worst_per_chain, 0.02f);
+  EXPECT_GT(best_body_scale, 10 * worst_per_chain);
 }
 
 }  // namespace

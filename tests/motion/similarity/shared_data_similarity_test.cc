@@ -46,10 +46,10 @@ struct Database {
   std::string error;
 };
 
-// Built once per point sampling for all tests of this file.
+// Built once per point sampling and scaling for all tests of this file.
 const Database& GetDatabase(const std::filesystem::path& folder, const BodyPointOptions& options) {
-  static std::map<PointSampling, std::unique_ptr<Database>> cache;
-  std::unique_ptr<Database>& database = cache[options.sampling];
+  static std::map<std::pair<PointSampling, ChainScaling>, std::unique_ptr<Database>> cache;
+  std::unique_ptr<Database>& database = cache[{options.sampling, options.scaling}];
   if (!database) database = [&] {
     auto db = std::make_unique<Database>();
     db->index = PoseIndex(options);
@@ -125,13 +125,16 @@ struct Precision {
   double mean() const { return queries > 0 ? sum / queries : 0.0; }
 };
 
-// (window, point sampling): the issue asks to measure resampled chains against the seed's rule.
-class SharedDataSimilarityTest : public ::testing::TestWithParam<std::tuple<int, PointSampling>> {};
+// (window, point sampling, scaling): issue #5 asked to measure resampled chains against the seed's
+// rule, issue #11 per-chain scaling against the seed's body scale.
+class SharedDataSimilarityTest : public ::testing::TestWithParam<std::tuple<int, PointSampling, ChainScaling>> {};
 
 TEST_P(SharedDataSimilarityTest, CmuWalksAndRunsFindBandaiWalksAndRuns) {
   const int window = std::get<0>(GetParam());
-  const BodyPointOptions point_options{.sampling = std::get<1>(GetParam())};
-  const char* sampling_name = point_options.sampling == PointSampling::kResampleChains ? "resample" : "drop";
+  const BodyPointOptions point_options{.sampling = std::get<1>(GetParam()), .scaling = std::get<2>(GetParam())};
+  const std::string sampling_name =
+      StrCat(point_options.sampling == PointSampling::kResampleChains ? "resample" : "drop",
+             point_options.scaling == ChainScaling::kPerChain ? " per-chain" : " body-scale");
   MOCAP_REQUIRE_SHARED_DATA(bandai, "bandai-namco-2");
   MOCAP_REQUIRE_SHARED_DATA(cmu, "cmu-cc");
   const Database& db = GetDatabase(bandai, point_options);
@@ -178,8 +181,15 @@ TEST_P(SharedDataSimilarityTest, CmuWalksAndRunsFindBandaiWalksAndRuns) {
 
   ASSERT_EQ(by_label.size(), 2u);
   // Chance is the database's share of each label (walk 7%, run 13% of the clips). Measured with
-  // the first implementation (fast path, uniform weights): walk 0.960 (window 1) / 0.962 (window
-  // 5), run 0.908 / 1.000. The floors leave room for changes in the method.
+  // the first implementation (fast path, uniform weights, resample, body scale): walk 0.960
+  // (window 1) / 0.962 (window 5), run 0.908 / 1.000. Per-chain scaling (issue #11, the default):
+  // walk 0.934 / 0.952, run 0.910 / 1.000 — run holds, walk at window 1 is 0.026 below issue
+  // #11's target (0.96); these floors keep it from sliding further.
+  if (point_options.sampling == PointSampling::kResampleChains && point_options.scaling == ChainScaling::kPerChain &&
+      window == 1) {
+    EXPECT_GE(by_label["walk"].mean(), 0.93);
+    EXPECT_GE(by_label["run"].mean(), 0.90);
+  }
   EXPECT_GE(by_label["walk"].mean(), 0.75);
   EXPECT_GE(by_label["run"].mean(), 0.5);
 }
@@ -187,10 +197,12 @@ TEST_P(SharedDataSimilarityTest, CmuWalksAndRunsFindBandaiWalksAndRuns) {
 INSTANTIATE_TEST_SUITE_P(
     WindowsAndSamplings, SharedDataSimilarityTest,
     ::testing::Combine(::testing::Values(1, 5),
-                       ::testing::Values(PointSampling::kResampleChains, PointSampling::kDropNearestEndEffector)),
+                       ::testing::Values(PointSampling::kResampleChains, PointSampling::kDropNearestEndEffector),
+                       ::testing::Values(ChainScaling::kPerChain, ChainScaling::kBodyScale)),
     [](const auto& info) {
       return "Window" + std::to_string(std::get<0>(info.param)) +
-             (std::get<1>(info.param) == PointSampling::kResampleChains ? "Resample" : "Drop");
+             (std::get<1>(info.param) == PointSampling::kResampleChains ? "Resample" : "Drop") +
+             (std::get<2>(info.param) == ChainScaling::kPerChain ? "PerChain" : "BodyScale");
     });
 
 }  // namespace

@@ -1,0 +1,108 @@
+#include "server/pose_search_call.h"
+
+#include <algorithm>
+#include <exception>
+
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+
+namespace mocap {
+
+PoseSearchState::PoseSearchState(ServiceContext& service_context, WorkPool& compute_pool, int max_cached_indexes,
+                                 const PoseSearchLimits& limits_in)
+    : service(service_context),
+      compute(compute_pool),
+      limits(limits_in),
+      points(),
+      indexes(service_context.stores, max_cached_indexes, "pose index",
+              [points = BodyPointOptions()](MotionStore& store, const DatabaseVersion& version) {
+                DatabaseSummary summary;
+                summary.id = version.database_id;
+                summary.name = version.name;
+                summary.frame_rate = version.frame_rate;
+                return LoadSearchDatabase(store, summary, points);
+              }) {}
+
+PoseSearchCall::PoseSearchCall(PoseSearchState& state, grpc::CallbackServerContext* context, const char* method,
+                               const v1::FindSimilarPosesRequest& request, bool streaming)
+    : state_(state), call_(state.service, context, method), request_(request), streaming_(streaming) {}
+
+void PoseSearchCall::Start() {
+  state_.service.workers.Post([this] {
+    try {
+      Begin();
+    } catch (const std::exception& error) {
+      Complete(absl::InternalError(StrCat("pose search: ", error.what())));
+    }
+  });
+}
+
+void PoseSearchCall::Begin() {
+  absl::Status status = [&]() -> absl::Status {
+    MOCAP_RETURN_IF_ERROR(call_.Begin());
+    pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
+    MOCAP_ASSIGN_OR_RETURN(options_, SearchOptionsFromProto(request_, state_.limits));
+    MOCAP_ASSIGN_OR_RETURN(SimilarQuery query, QueryFromProto(request_, options_, state_.limits, streaming_, state_.points));
+    query_ = std::move(query);
+    for (const std::string& name : request_.databases()) {
+      // Another tenant's database answers NotFound exactly like a missing one.
+      MOCAP_ASSIGN_OR_RETURN(DatabaseSummary summary, call_.store().FindDatabase(name, call_.tenant().id));
+      if (!summary.has_rig || summary.num_clips == 0) {
+        return absl::FailedPreconditionError(StrCat("database '", name, "' has no clips: import motion into it first"));
+      }
+      MOCAP_ASSIGN_OR_RETURN(std::string stamp, DatabaseContentStamp(call_.store(), summary.id));
+      versions_.push_back({summary.id, std::move(stamp), summary.frame_rate, summary.name});
+    }
+    return absl::OkStatus();
+  }();
+  call_.ReleaseStore();  // searches do not need the store
+  if (!status.ok()) return Complete(status);
+  databases_.resize(versions_.size());
+  AcquireIndex(0);
+}
+
+void PoseSearchCall::AcquireIndex(size_t index) {
+  if (index == versions_.size()) {
+    return Post([this] {
+      if (absl::Status status = query_->Prepare(databases_, state_.points); !status.ok()) return Complete(status);
+      Searchable();
+    });
+  }
+  // The callback runs at once, or on the builder thread once the index is built.
+  state_.indexes.Acquire(versions_[index], [this, index](absl::StatusOr<SearchDatabasePtr> database) {
+    if (!database.ok()) return Complete(database.status());
+    databases_[index] = std::move(*database);
+    AcquireIndex(index + 1);
+  });
+}
+
+void PoseSearchCall::Post(std::function<void()> task) {
+  state_.compute.Post(pool_key_, [this, task = std::move(task)] {
+    try {
+      task();
+    } catch (const std::exception& error) {
+      Complete(absl::InternalError(StrCat("pose search: ", error.what())));
+    }
+  });
+}
+
+absl::Status PoseSearchCall::CheckCancelled() const {
+  if (cancelled_) return absl::CancelledError("the client went away or its deadline passed");
+  return absl::OkStatus();
+}
+
+absl::Status PoseSearchCall::SearchSlice(v1::FindSimilarPosesResponse* out) {
+  MOCAP_RETURN_IF_ERROR(CheckCancelled());
+  // An exact query frame compares every database frame (~150 ms on 300,000): one per task.
+  const size_t per_task = options_.exact ? 1 : 8;
+  const size_t end = std::min(query_->frames().size(), next_ + per_task);
+  out->set_window(options_.window);
+  out->set_exact(options_.exact);
+  for (; next_ < end; ++next_) {
+    MOCAP_ASSIGN_OR_RETURN(std::vector<FoundPose> found, query_->Search(next_, options_));
+    ToProto(query_->frames()[next_], found, out->add_results());
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace mocap

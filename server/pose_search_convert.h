@@ -1,0 +1,42 @@
+// PoseSearch (proto/mocap/v1/pose_search.proto) <-> the similar-pose search (server/similar_search.h):
+// request checks with the service's limits, the query, and the matches of a query frame.
+#pragma once
+
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "mocap/v1/pose_search.pb.h"
+#include "server/similar_search.h"
+
+namespace mocap {
+
+// What one call may ask for (pose_search.proto documents them); exceeding one is INVALID_ARGUMENT
+// naming the field and the limit.
+struct PoseSearchLimits {
+  int max_databases = 8;
+  int max_top_k = 100;
+  int max_query_frames = 2'000;          // FindSimilarPoses
+  int max_stream_query_frames = 100'000; // StreamSimilarPoses
+  int max_exact_query_frames = 200;      // with `exact`, either form
+  int max_poses = 1'000;
+  int max_matches = 20'000;              // query frames x top_k of FindSimilarPoses (its reply's size)
+};
+
+// The search options of a request (defaults filled in), after checking every field that needs
+// no parsing: databases, top_k, window, weights, suppression, the query's presence and counts.
+absl::StatusOr<PoseSearchOptions> SearchOptionsFromProto(const v1::FindSimilarPosesRequest& request,
+                                                         const PoseSearchLimits& limits);
+
+// Parses the query (BVH text or poses) and checks the number of query frames against the limit
+// of the call's form (`streaming`).
+absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& request, const PoseSearchOptions& options,
+                                            const PoseSearchLimits& limits, bool streaming,
+                                            const BodyPointOptions& points);
+
+NamedPose FromProto(const v1::NamedPose& pose);
+void ToProto(const NamedPose& pose, v1::NamedPose* out);
+
+// One query frame's matches.
+void ToProto(int query_frame, const std::vector<FoundPose>& matches, v1::QueryFrameMatches* out);
+
+}  // namespace mocap

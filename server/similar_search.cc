@@ -1,0 +1,107 @@
+#include "server/similar_search.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+#include "motion/skeleton/forward_kinematics.h"
+
+namespace mocap {
+
+absl::StatusOr<SearchDatabasePtr> LoadSearchDatabase(MotionStore& store, const DatabaseSummary& database,
+                                                     const BodyPointOptions& points) {
+  auto loaded = std::make_shared<SearchDatabase>();
+  loaded->summary = database;
+  const std::int64_t database_id = database.id;
+  MOCAP_ASSIGN_OR_RETURN(loaded->clips, store.ListClips(database_id));
+  if (loaded->clips.empty()) {
+    return absl::FailedPreconditionError(StrCat("database '", loaded->summary.name, "' has no clips: import motion into it first"));
+  }
+  MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(database_id));
+  loaded->index = PoseIndex(points);
+  const BodyChains chains = MakeBodyChains(rig.skeleton, rig.topology);
+  for (const ClipSummary& clip : loaded->clips) {
+    MOCAP_ASSIGN_OR_RETURN(StoredClip stored, store.LoadClip(clip.id, rig));
+    ClipPoints clip_points = MakeClipPoints(ForwardKinematics(stored.skeleton, stored.motion), chains, points);
+    clip_points.name = clip.source_name;
+    clip_points.clip_id = clip.id;
+    loaded->index.AddClip(std::move(clip_points));
+  }
+  MOCAP_RETURN_IF_ERROR(loaded->index.Build());
+  return SearchDatabasePtr(std::move(loaded));
+}
+
+absl::StatusOr<SimilarQuery> SimilarQuery::FromBvh(BvhClip clip, const std::string& name, std::optional<int> first_frame,
+                                                   std::optional<int> last_frame, int step) {
+  if (step < 1) return absl::InvalidArgumentError("frame step must be at least 1");
+  SimilarQuery query;
+  absl::StatusOr<RigModel> rig = BuildRigModel(clip, {});
+  if (!rig.ok()) return absl::Status(rig.status().code(), StrCat(name, ": ", rig.status().message()));
+  const int file_frames = clip.num_frames();
+  const int first = first_frame.value_or(0);
+  const int last = last_frame.value_or(file_frames - 1);
+  if (first < 0 || last >= file_frames || first > last) {
+    return absl::InvalidArgumentError(StrCat("query frames ", first, ":", last, " are outside the file's 0:", file_frames - 1));
+  }
+  for (int frame = first; frame <= last; frame += step) query.frames_.push_back(frame);
+  query.rig_ = std::move(*rig);
+  query.clip_ = std::move(clip);
+  return query;
+}
+
+absl::StatusOr<SimilarQuery> SimilarQuery::FromPoses(const std::vector<NamedPose>& poses, const BodyPointOptions& points) {
+  if (poses.empty()) return absl::InvalidArgumentError("the query has no poses");
+  SimilarQuery query;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    absl::StatusOr<ClipPoints> pose_points = NamedPosePoints(poses[i], points);
+    if (!pose_points.ok()) {
+      return absl::Status(pose_points.status().code(), poses.size() == 1 ? std::string(pose_points.status().message())
+                                                                          : StrCat("poses[", i, "]: ", pose_points.status().message()));
+    }
+    query.pose_points_.push_back(std::move(*pose_points));
+    query.frames_.push_back(static_cast<int>(i));
+  }
+  return query;
+}
+
+absl::Status SimilarQuery::Prepare(const std::vector<SearchDatabasePtr>& databases, const BodyPointOptions& points) {
+  databases_ = databases;
+  clip_points_.clear();
+  if (!clip_) return absl::OkStatus();
+  const BodyChains chains = MakeBodyChains(rig_->skeleton, rig_->topology);
+  for (const SearchDatabasePtr& database : databases_) {
+    MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared, PrepareClip(*clip_, *rig_, {.frame_rate = database->summary.frame_rate}));
+    clip_points_.push_back(MakeClipPoints(ForwardKinematics(prepared.skeleton, prepared.motion), chains, points));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::vector<FoundPose>> SimilarQuery::Search(size_t index, const PoseSearchOptions& options) const {
+  std::vector<FoundPose> merged;
+  for (size_t d = 0; d < databases_.size(); ++d) {
+    const SearchDatabase& database = *databases_[d];
+    const ClipPoints* points = nullptr;
+    int frame = 0;
+    if (clip_) {
+      points = &clip_points_[d];
+      const double seconds = frames_[index] * clip_->frame_time;
+      frame = std::min<int>(static_cast<int>(std::lround(seconds * database.summary.frame_rate)),
+                            static_cast<int>(points->points.rows()) - 1);
+    } else {
+      points = &pose_points_[frames_[index]];
+    }
+    MOCAP_ASSIGN_OR_RETURN(std::vector<PoseMatch> matches, database.index.Search(*points, frame, options));
+    for (const PoseMatch& match : matches) {
+      const ClipSummary& clip = database.clips[match.clip];
+      const double source_frame = match.frame / database.summary.frame_rate * clip.source_frame_rate;
+      merged.push_back({&database, match, static_cast<int>(std::lround(source_frame))});
+    }
+  }
+  std::stable_sort(merged.begin(), merged.end(),
+                   [](const FoundPose& a, const FoundPose& b) { return a.match.distance.total < b.match.distance.total; });
+  if (static_cast<int>(merged.size()) > options.top_k) merged.resize(options.top_k);
+  return merged;
+}
+
+}  // namespace mocap

@@ -1,0 +1,125 @@
+#include "server/version_registry.h"
+
+#include <chrono>
+#include <exception>
+#include <functional>
+
+#include <spdlog/spdlog.h>
+
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+
+namespace mocap {
+
+absl::StatusOr<std::string> DatabaseContentStamp(MotionStore& store, std::int64_t database_id) {
+  MOCAP_ASSIGN_OR_RETURN(std::vector<ClipSummary> clips, store.ListClips(database_id));
+  // Ids alone could repeat after a delete and an import; the content hashes cannot.
+  std::size_t hash = std::hash<std::int64_t>()(database_id);
+  for (const ClipSummary& clip : clips) {
+    hash = hash * 1000003u ^ std::hash<std::int64_t>()(clip.id);
+    hash = hash * 1000003u ^ std::hash<std::string>()(clip.content_hash);
+  }
+  return StrCat(clips.size(), "-", hash);
+}
+
+VersionRegistry::VersionRegistry(StorePool& stores, int max_cached, std::string what, Loader loader)
+    : stores_(stores), max_cached_(std::max(1, max_cached)), what_(std::move(what)), loader_(std::move(loader)) {}
+
+VersionRegistry::~VersionRegistry() {
+  std::list<Builder> builders;
+  {
+    std::lock_guard lock(mutex_);
+    builders.swap(builders_);
+  }
+  for (Builder& builder : builders) builder.thread.join();
+}
+
+int VersionRegistry::builds() const {
+  std::lock_guard lock(mutex_);
+  return builds_;
+}
+
+void VersionRegistry::Acquire(const DatabaseVersion& version, Ready ready) {
+  std::unique_lock lock(mutex_);
+  ReapBuilders();
+  Entry& entry = entries_[{version.database_id, version.content_stamp}];
+  entry.last_used = ++clock_;
+  if (entry.value) {
+    Value value = entry.value;
+    lock.unlock();
+    ready(std::move(value));
+    return;
+  }
+  entry.waiting.push_back(std::move(ready));
+  if (entry.building) return;
+  entry.building = true;
+  Builder& builder = builders_.emplace_back();
+  builder.thread = std::thread([this, version, &builder] { Build(version, &builder); });
+}
+
+void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
+  const auto start = std::chrono::steady_clock::now();
+  absl::StatusOr<Value> built = [&]() -> absl::StatusOr<Value> {
+    MOCAP_ASSIGN_OR_RETURN(StorePool::Lease store, stores_.Acquire());
+    try {
+      return loader_(*store, version);
+    } catch (const std::exception& error) {  // SQLiteCpp throws on broken files
+      return absl::InternalError(StrCat("building the ", what_, ": ", error.what()));
+    }
+  }();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (built.ok()) {
+    spdlog::info("{} of database {} built in {:.1f} s", what_, version.database_id, seconds);
+  } else {
+    spdlog::warn("{} of database {} failed to build: {}", what_, version.database_id, built.status().ToString());
+  }
+  std::vector<Ready> waiting;
+  {
+    std::lock_guard lock(mutex_);
+    const EntryKey entry_key{version.database_id, version.content_stamp};
+    Entry& entry = entries_[entry_key];
+    waiting.swap(entry.waiting);
+    entry.building = false;
+    if (built.ok()) {
+      entry.value = *built;
+      ++builds_;
+      // Older versions of this database are not needed by new calls (running ones hold theirs).
+      for (auto it = entries_.begin(); it != entries_.end();) {
+        const bool older = it->first.first == version.database_id && it->first != entry_key && !it->second.building;
+        it = older ? entries_.erase(it) : std::next(it);
+      }
+      Evict();
+    } else {
+      entries_.erase(entry_key);  // the next call tries again
+    }
+  }
+  for (Ready& ready : waiting) ready(built);
+  std::lock_guard lock(mutex_);
+  self->done = true;  // nothing left to run: ReapBuilders (or the destructor) joins the thread
+}
+
+void VersionRegistry::Evict() {
+  int cached = 0;
+  for (const auto& [key, entry] : entries_) cached += entry.value ? 1 : 0;
+  while (cached > max_cached_) {
+    auto oldest = entries_.end();
+    for (auto it = entries_.begin(); it != entries_.end(); ++it) {
+      if (it->second.value && (oldest == entries_.end() || it->second.last_used < oldest->second.last_used)) oldest = it;
+    }
+    entries_.erase(oldest);
+    --cached;
+  }
+}
+
+void VersionRegistry::ReapBuilders() {
+  for (auto it = builders_.begin(); it != builders_.end();) {
+    if (!it->done) {
+      ++it;
+      continue;
+    }
+    it->thread.join();
+    it = builders_.erase(it);
+  }
+}
+
+}  // namespace mocap
