@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzing (issue #14): builds the libFuzzer targets with clang (build-fuzz: every library with
 # ASan + UBSan + fuzzer instrumentation) and runs each for SECONDS, from seed corpora made of real
-# files (BVH clips of ../shared/data cut to 40 frames; the wrist CSV and session request seeds of
-# tests/fuzz/seeds, the latter encoded with protoc). Exits non-zero on any crash, leak or timeout;
+# files (BVH clips of ../shared/data cut to 40 frames; the wrist CSV, pose JSON and session request
+# seeds of tests/fuzz/seeds, the last encoded with protoc). Exits non-zero on any crash, leak or timeout;
 # the reproducer is left in build-fuzz/findings/TARGET/.
 #   usage: tests/fuzz/run.sh [SECONDS (60)] [TARGET...]   (CI: 60 s per target; long run: 600)
 set -euo pipefail
@@ -10,7 +10,7 @@ repo=$(cd "$(dirname "$0")/../.." && pwd)
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(bvh_reader_fuzz wrist_csv_fuzz session_request_fuzz)
+[ ${#targets[@]} -gt 0 ] || targets=(bvh_reader_fuzz wrist_csv_fuzz session_request_fuzz pose_query_json_fuzz)
 build="$repo/build-fuzz"
 
 "$repo/scripts/setup.sh" --no-build
@@ -35,7 +35,7 @@ cmake --build "$build" -j "$(nproc)" --target mocap_fuzzers
 
 # Seed corpora (rebuilt each run; what the fuzzer adds stays in build-fuzz/corpus/TARGET).
 seeds="$build/seeds"
-rm -rf "$seeds" && mkdir -p "$seeds"/{bvh_reader_fuzz,wrist_csv_fuzz,session_request_fuzz}
+rm -rf "$seeds" && mkdir -p "$seeds"/{bvh_reader_fuzz,wrist_csv_fuzz,session_request_fuzz,pose_query_json_fuzz}
 data="${MOCAP_DATA_CACHE_DIR:-$HOME/.cache/mocap/data}"
 if [ -x "$repo/../shared/data/unpack.sh" ]; then "$repo/../shared/data/unpack.sh" "$data" >/dev/null; fi
 python3 - "$data" "$seeds/bvh_reader_fuzz" <<'PY'
@@ -56,6 +56,7 @@ for path in sorted(data.glob("*/*.bvh")):
 PY
 cp "$repo"/tests/testdata/bvh/valid/*.bvh.txt "$repo"/tests/testdata/bvh/malformed/*.bvh.txt "$seeds/bvh_reader_fuzz/"
 cp "$repo"/tests/fuzz/seeds/csv/*.csv "$seeds/wrist_csv_fuzz/"
+cp "$repo"/tests/fuzz/seeds/pose/*.json "$seeds/pose_query_json_fuzz/"
 for seed in "$repo"/tests/fuzz/seeds/session/*.txtpb; do
   protoc --encode=mocap.v1.ReconstructTrajectoryRequest -I "$repo/proto" "$repo/proto/mocap/v1/reconstruction.proto" \
     <"$seed" >"$seeds/session_request_fuzz/$(basename "$seed" .txtpb).bin"
