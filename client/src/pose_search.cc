@@ -24,6 +24,7 @@ absl::StatusOr<v1::FindSimilarPosesResponse> Client::FindSimilarPoses(const v1::
   std::unique_ptr<v1::PoseSearch::Stub> stub = v1::PoseSearch::NewStub(impl_->channel);
   v1::FindSimilarPosesResponse response;
   absl::Status status = impl_->Unary(
+      Client::Impl::Retry::kIdempotent,
       [&](grpc::ClientContext* c, const auto& r, auto* out) { return stub->FindSimilarPoses(c, r, out); }, request,
       &response, deadline);
   if (!status.ok()) return status;
