@@ -176,7 +176,7 @@ if [ "$count1" -lt 1 ] || [ "$count2" -lt 1 ]; then
 fi
 for replica in replica1 replica2; do
   started=$(sed -n 's/.*session=\([^ ]*\) .*started.*/\1/p' "$dir/$replica.log" | sort)
-  ended=$(sed -n 's/.*session=\([^ ]*\) ended.*/\1/p' "$dir/$replica.log" | sort)
+  ended=$(sed -n 's/.*session=\([^ ]*\) request=[^ ]* ended code=.*/\1/p' "$dir/$replica.log" | sort)
   [ "$started" = "$ended" ] || fail "$replica: sessions started ($started) are not those that ended there ($ended)"
   echo "$started" >>"$dir/out/replica_session_ids.txt"
 done
