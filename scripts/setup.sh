@@ -3,18 +3,22 @@
 # Installs the Debian packages (when missing; chromium for the viewer's page test), then configures
 # and builds with CMake + Ninja + ccache (the build runs `npm ci` in viewer/: the npm registry).
 # Idempotent: a second run only checks packages and lets Ninja rebuild what changed.
-#   usage: scripts/setup.sh [--no-build] [--build-dir DIR] [--build-type TYPE] [-- extra cmake args]
+#   usage: scripts/setup.sh [--no-build] [--build-dir DIR] [--build-type TYPE] [--target T]... [-- extra cmake args]
+#   Builds are unity builds (CMake batches of 8 sources: a cold build in a third of the time);
+#   pass -- -DCMAKE_UNITY_BUILD=OFF for one object per source.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 build_dir="$repo/build"
 build_type=RelWithDebInfo
 do_build=1
 extra=()
+targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --no-build) do_build=0 ;;
     --build-dir) build_dir=$2; shift ;;
     --build-type) build_type=$2; shift ;;
+    --target) targets+=(--target "$2"); shift ;;
     --) shift; extra=("$@"); break ;;
     *) echo "setup.sh: unknown option $1" >&2; exit 2 ;;
   esac
@@ -44,5 +48,5 @@ fi
 [ $do_build -eq 1 ] || exit 0
 jobs=$(nproc)
 cmake -S "$repo" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" \
-  -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "${extra[@]}" >/dev/null
-cmake --build "$build_dir" -j "$jobs"
+  -DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 "${extra[@]}" >/dev/null
+cmake --build "$build_dir" -j "$jobs" "${targets[@]}"
