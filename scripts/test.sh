@@ -16,8 +16,8 @@ set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 if [ "${1:-}" = "--tsan" ]; then
   shift
-  "$repo/scripts/setup.sh" --build-dir "$repo/build-tsan" --build-type Tsan --target mocap_concurrency_tests -- \
-    -DMOCAP_TSAN=ON -DMOCAP_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS_TSAN="-O1 -g1"
+  "$repo/scripts/setup.sh" --with-clang --build-dir "$repo/build-tsan" --build-type Tsan --target mocap_concurrency_tests -- \
+    -DCMAKE_CXX_COMPILER=clang++ -DMOCAP_TSAN=ON -DMOCAP_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS_TSAN="-O1 -gline-tables-only"
   cd "$repo/build-tsan"
   reports="$repo/build-tsan/tsan-reports"
   rm -rf "$reports" && mkdir -p "$reports"
