@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "motion/bvh/bvh_reader.h"
@@ -157,10 +158,16 @@ absl::StatusOr<RetargetRig> SourceRigOf(const RigModel& rig, const Skeleton& bod
 }
 
 absl::StatusOr<RetargetRig> TargetRigFromBvh(std::string_view text, std::optional<LengthUnit> unit) {
-  // A hierarchy alone is a rig too: give it an empty MOTION section for the reader.
+  // A hierarchy alone is a rig too: give it one frame of its zero-rotation pose for the reader.
   std::string with_motion;
   if (text.find("MOTION") == std::string_view::npos) {
-    with_motion = StrCat(text, "\nMOTION\nFrames: 0\nFrame Time: 0.0333333\n");
+    int channels = 0;
+    for (size_t at = text.find("CHANNELS"); at != std::string_view::npos; at = text.find("CHANNELS", at + 8)) {
+      channels += std::atoi(std::string(text.substr(at + 8, 8)).c_str());
+    }
+    with_motion = StrCat(text, "\nMOTION\nFrames: 1\nFrame Time: 0.0333333\n");
+    for (int c = 0; c < channels; ++c) with_motion += c ? " 0" : "0";
+    with_motion += "\n";
     text = with_motion;
   }
   MOCAP_ASSIGN_OR_RETURN(BvhClip clip, ParseBvh(text, "target rig"));

@@ -172,9 +172,10 @@ TEST(RetargeterTest, LandmarksFollowTheSourceOnEveryVariantRig) {
             t[ts] + (s[source_wrists[side]] - s[ss]) * (target->arm_length[side] / source.rig.arm_length[side]);
         EXPECT_LT((t[target_wrists[side]] - wanted).norm(), 2e-3f) << "frame " << f << " side " << side;
       }
-      // The head: where the source's is, in leg lengths (proportions may move it a little).
+      // The head: where the source's is, in leg lengths, give or take what the proportions move it
+      // (a spine 15% longer on 20% longer legs puts it 0.1 leg lengths off).
       const float head_error = (t[tl.head] / target->leg_length - s[sl.head] / source.rig.leg_length).norm();
-      EXPECT_LT(head_error, 0.08f) << "frame " << f;
+      EXPECT_LT(head_error, 0.12f) << "frame " << f;
       if (f > 0) {
         for (int j = 0; j < source.rig.skeleton.num_joints(); ++j) {
           largest_source_step = std::max(largest_source_step, AngleBetween(source.rotations[f][j], source.rotations[f - 1][j]));
@@ -204,6 +205,7 @@ TEST(RetargeterTest, HandsAndFeetPointWhereTheSourcesDo) {
     for (BodyGroup limb : {BodyGroup::kLeftArm, BodyGroup::kRightArm, BodyGroup::kLeftLeg, BodyGroup::kRightLeg}) {
       const int g = static_cast<int>(limb);
       const int t_end = target->chains.joints[g].back(), s_end = source.rig.chains.joints[g].back();
+      if (tt.group_end[g] == t_end || st.group_end[g] == s_end) continue;  // a hand without fingers: nothing beyond
       for (size_t f = 0; f < result.positions.size(); f += 7) {
         const Eigen::Vector3f t_dir = (result.positions[f][tt.group_end[g]] - result.positions[f][t_end]).normalized();
         const Eigen::Vector3f s_dir = (source.positions[f][st.group_end[g]] - source.positions[f][s_end]).normalized();
