@@ -58,7 +58,7 @@ TEST(RetargetSharedDataTest, HeldOutClipsOnTheCmuRigAndOnReRiggedCopies) {
   for (const auto& file : files) {
     const std::string name = file.filename().string();
     if (TakeOf(name) % 10 == 3) {
-      for (const char* content : {"_walk_", "_run_", "_dance_"}) {
+      for (const char* content : {"_walk_", "_run_", "_raise-up-both-hands_"}) {
         if (name.find(content) != std::string::npos && queries.size() < 3 &&
             std::none_of(queries.begin(), queries.end(), [&](const auto& q) { return q.filename().string().find(content) != std::string::npos; })) {
           queries.push_back(file);

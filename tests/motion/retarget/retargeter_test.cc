@@ -141,6 +141,12 @@ std::vector<Variant> Variants() {
   };
 }
 
+absl::StatusOr<Retargeter> RetargeterOnto(const Variant& variant) {
+  auto target = TargetFrom(variant.options, variant.edit);
+  if (!target.ok()) return target.status();
+  return Retargeter::Create(TheSource().rig, *std::move(target));
+}
+
 // What the retargeting promises (retargeter.h step 4) and no flips, on rigs that differ from the
 // database's in names, joint count, units, axes, proportions and rest pose.
 TEST(RetargeterTest, LandmarksFollowTheSourceOnEveryVariantRig) {
@@ -148,10 +154,9 @@ TEST(RetargeterTest, LandmarksFollowTheSourceOnEveryVariantRig) {
   const BodyLandmarks& sl = source.rig.topology.landmarks;
   for (const Variant& variant : Variants()) {
     SCOPED_TRACE(variant.name);
-    auto target = TargetFrom(variant.options, variant.edit);
-    ASSERT_TRUE(target.ok()) << target.status();
-    auto retargeter = Retargeter::Create(source.rig, *target);
+    auto retargeter = RetargeterOnto(variant);
     ASSERT_TRUE(retargeter.ok()) << retargeter.status();
+    const RetargetRig* target = &retargeter->target();
     const float k = retargeter->scale();
     const Result result = RetargetAll(*retargeter, source);
     const BodyLandmarks& tl = target->topology.landmarks;
@@ -196,10 +201,9 @@ TEST(RetargeterTest, HandsAndFeetPointWhereTheSourcesDo) {
   const BodyTopology& st = source.rig.topology;
   for (const Variant& variant : Variants()) {
     SCOPED_TRACE(variant.name);
-    auto target = TargetFrom(variant.options, variant.edit);
-    ASSERT_TRUE(target.ok()) << target.status();
-    auto retargeter = Retargeter::Create(source.rig, *target);
+    auto retargeter = RetargeterOnto(variant);
     ASSERT_TRUE(retargeter.ok()) << retargeter.status();
+    const RetargetRig* target = &retargeter->target();
     const Result result = RetargetAll(*retargeter, source);
     const BodyTopology& tt = target->topology;
     for (BodyGroup limb : {BodyGroup::kLeftArm, BodyGroup::kRightArm, BodyGroup::kLeftLeg, BodyGroup::kRightLeg}) {
@@ -219,11 +223,9 @@ TEST(RetargeterTest, TheBvhIsWrittenInTheTargetFilesOwnUnitsAxesAndChannels) {
   const Source& source = TheSource();
   for (const Variant& variant : Variants()) {
     SCOPED_TRACE(variant.name);
-    const BvhClip original = testing::MakeWalkingClip(variant.options, 60);
-    auto target = TargetFrom(variant.options, variant.edit);
-    ASSERT_TRUE(target.ok()) << target.status();
-    auto retargeter = Retargeter::Create(source.rig, *target);
+    auto retargeter = RetargeterOnto(variant);
     ASSERT_TRUE(retargeter.ok()) << retargeter.status();
+    const RetargetRig* target = &retargeter->target();
     const Result result = RetargetAll(*retargeter, source);
     const BvhClip written = RetargetedToBvh(*target, result.poses, 1.0 / 30);
     auto parsed = ParseBvh(FormatBvh(written), "retargeted.bvh");
@@ -259,10 +261,9 @@ TEST(RetargeterTest, BlenderImportsTheWrittenBvhWithOneBonePerJoint) {
   testing::ScopedTempDir dir;
   std::map<std::string, int> expected;  // file -> joints
   for (const Variant& variant : Variants()) {
-    auto target = TargetFrom(variant.options, variant.edit);
-    ASSERT_TRUE(target.ok()) << target.status();
-    auto retargeter = Retargeter::Create(source.rig, *target);
+    auto retargeter = RetargeterOnto(variant);
     ASSERT_TRUE(retargeter.ok()) << retargeter.status();
+    const RetargetRig* target = &retargeter->target();
     const std::string path = (dir.path() / (variant.name + ".bvh")).string();
     std::ofstream(path) << FormatBvh(RetargetedToBvh(*target, RetargetAll(*retargeter, source).poses, 1.0 / 30));
     expected[path] = target->skeleton.num_joints();
