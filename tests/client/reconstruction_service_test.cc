@@ -344,7 +344,7 @@ TEST_F(ReconstructionServiceTest, ATargetRigAnswersEveryFrameOnThatRig) {
   ASSERT_TRUE(on_avatar.summary.ok()) << on_avatar.summary.status();
   ASSERT_EQ(on_avatar.started.skeleton().joints_size(), avatar.skeleton.num_joints());
   for (int j = 0; j < avatar.skeleton.num_joints(); ++j) {
-    EXPECT_EQ(on_avatar.started.skeleton().joints(j).name(), avatar.skeleton.joint(j).name());
+    EXPECT_EQ(on_avatar.started.skeleton().joints(j).name(), avatar.skeleton.joint(j).name);
   }
   EXPECT_FALSE(on_avatar.started.config().has_target_rig());  // no echo of the rig's text
   ASSERT_EQ(on_avatar.frames.size(), plain.frames.size());
