@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # One setup step for every place that builds the project: README quick start, CI and docker/Dockerfile.
-# Installs the Debian packages (when missing; chromium for the viewer's page test), then configures
+# Installs the Debian packages (when missing; chromium for the viewer's page test, blender for
+# the retargeted BVH's import test), then configures
 # and builds with CMake + Ninja + ccache (the build runs `npm ci` in viewer/: the npm registry).
 # Idempotent: a second run only checks packages and lets Ninja rebuild what changed.
 #   usage: scripts/setup.sh [--no-build] [--with-clang] [--build-dir DIR] [--build-type TYPE] [--target T]...
@@ -33,7 +34,7 @@ packages=(build-essential cmake ninja-build ccache pkg-config git xz-utils
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libsqlite3-dev libsqlitecpp-dev libeigen3-dev libflann-dev liblz4-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libxxhash-dev libssl-dev
-  nginx python3-grpcio python3-protobuf python3-yaml chromium)
+  nginx python3-grpcio python3-protobuf python3-yaml chromium blender)
 # The viewer's script (viewer/, compiled into mocap and mocap-eval) is built with npm: Debian's
 # Node.js where the machine has none (one installed otherwise, with its own npm, is kept).
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)

@@ -25,11 +25,19 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::S
   v1::SessionStarted& started = driver->started_;
   started.set_session_id(std::move(session_id));
   ToProto(*database, scale, started.mutable_skeleton());
+  if (config.has_target_rig()) {  // issue #12: answer on the caller's rig
+    MOCAP_ASSIGN_OR_RETURN(RetargetRig target, FromProto(config.target_rig()));
+    MOCAP_ASSIGN_OR_RETURN(RetargetRig source, SourceRigOf(database->rig(), database->body().skeleton()));
+    MOCAP_ASSIGN_OR_RETURN(driver->retargeter_, Retargeter::Create(std::move(source), std::move(target)));
+    started.clear_skeleton();
+    ToProto(driver->retargeter_->target(), started.mutable_skeleton());
+  }
   started.set_frame_rate(1.0 / database->frame_time());
   started.set_latency_frames(driver->session_->latency_frames());
   started.set_database_height(scale.database_height);
   started.set_database_frames(database->num_frames());
   *started.mutable_config() = EffectiveConfig(config, options);
+  started.mutable_config()->clear_target_rig();  // the rig itself is `skeleton`; no echo of its text
   return driver;
 }
 
@@ -101,7 +109,14 @@ void SessionDriver::AppendFrames(std::vector<v1::ReconstructResponse>* replies) 
     const size_t end = std::min(pending_.size(), start + kFramesPerReply);
     v1::ReconstructedFrames* frames = replies->emplace_back().mutable_frames();
     frames->mutable_frames()->Reserve(static_cast<int>(end - start));
-    for (size_t i = start; i < end; ++i) ToProto(pending_[i], scale_, config_.include_diagnostics(), frames->add_frames());
+    for (size_t i = start; i < end; ++i) {
+      v1::Frame* frame = frames->add_frames();
+      ToProto(pending_[i], scale_, config_.include_diagnostics(), frame);
+      if (!retargeter_) continue;
+      retargeter_->Retarget(session_->database().body(), pending_[i].pose, &target_pose_);
+      const int pelvis = retargeter_->target().topology.landmarks.pelvis;
+      SetTargetPose(target_pose_, retargeter_->world_rotations()[pelvis], retargeter_->world_positions()[pelvis], frame);
+    }
   }
   frames_emitted_ += static_cast<long>(pending_.size());
   metrics_.FramesReconstructed(static_cast<std::int64_t>(pending_.size()));
