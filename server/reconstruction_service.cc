@@ -30,10 +30,10 @@ std::string ReconstructionState::NextSessionId() { return StrCat(instance_tag, "
 ReconstructionState::ReconstructionState(ServiceContext& service_context, const ReconstructionLimits& limits_in)
     : service(service_context),
       limits(limits_in),
-      compute(ComputeThreads(limits_in)),
       databases(service_context.stores, limits_in.max_cached_databases),
       sessions(limits_in.max_sessions_per_tenant, "reconstruction sessions"),
-      instance_tag(RandomInstanceTag()) {}
+      instance_tag(RandomInstanceTag()),
+      compute(ComputeThreads(limits_in)) {}
 
 void AcquireSessionDatabase(ReconstructionState& state, CallScope& call, const std::string& name,
                             std::function<void(absl::StatusOr<ReconstructionDatabases::Database>)> ready) {

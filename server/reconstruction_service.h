@@ -36,7 +36,6 @@ struct ReconstructionState {
   ReconstructionState(ServiceContext& service, const ReconstructionLimits& limits);
   ServiceContext& service;
   const ReconstructionLimits limits;
-  WorkPool compute;
   ReconstructionDatabases databases;
   TenantAdmission sessions;
   std::atomic<bool> draining{false};
@@ -47,6 +46,10 @@ struct ReconstructionState {
   std::string NextSessionId();
   std::mutex live_mutex;
   std::set<ReconstructReactor*> live;  // streams between start and OnDone
+  // Last, so it is destroyed first: its destructor runs the queued tasks and joins its threads,
+  // and those tasks use every member above (found by ThreadSanitizer: a task releasing a session's
+  // admission while the admissions were being destroyed, at shutdown).
+  WorkPool compute;
 };
 
 class ReconstructionService final : public v1::Reconstruction::CallbackService {
