@@ -10,6 +10,7 @@
 
 #include "cli_util/progress_bar.h"
 #include "cli_util/wrist_source.h"
+#include "client/cli/input_frame_flags.h"
 #include "client/cli/reconstruction_bvh.h"
 
 namespace mocap::cli {
@@ -28,6 +29,7 @@ struct ReconstructOptions {
   bool diagnostics = false, strict = false, unary = false, realtime = false, quiet = false;
   int samples_per_message = 30;
   std::string output = "reconstruction";
+  InputFrameFlags input_frame;
 };
 
 absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
@@ -71,6 +73,12 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
       if (!reply.ok() || !*reply) break;
       for (const v1::Frame& frame : (*reply)->frames().frames()) *result.add_frames() = frame;
       if ((*reply)->has_rejected()) *result.add_rejected() = (*reply)->rejected();
+      if ((*reply)->has_input_report()) {  // one report, as the unary call answers
+        const v1::InputReport& report = (*reply)->input_report();
+        result.mutable_input_report()->set_floor_height(report.floor_height());
+        result.mutable_input_report()->set_floor_calibrated(report.floor_calibrated());
+        for (const v1::InputWarning& warning : report.warnings()) *result.mutable_input_report()->add_warnings() = warning;
+      }
       frames_back = result.frames_size();
     }
   });
@@ -106,8 +114,15 @@ int Run(client::Client& client, const ReconstructOptions& o, const GlobalOptions
   absl::StatusOr<std::vector<v1::WristSample>> samples =
       o.csv.empty() ? WristsFromBvh(o.bvh, o.noise_cm, o.seed) : WristsFromCsv(o.csv);
   if (!samples.ok()) return Fail(samples.status());
+  absl::StatusOr<DeclaredInputFrame> input_frame = ResolveInputFrame(o.input_frame);
+  if (!input_frame.ok()) return Fail(input_frame.status());
+  if (!o.bvh.empty()) {  // the clip's wrists as a tracker in the declared frame would send them
+    if (absl::Status s = ToDeclaredFrame(input_frame->frame, &*samples); !s.ok()) return Fail(s);
+  }
   absl::StatusOr<v1::SessionConfig> config = Config(o);
   if (!config.ok()) return Fail(config.status());
+  *config->mutable_input_frame() = input_frame->proto;
+  config->set_output_frame(v1::OUTPUT_FRAME_SERVER);  // BVH and JSON stay standard: metres, Y up, right-handed
   absl::StatusOr<v1::ReconstructTrajectoryResponse> result =
       o.unary ? client.ReconstructTrajectory(*config, *samples)
               : Stream(client, *config, *samples, o, !o.quiet && !global.json);
@@ -126,6 +141,9 @@ int Run(client::Client& client, const ReconstructOptions& o, const GlobalOptions
     out["session_id"] = result->started().session_id();
     std::cout << out.dump(2) << "\n";
     return 0;
+  }
+  for (const v1::InputWarning& warning : result->input_report().warnings()) {
+    std::cerr << "  input frame: " << warning.message() << "\n";
   }
   for (const v1::SampleRejected& rejected : result->rejected()) {
     std::cerr << "  sample " << rejected.sample_index() << " (t = " << rejected.time() << " s) refused: " << rejected.reason()
@@ -150,7 +168,8 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   command->add_option("--database", o->database, "Database to draw motion from")->required();
   auto* csv = command->add_option("--csv", o->csv,
                                   "Wrist samples: time,left_x,left_y,left_z,right_x,right_y,right_z"
-                                  "[,left_confidence,right_confidence] (seconds, metres, Y up)")
+                                  "[,left_confidence,right_confidence[,left_qw,...,right_qz]] (seconds; metres, Y up "
+                                  "unless --input-frame or --units, --up, --handedness, --floor say otherwise)")
                   ->check(CLI::ExistingFile);
   auto* bvh = command->add_option("--bvh", o->bvh, "Take the wrists from this BVH clip's forward kinematics")
                   ->check(CLI::ExistingFile);
@@ -172,6 +191,7 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
       ->check(CLI::IsMember({"estimated", "database", "both"}))->capture_default_str();
   command->add_option("--performer-height", o->performer_height, "Performer's height in metres (scales input and output)")
       ->check(CLI::NonNegativeNumber);
+  AddInputFrameFlags(command, &o->input_frame);
   command->add_flag("--diagnostics", o->diagnostics, "Per-frame diagnostics in the JSON");
   command->add_flag("--strict", o->strict, "Fail at the first refused sample instead of skipping it");
   command->add_flag("--unary", o->unary, "One ReconstructTrajectory call instead of a stream");
