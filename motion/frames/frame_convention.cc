@@ -53,7 +53,7 @@ float UpAxisSign(UpAxis up) { return static_cast<int>(up) % 2 == 0 ? 1.0f : -1.0
 Eigen::Matrix3f NativeBasis(UpAxis up, Handedness handedness) {
   Eigen::Matrix3f mirror = Eigen::Matrix3f::Identity();
   if (handedness == Handedness::kLeft) mirror(UpAxisIndex(up) == 2 ? 1 : 2, UpAxisIndex(up) == 2 ? 1 : 2) = -1.0f;
-  Eigen::Matrix3f turn;  // rows: native x, y, z as combinations of the (right-handed) caller axes
+  Eigen::Matrix3f turn = Eigen::Matrix3f::Identity();  // rows: native x, y, z as combinations of the (right-handed) caller axes
   switch (up) {
     case UpAxis::kPosY: turn << 1, 0, 0, 0, 1, 0, 0, 0, 1; break;
     case UpAxis::kNegY: turn << 1, 0, 0, 0, -1, 0, 0, 0, -1; break;

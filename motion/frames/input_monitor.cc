@@ -70,7 +70,9 @@ std::optional<std::string> WristSeparationProblem(double separation_metres, Leng
 }
 
 InputMonitor::InputMonitor(const FrameConvention& convention, bool calibrate_floor, const InputMonitorOptions& options)
-    : convention_(convention), calibrate_floor_(calibrate_floor), options_(options) {}
+    : convention_(convention), calibrate_floor_(calibrate_floor), options_(options) {
+  if (!(options_.body_height > 0.0f)) options_.body_height = kDefaultBodyHeight;  // a rig without a measurable height
+}
 
 void InputMonitor::Add(const WristSample& sample, long index, std::vector<MonitoredSample>* ready,
                        std::vector<InputWarning>* warnings) {
@@ -100,14 +102,13 @@ void InputMonitor::Finish(std::vector<MonitoredSample>* ready, std::vector<Input
 void InputMonitor::CloseWindow(std::vector<MonitoredSample>* ready, std::vector<InputWarning>* warnings) {
   window_done_ = true;
   const float height = options_.body_height;
-  std::vector<float> separations, lower_heights, mean_heights;
+  std::vector<float> separations, lower_heights;
   for (const MonitoredSample& s : window_) {
     separations.push_back((s.sample.left - s.sample.right).norm());
     lower_heights.push_back(std::min(s.sample.left.y(), s.sample.right.y()));
-    mean_heights.push_back(0.5f * (s.sample.left.y() + s.sample.right.y()));
   }
   if (calibrate_floor_) {
-    calibrated_floor_ = Median(mean_heights) - kWristHangFraction * height;
+    calibrated_floor_ = Median(lower_heights) - kWristHangFraction * height;
     for (MonitoredSample& s : window_) {
       s.sample.left.y() -= calibrated_floor_;
       s.sample.right.y() -= calibrated_floor_;

@@ -5,9 +5,11 @@
 // Samples enter in native axes and metres (FrameTransform), the declared floor already
 // subtracted unless the floor is calibrated. Thresholds come from body proportions, with H the
 // performer's height (SessionConfig.performer_height, else the database performer's):
-// - floor calibration: the median over the first `window_seconds` of the two wrists' mean height
-//   is taken as kWristHangFraction · H above the floor (a performer standing or walking with arms
-//   hanging; measured on the held-out bandai-namco-2 clips: tests/motion/frames). Samples are held
+// - floor calibration: the median over the first `window_seconds` of the lower wrist's height is
+//   taken as kWristHangFraction · H above the floor (a performer standing or walking with at least
+//   one arm hanging; 0.474 over the walks and runs of the held-out bandai-namco-2 clips, 0.466
+//   over the others, tests/motion/frames; anthropometric tables give 0.485 for a wrist hanging at
+//   rest). Samples are held
 //   until the window is full, so the first frames leave up to `window_seconds` later.
 // - units (first window): the wrists' median distance below kMinWristSeparationFraction · H
 //   (two wrist joints cannot come closer than the hands' thickness) names the unit that would make
@@ -17,7 +19,7 @@
 //   −kBelowFloorFraction · H ("wrists below the floor"), or above kAboveFloorFraction · H (both
 //   wrists higher than a raised hand reaches: the floor is too low).
 // - sides (whole session): while the body travels (the wrists' midpoint moving faster than
-//   kTravelSpeed over ~1 s), the left wrist is on the left of the travel direction. When at least
+//   kTravelSpeed over ~0.5 s), the left wrist is on the left of the travel direction. When at least
 //   kSwapVoteShare of kSwapVotes consecutive travelling votes (one per 0.1 s, each with the wrists
 //   at least kMinSideOffsetFraction · H apart across the travel) say otherwise: "left and right
 //   look swapped" (or a mirrored frame: the handedness declared wrong). Standing still says
@@ -36,13 +38,14 @@
 
 namespace mocap {
 
+inline constexpr float kDefaultBodyHeight = 1.7f;  // metres, when none is known
 inline constexpr float kWristHangFraction = 0.47f;
 inline constexpr float kMinWristSeparationFraction = 0.02f;
 inline constexpr float kBelowFloorFraction = 0.05f;
 inline constexpr float kAboveFloorFraction = 1.1f;
 inline constexpr float kTravelSpeed = 0.4f;  // m/s
 inline constexpr float kMinSideOffsetFraction = 0.03f;
-inline constexpr int kSwapVotes = 20;
+inline constexpr int kSwapVotes = 15;
 inline constexpr float kSwapVoteShare = 0.8f;
 
 struct InputWarning {
@@ -52,7 +55,7 @@ struct InputWarning {
 };
 
 struct InputMonitorOptions {
-  float body_height = 1.7f;     // H, metres
+  float body_height = kDefaultBodyHeight;  // H, metres
   double window_seconds = 1.0;  // floor calibration and the first checks read this much input
 };
 
@@ -91,7 +94,7 @@ class InputMonitor {
   std::optional<double> first_time_;
   std::vector<MonitoredSample> window_;  // the first window's samples (held while calibrating)
   // Sides: the wrists' midpoint every ≥ 0.1 s, the last kWaypoints of them.
-  static constexpr int kWaypoints = 11;
+  static constexpr int kWaypoints = 6;
   struct Waypoint {
     double time;
     Eigen::Vector3f middle;

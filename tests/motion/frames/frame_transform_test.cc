@@ -78,8 +78,9 @@ TEST(FrameTransformTest, EveryConventionRoundTripsAndReportsItsFloorBack) {
     SCOPED_TRACE(std::string(UnitName(convention.unit)) + " " + std::string(UpAxisName(convention.up)) + " " +
                  std::string(HandednessName(convention.handedness)));
     EXPECT_NEAR(FloorHeightFromNative(convention, transform.floor_native()), floor, 1e-4 * std::abs(floor) + 1e-6);
-    for (int i = 0; i < 20; ++i) {
-      const Eigen::Vector3f p(coordinate(random), coordinate(random), coordinate(random));
+    for (int i = 0; i < 20; ++i) {  // a room's worth of positions in the caller's unit
+      const Eigen::Vector3f p =
+          Eigen::Vector3f(coordinate(random), coordinate(random), coordinate(random)) / MetresPerUnit(convention.unit);
       EXPECT_TRUE(transform.PositionFromNative(transform.PositionToNative(p)).isApprox(p, 1e-5f));
       EXPECT_TRUE(transform.VectorFromNative(transform.VectorToNative(p)).isApprox(p, 1e-5f));
       const Eigen::Quaternionf q = Eigen::Quaternionf::UnitRandom();

@@ -12,8 +12,8 @@ namespace {
 constexpr float kHeight = 1.7f;
 constexpr double kRate = 30.0;
 
-// A performer walking at `speed` m/s along `direction` (horizontal, unit), wrists hanging at the
-// hang fraction and swinging, the left wrist on the left of the direction; `floor` added to y.
+// A performer walking at `speed` m/s along `direction` (horizontal, unit), wrists hanging around
+// the hang fraction and swinging, the left wrist on the left of the direction; `floor` added to y.
 std::vector<WristSample> Walk(int frames, float speed, Eigen::Vector3f direction, float floor = 0.0f, bool swapped = false) {
   const Eigen::Vector3f left_side(direction.z(), 0.0f, -direction.x());  // up × direction
   std::vector<WristSample> samples;
@@ -36,7 +36,7 @@ struct Outcome {
   std::vector<InputWarning> warnings;
 };
 
-Outcome Run(const std::vector<WristSample>& samples, bool calibrate, FrameConvention convention = {}) {
+Outcome Monitor(const std::vector<WristSample>& samples, bool calibrate, FrameConvention convention = {}) {
   InputMonitor monitor(convention, calibrate, {.body_height = kHeight});
   Outcome out;
   for (size_t i = 0; i < samples.size(); ++i) monitor.Add(samples[i], static_cast<long>(i), &out.ready, &out.warnings);
@@ -53,7 +53,7 @@ bool Has(const Outcome& outcome, InputWarning::Kind kind) {
 
 TEST(InputMonitorTest, PlausibleInputPassesThroughUntouchedAndUnwarned) {
   const std::vector<WristSample> walk = Walk(150, 1.3f, {0, 0, -1});
-  const Outcome outcome = Run(walk, false);
+  const Outcome outcome = Monitor(walk, false);
   EXPECT_TRUE(outcome.warnings.empty()) << outcome.warnings.front().message;
   ASSERT_EQ(outcome.ready.size(), walk.size());
   for (size_t i = 0; i < walk.size(); ++i) {
@@ -80,7 +80,7 @@ TEST(InputMonitorTest, CalibrationHoldsTheFirstSecondAndPutsTheFloorAtZero) {
 }
 
 TEST(InputMonitorTest, ShortInputIsCalibratedAtTheEnd) {
-  const Outcome outcome = Run(Walk(10, 0.0f, {1, 0, 0}, 0.3f), true);
+  const Outcome outcome = Monitor(Walk(10, 0.0f, {1, 0, 0}, 0.3f), true);
   ASSERT_EQ(outcome.ready.size(), 10u);
   EXPECT_NEAR(outcome.ready[0].sample.left.y(), kWristHangFraction * kHeight, 1e-3);
 }
@@ -91,32 +91,32 @@ TEST(InputMonitorTest, MetresDeclaredAsCentimetresAreNamed) {
     s.left *= 0.01f;
     s.right *= 0.01f;
   }
-  const Outcome outcome = Run(walk, true, {LengthUnit::kCentimetre});
+  const Outcome outcome = Monitor(walk, true, {LengthUnit::kCentimetre});
   ASSERT_TRUE(Has(outcome, InputWarning::Kind::kUnits));
   EXPECT_NE(outcome.warnings.front().message.find("metres declared as centimetres?"), std::string::npos)
       << outcome.warnings.front().message;
 }
 
 TEST(InputMonitorTest, WristsBelowOrFarAboveADeclaredFloorAreNamed) {
-  Outcome below = Run(Walk(60, 1.2f, {0, 0, 1}, -1.6f), false);  // a head-origin space declared as floor-origin
+  Outcome below = Monitor(Walk(60, 1.2f, {0, 0, 1}, -1.6f), false);  // a head-origin space declared as floor-origin
   ASSERT_TRUE(Has(below, InputWarning::Kind::kBelowFloor));
   EXPECT_NE(below.warnings.front().message.find("wrists below the floor"), std::string::npos) << below.warnings.front().message;
-  Outcome above = Run(Walk(60, 1.2f, {0, 0, 1}, +1.6f), false);  // the floor declared 1.6 m too low
+  Outcome above = Monitor(Walk(60, 1.2f, {0, 0, 1}, +1.6f), false);  // the floor declared 1.6 m too low
   EXPECT_TRUE(Has(above, InputWarning::Kind::kAboveFloor));
   // A calibrated floor is right by construction: nothing to say.
-  EXPECT_TRUE(Run(Walk(60, 1.2f, {0, 0, 1}, -1.6f), true).warnings.empty());
+  EXPECT_TRUE(Monitor(Walk(60, 1.2f, {0, 0, 1}, -1.6f), true).warnings.empty());
 }
 
 TEST(InputMonitorTest, SwappedSidesAreNamedOnlyWhileTheBodyTravels) {
   for (const Eigen::Vector3f& direction : {Eigen::Vector3f(0, 0, -1), Eigen::Vector3f(0.6f, 0, 0.8f)}) {
-    EXPECT_FALSE(Has(Run(Walk(200, 1.3f, direction), false), InputWarning::Kind::kSwapped));
-    const Outcome swapped = Run(Walk(200, 1.3f, direction, 0.0f, /*swapped=*/true), false);
+    EXPECT_FALSE(Has(Monitor(Walk(200, 1.3f, direction), false), InputWarning::Kind::kSwapped));
+    const Outcome swapped = Monitor(Walk(200, 1.3f, direction, 0.0f, /*swapped=*/true), false);
     ASSERT_TRUE(Has(swapped, InputWarning::Kind::kSwapped));
     EXPECT_NE(swapped.warnings.front().message.find("left and right look swapped"), std::string::npos);
     EXPECT_EQ(swapped.warnings.size(), 1u);  // once per session
   }
   // Standing still, a swapped pair is just another pose.
-  EXPECT_TRUE(Run(Walk(200, 0.0f, {0, 0, 1}, 0.0f, true), false).warnings.empty());
+  EXPECT_TRUE(Monitor(Walk(200, 0.0f, {0, 0, 1}, 0.0f, true), false).warnings.empty());
 }
 
 TEST(WristSeparationProblemTest, NamesTheUnitThatMakesTheWristsABodys) {
