@@ -133,6 +133,7 @@ TEST_F(InputFrameTest, EveryPresetGivesTheNativeReconstruction) {
   EXPECT_TRUE(native.input_report().warnings().empty());
   v1::SessionConfig calibrated_config = Config();  // the reference for presets that calibrate their floor
   calibrated_config.mutable_input_frame()->set_calibrate_floor(true);
+  calibrated_config.set_output_frame(v1::OUTPUT_FRAME_SERVER);  // relative to the estimated floor
   const v1::ReconstructTrajectoryResponse calibrated = Reconstruct(calibrated_config, query_);
   EXPECT_TRUE(calibrated.input_report().floor_calibrated());
   std::cout << "[ input frames ] calibrated floor of the held-out clip: " << calibrated.input_report().floor_height() * 100
