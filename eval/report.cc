@@ -5,6 +5,7 @@
 #include <functional>
 #include <set>
 
+#include "eval/fixed_format.h"
 #include "eval/html_report.h"
 #include "eval/svg_chart.h"
 #include "motion/core/str_cat.h"
@@ -24,12 +25,6 @@ const ExperimentResult* Find(const std::vector<ExperimentResult>& results, const
     if (r.experiment.name == name) return &r;
   }
   return nullptr;
-}
-
-std::string Fixed(double v, int digits = 2) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
-  return buffer;
 }
 
 }  // namespace

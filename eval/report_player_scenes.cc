@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/fixed_format.h"
 #include "html_view/text_file.h"
 #include "html_view/view_clip.h"
 #include "motion/core/str_cat.h"
@@ -27,12 +28,6 @@ const nlohmann::json* ClipFigures(const nlohmann::json& report) {
     if (run.is_object() && run.contains("clips")) return &run["clips"];
   }
   return nullptr;
-}
-
-std::string Fixed(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.2f", v);
-  return text;
 }
 
 }  // namespace

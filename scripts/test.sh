@@ -2,14 +2,35 @@
 # The README's test command: sets up everything (packages, build) and runs the whole test suite.
 # Tests that need ../shared/data unpack it on first use (into ~/.cache/mocap/data) or skip with a
 # message when it is absent.
-#   usage: scripts/test.sh [--sanitize] [extra ctest arguments]
+#   usage: scripts/test.sh [--sanitize | --tsan] [extra ctest arguments]
 #   --sanitize: a second build in build-asan with AddressSanitizer + UndefinedBehaviorSanitizer
 #               (also skips mocap-eval --quick, minutes under the sanitizers; its code is unit-tested)
 #               (skips the every-file landmark sweep, which the plain run covers, the Docker
 #               runtime check, which sanitizer runtimes would fail, and the browser page test, whose
 #               C++ side mocap_html_view_tests covers and whose report step runs mocap-eval).
+#   --tsan: a ThreadSanitizer build in build-tsan of the suites where threads meet (storage, server,
+#           client, regressions; the mocapd they start is instrumented too). Every report, from a
+#           test or from a server it started, is written under build-tsan/tsan-reports and fails
+#           the run; tests/tsan.supp lists what is suppressed and why.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
+if [ "${1:-}" = "--tsan" ]; then
+  shift
+  "$repo/scripts/setup.sh" --with-clang --build-dir "$repo/build-tsan" --build-type Tsan --target mocap_concurrency_tests -- \
+    -DCMAKE_CXX_COMPILER=clang++ -DMOCAP_TSAN=ON -DMOCAP_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS_TSAN="-O1 -gline-tables-only"
+  cd "$repo/build-tsan"
+  reports="$repo/build-tsan/tsan-reports"
+  rm -rf "$reports" && mkdir -p "$reports"
+  export TSAN_OPTIONS="log_path=$reports/report second_deadlock_stack=1 suppressions=$repo/tests/tsan.supp"
+  status=0
+  ctest --output-on-failure -j "$(nproc)" "$@" || status=$?
+  if compgen -G "$reports/report.*" >/dev/null; then
+    echo "ThreadSanitizer reports ($(ls "$reports" | wc -l) processes):"
+    cat "$reports"/report.*
+    status=1
+  fi
+  exit $status
+fi
 if [ "${1:-}" = "--sanitize" ]; then
   shift
   "$repo/scripts/setup.sh" --build-dir "$repo/build-asan" -- -DMOCAP_SANITIZE=ON -DMOCAP_BUILD_BENCHMARKS=OFF

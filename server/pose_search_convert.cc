@@ -133,42 +133,6 @@ absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& r
   return SimilarQuery::FromBvh(std::move(clip), name, first, last, step);
 }
 
-NamedPose FromProto(const v1::NamedPose& pose) {
-  NamedPose out;
-  for (const v1::NamedJoint& joint : pose.joints()) {
-    out.joints.push_back({joint.name(), joint.parent(),
-                          Eigen::Vector3f(joint.position().x(), joint.position().y(), joint.position().z())});
-  }
-  out.up = pose.up();
-  const v1::NamedLandmarks& l = pose.landmarks();
-  out.pelvis = l.pelvis();
-  out.head = l.head();
-  out.left_wrist = l.left_wrist();
-  out.right_wrist = l.right_wrist();
-  out.left_ankle = l.left_ankle();
-  out.right_ankle = l.right_ankle();
-  return out;
-}
-
-void ToProto(const NamedPose& pose, v1::NamedPose* out) {
-  for (const NamedPoseJoint& joint : pose.joints) {
-    v1::NamedJoint* named = out->add_joints();
-    named->set_name(joint.name);
-    named->set_parent(joint.parent);
-    named->mutable_position()->set_x(joint.position.x());
-    named->mutable_position()->set_y(joint.position.y());
-    named->mutable_position()->set_z(joint.position.z());
-  }
-  out->set_up(pose.up);
-  v1::NamedLandmarks* l = out->mutable_landmarks();
-  l->set_pelvis(pose.pelvis);
-  l->set_head(pose.head);
-  l->set_left_wrist(pose.left_wrist);
-  l->set_right_wrist(pose.right_wrist);
-  l->set_left_ankle(pose.left_ankle);
-  l->set_right_ankle(pose.right_ankle);
-}
-
 void ToProto(int query_frame, const std::vector<FoundPose>& matches, v1::QueryFrameMatches* out) {
   out->set_query_frame(query_frame);
   for (const FoundPose& found : matches) {

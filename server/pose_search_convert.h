@@ -6,6 +6,7 @@
 
 #include "absl/status/statusor.h"
 #include "mocap/v1/pose_search.pb.h"
+#include "server/named_pose_convert.h"
 #include "server/similar_search.h"
 
 namespace mocap {
@@ -32,9 +33,6 @@ absl::StatusOr<PoseSearchOptions> SearchOptionsFromProto(const v1::FindSimilarPo
 absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& request, const PoseSearchOptions& options,
                                             const PoseSearchLimits& limits, bool streaming,
                                             const BodyPointOptions& points);
-
-NamedPose FromProto(const v1::NamedPose& pose);
-void ToProto(const NamedPose& pose, v1::NamedPose* out);
 
 // One query frame's matches.
 void ToProto(int query_frame, const std::vector<FoundPose>& matches, v1::QueryFrameMatches* out);

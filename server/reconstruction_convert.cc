@@ -225,4 +225,64 @@ void ToProto(const SessionStatistics& statistics, v1::SessionSummary* out) {
   out->set_cleanup_ms_per_frame(statistics.post_seconds * per_frame);
 }
 
+absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig) {
+  std::optional<LengthUnit> unit;
+  if (!rig.unit().empty()) {
+    unit = ParseUnit(rig.unit());
+    if (!unit) return absl::InvalidArgumentError("target_rig.unit must be \"m\", \"cm\", \"mm\" or \"in\" (or empty: detected)");
+  }
+  switch (rig.rig_case()) {
+    case v1::TargetRig::kBvh:
+      if (rig.bvh().size() > kMaxTargetRigBvhBytes) {
+        return absl::InvalidArgumentError(StrCat("target_rig.bvh has ", rig.bvh().size(), " bytes (at most ",
+                                                 kMaxTargetRigBvhBytes, "; send the hierarchy and fewer frames)"));
+      }
+      return TargetRigFromBvh(rig.bvh(), unit);
+    case v1::TargetRig::kJoints: {
+      const auto& given = rig.joints().joints();
+      if (given.size() > kMaxTargetJoints) {
+        return absl::InvalidArgumentError(StrCat("target_rig.joints has ", given.size(), " joints (at most ", kMaxTargetJoints, ")"));
+      }
+      std::vector<Joint> joints;
+      for (const v1::TargetJoint& entry : given) {
+        Joint joint;
+        joint.name = entry.name();
+        joint.parent = entry.parent();
+        joint.offset = FromProto(entry.offset(), 1.0f);
+        if (!joint.offset.allFinite()) return absl::InvalidArgumentError(StrCat("target_rig joint '", entry.name(), "': offset is not finite"));
+        if (entry.has_end_site()) joint.end_site = FromProto(entry.end_site(), 1.0f);
+        using C = ChannelType;
+        joint.channels = {C::kZrotation, C::kXrotation, C::kYrotation};
+        if (joint.parent < 0) joint.channels.insert(joint.channels.begin(), {C::kXposition, C::kYposition, C::kZposition});
+        joints.push_back(std::move(joint));
+      }
+      const Skeleton skeleton(std::move(joints));
+      if (absl::Status valid = skeleton.Validate(); !valid.ok()) {
+        return absl::InvalidArgumentError(StrCat("target_rig.joints: ", valid.message()));
+      }
+      return TargetRigFromSkeleton(skeleton, unit);
+    }
+    case v1::TargetRig::RIG_NOT_SET: break;
+  }
+  return absl::InvalidArgumentError("target_rig has neither bvh nor joints");
+}
+
+void ToProto(const RetargetRig& rig, v1::Skeleton* out) {
+  RigModel model;
+  model.skeleton = rig.skeleton;
+  model.topology = rig.topology;
+  model.unit = LengthUnit::kMetre;
+  ToProto(model, out);
+}
+
+void SetTargetPose(const BodyPose& pose, const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position,
+                   v1::Frame* out) {
+  ToProto(pose.root_position, 1.0f, out->mutable_root_position());
+  out->clear_rotations();
+  out->mutable_rotations()->Reserve(static_cast<int>(pose.rotations.size()));
+  for (const Eigen::Quaternionf& q : pose.rotations) ToProto(q, out->add_rotations());
+  ToProto(pelvis_position, 1.0f, out->mutable_pelvis_position());
+  ToProto(pelvis_rotation, out->mutable_pelvis_rotation());
+}
+
 }  // namespace mocap

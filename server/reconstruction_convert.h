@@ -8,6 +8,7 @@
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/reconstruct/reconstruction_session.h"
 #include "server/input_frame_convert.h"
+#include "motion/retarget/retarget_rig.h"
 
 namespace mocap {
 
@@ -47,5 +48,17 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
 void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out);
 void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out);
 void ToProto(const SessionStatistics& statistics, v1::SessionSummary* out);
+
+// SessionConfig.target_rig (target_rig.proto) analysed into a rig to retarget onto.
+// InvalidArgument for a bad unit, oversized or malformed BVH text, joints that are not a
+// hierarchy; FailedPrecondition when no humanoid body is found.
+inline constexpr size_t kMaxTargetRigBvhBytes = 1 << 20;
+absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig);
+// The target rig as SessionStarted.skeleton (metres, its groups and landmarks).
+void ToProto(const RetargetRig& rig, v1::Skeleton* out);
+// Puts a retargeted pose into a frame already converted by ToProto: root, rotations and pelvis
+// on the target rig (metres; the rig sets the size, no performer scaling).
+void SetTargetPose(const BodyPose& pose, const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position,
+                   v1::Frame* out);
 
 }  // namespace mocap

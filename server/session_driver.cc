@@ -31,6 +31,14 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::S
   v1::SessionStarted& started = driver->started_;
   started.set_session_id(std::move(session_id));
   ToProto(*database, scale, started.mutable_skeleton());
+  if (config.has_target_rig()) {  // issue #12: answer on the caller's rig
+    MOCAP_ASSIGN_OR_RETURN(RetargetRig target, FromProto(config.target_rig()));
+    MOCAP_ASSIGN_OR_RETURN(RetargetRig source, SourceRigOf(database->rig(), database->body().skeleton()));
+    MOCAP_ASSIGN_OR_RETURN(driver->retargeter_, Retargeter::Create(std::move(source), std::move(target)));
+    started.clear_skeleton();
+    ToProto(driver->retargeter_->target(), started.mutable_skeleton());
+  }
+  // Last, whatever the rig: into the caller's frame (issue #12 part 1).
   if (driver->output_transform_) ToCallerFrame(*driver->output_transform_, started.mutable_skeleton());
   started.set_frame_rate(1.0 / database->frame_time());
   started.set_latency_frames(driver->session_->latency_frames());
@@ -38,6 +46,7 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::S
   started.set_database_frames(database->num_frames());
   *started.mutable_config() = EffectiveConfig(config, options);
   *started.mutable_config()->mutable_input_frame() = ToProto(input_frame, config.input_frame().preset());
+  started.mutable_config()->clear_target_rig();  // the rig itself is `skeleton`; no echo of its text
   return driver;
 }
 
@@ -147,7 +156,12 @@ void SessionDriver::AppendFrames(std::vector<v1::ReconstructResponse>* replies) 
     for (size_t i = start; i < end; ++i) {
       v1::Frame* frame = frames->add_frames();
       ToProto(pending_[i], scale_, config_.include_diagnostics(), frame);
-      if (output_transform_) ToCallerFrame(*output_transform_, frame);
+      if (retargeter_) {
+        retargeter_->Retarget(session_->database().body(), pending_[i].pose, &target_pose_);
+        const int pelvis = retargeter_->target().topology.landmarks.pelvis;
+        SetTargetPose(target_pose_, retargeter_->world_rotations()[pelvis], retargeter_->world_positions()[pelvis], frame);
+      }
+      if (output_transform_) ToCallerFrame(*output_transform_, frame);  // last, whatever the rig
     }
   }
   frames_emitted_ += static_cast<long>(pending_.size());

@@ -21,6 +21,7 @@
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/frames/input_monitor.h"
 #include "motion/reconstruct/reconstruction_session.h"
+#include "motion/retarget/retargeter.h"
 #include "server/reconstruction_convert.h"
 #include "server/server_metrics.h"
 
@@ -84,6 +85,8 @@ class SessionDriver {
   SessionLimits limits_;
   v1::SessionStarted started_;
   std::vector<ReconstructedFrame> pending_;  // decided, not yet converted
+  std::optional<Retargeter> retargeter_;     // config.target_rig: frames answered on that rig
+  BodyPose target_pose_;
   long samples_ = 0, rejected_ = 0, frames_emitted_ = 0;
   std::optional<double> first_time_;  // of the first accepted sample
   double latency_sum_ms_ = 0.0, latency_max_ms_ = 0.0;

@@ -1,13 +1,38 @@
 #include "server/work_pool.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <exception>
 
 #include <spdlog/spdlog.h>
 
 namespace mocap {
 
+namespace {
+
+// Pool threads run below gRPC's own threads: reading, writing and answering calls is short work
+// that must not queue behind compute, or one tenant's saturating flood delays every other
+// tenant's replies in the transport, whatever the pool's fair order (issue #14: the victim's p99).
+constexpr int kWorkerNiceness = 5;
+
+void LowerThisThreadsPriority() {
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kWorkerNiceness) != 0) {
+    spdlog::warn("work pool: cannot lower a worker's priority: {}", std::strerror(errno));
+  }
+}
+
+}  // namespace
+
 WorkPool::WorkPool(int threads) {
-  for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { Work(); });
+  for (int i = 0; i < threads; ++i) {
+    threads_.emplace_back([this] {
+      LowerThisThreadsPriority();
+      Work();
+    });
+  }
 }
 
 WorkPool::~WorkPool() {

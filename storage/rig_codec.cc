@@ -37,7 +37,8 @@ std::string EncodeRig(const RigModel& rig) {
       {"to_y_up", Quat(rig.to_y_up)},
       {"pelvis_up_local", Vec(rig.pelvis_up_local)},
       {"landmarks", {{"pelvis", l.pelvis}, {"head", l.head}, {"left_wrist", l.left_wrist}, {"right_wrist", l.right_wrist},
-                     {"left_ankle", l.left_ankle}, {"right_ankle", l.right_ankle}}},
+                     {"left_ankle", l.left_ankle}, {"right_ankle", l.right_ankle}, {"left_elbow", l.left_elbow},
+                     {"right_elbow", l.right_elbow}, {"left_knee", l.left_knee}, {"right_knee", l.right_knee}}},
       {"group_top", t.group_top},
       {"group_end", t.group_end},
       {"up", {{"axis", t.up_axis}, {"sign", t.up_sign}, {"alignment", t.up_alignment}}},
@@ -99,6 +100,12 @@ absl::StatusOr<RigModel> DecodeRig(const std::string& text) {
     for (int joint : {landmarks.pelvis, landmarks.head, landmarks.left_wrist, landmarks.right_wrist, landmarks.left_ankle,
                       landmarks.right_ankle}) {
       if (joint < 0 || joint >= rig.skeleton.num_joints()) return absl::DataLossError("rig landmark out of range");
+    }
+    // Elbows and knees: stored since issue #12 (-1 in older rigs).
+    for (auto [key, joint] : {std::pair{"left_elbow", &landmarks.left_elbow}, std::pair{"right_elbow", &landmarks.right_elbow},
+                              std::pair{"left_knee", &landmarks.left_knee}, std::pair{"right_knee", &landmarks.right_knee}}) {
+      *joint = l.value(key, -1);
+      if (*joint < -1 || *joint >= rig.skeleton.num_joints()) return absl::DataLossError("rig landmark out of range");
     }
     rig.topology.group_top = in.at("group_top").get<std::array<int, kNumBodyGroups>>();
     rig.topology.group_end = in.at("group_end").get<std::array<int, kNumBodyGroups>>();

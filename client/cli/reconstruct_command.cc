@@ -12,6 +12,7 @@
 #include "cli_util/wrist_source.h"
 #include "client/cli/input_frame_flags.h"
 #include "client/cli/reconstruction_bvh.h"
+#include "client/cli/target_rig_file.h"
 
 namespace mocap::cli {
 namespace {
@@ -30,6 +31,8 @@ struct ReconstructOptions {
   int samples_per_message = 30;
   std::string output = "reconstruction";
   InputFrameFlags input_frame;
+  std::string target_rig;  // issue #12: an avatar's BVH to answer on
+  std::string target_rig_text;
 };
 
 absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
@@ -53,6 +56,7 @@ absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
   config.set_include_diagnostics(o.diagnostics);
   config.set_strict(o.strict);
   config.set_client_label("mocap reconstruct");
+  if (!o.target_rig_text.empty()) config.mutable_target_rig()->set_bvh(o.target_rig_text);
   return config;
 }
 
@@ -110,7 +114,13 @@ absl::Status WriteFile(const std::filesystem::path& path, const std::string& tex
   return absl::OkStatus();
 }
 
-int Run(client::Client& client, const ReconstructOptions& o, const GlobalOptions& global) {
+int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& global) {
+  if (!o.target_rig.empty()) {
+    // The server's BVH limit, less room for the rest of the config.
+    absl::StatusOr<std::string> text = TargetRigText(o.target_rig, (1 << 20) - 4096);
+    if (!text.ok()) return Fail(text.status());
+    o.target_rig_text = std::move(*text);
+  }
   absl::StatusOr<std::vector<v1::WristSample>> samples =
       o.csv.empty() ? WristsFromBvh(o.bvh, o.noise_cm, o.seed) : WristsFromCsv(o.csv);
   if (!samples.ok()) return Fail(samples.status());
@@ -128,7 +138,8 @@ int Run(client::Client& client, const ReconstructOptions& o, const GlobalOptions
               : Stream(client, *config, *samples, o, !o.quiet && !global.json);
   if (!result.ok()) return Fail(result.status());
   const std::vector<v1::Frame> frames(result->frames().begin(), result->frames().end());
-  absl::StatusOr<std::string> bvh = ReconstructionBvh(result->started(), frames);
+  absl::StatusOr<std::string> bvh = o.target_rig.empty() ? ReconstructionBvh(result->started(), frames)
+                                                         : RetargetedBvhText(o.target_rig_text, result->started(), frames);
   if (!bvh.ok()) return Fail(bvh.status());
   const std::string bvh_path = o.output + ".bvh", json_path = o.output + ".json";
   if (absl::Status s = WriteFile(bvh_path, *bvh); !s.ok()) return Fail(s);
@@ -192,6 +203,10 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   command->add_option("--performer-height", o->performer_height, "Performer's height in metres (scales input and output)")
       ->check(CLI::NonNegativeNumber);
   AddInputFrameFlags(command, &o->input_frame);
+  command->add_option("--target-rig", o->target_rig,
+                      "Answer on this avatar's rig (a BVH file: any joint names, count, proportions, unit, up axis); "
+                      "OUTPUT.bvh is then written on that rig, in its own unit, axes and channels")
+      ->check(CLI::ExistingFile);
   command->add_flag("--diagnostics", o->diagnostics, "Per-frame diagnostics in the JSON");
   command->add_flag("--strict", o->strict, "Fail at the first refused sample instead of skipping it");
   command->add_flag("--unary", o->unary, "One ReconstructTrajectory call instead of a stream");

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "motion/skeleton/two_bone_ik.h"
+
 namespace mocap {
 
 void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose) {
@@ -13,21 +15,11 @@ void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& t
   std::vector<Eigen::Quaternionf> rotations;
   std::vector<Eigen::Vector3f> positions;
   body.WorldTransforms(*pose, &rotations, &positions);
-  const Eigen::Vector3f h = positions[hip], k = positions[knee], a = positions[ankle_joint];
-  const float upper = (k - h).norm(), lower = (a - k).norm();
-  if (upper < 1e-5f || lower < 1e-5f) return;
-  const float reach = std::clamp((target - h).norm(), std::abs(upper - lower) + 1e-4f, upper + lower - 1e-4f);
-  // Knee: change the interior angle so that hip-to-ankle distance equals the reach.
-  const Eigen::Vector3f to_hip = (h - k) / upper, to_ankle = (a - k) / lower;
-  const float current = std::acos(std::clamp(to_hip.dot(to_ankle), -1.0f, 1.0f));
-  const float wanted = std::acos(std::clamp((upper * upper + lower * lower - reach * reach) / (2 * upper * lower), -1.0f, 1.0f));
-  Eigen::Vector3f axis = to_hip.cross(to_ankle);
-  if (axis.norm() < 1e-6f) axis = rotations[knee] * Eigen::Vector3f::UnitX();  // straight leg: any bend axis
-  axis.normalize();
-  const Eigen::Quaternionf knee_turn(Eigen::AngleAxisf(wanted - current, axis));
-  const Eigen::Vector3f bent_ankle = k + knee_turn * (a - k);
-  // Hip: swing the leg so that the ankle lies on the line to the target.
-  const Eigen::Quaternionf hip_turn = Eigen::Quaternionf::FromTwoVectors(bent_ankle - h, target - h);
+  // Straight leg: any bend axis.
+  const TwoBoneTurns turns = SolveTwoBoneIk(positions[hip], positions[knee], positions[ankle_joint], target,
+                                            rotations[knee] * Eigen::Vector3f::UnitX());
+  const Eigen::Quaternionf& hip_turn = turns.root_turn;
+  const Eigen::Quaternionf& knee_turn = turns.middle_turn;
   const Eigen::Quaternionf ankle_world = rotations[ankle_joint];
   pose->rotations[hip] = (pose->rotations[hip] * (rotations[hip].conjugate() * hip_turn * rotations[hip])).normalized();
   pose->rotations[knee] = (pose->rotations[knee] * (rotations[knee].conjugate() * knee_turn * rotations[knee])).normalized();

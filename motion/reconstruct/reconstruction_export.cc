@@ -14,21 +14,13 @@ bool HasPositionChannels(const Joint& joint) {
   });
 }
 
-// Joints above the pelvis (Bandai's joint_Root, an RL_BoneRoot) are bookkeeping nodes that the
-// capture keeps still, with the pelvis carrying the motion in its position channels. The body
-// model moves them instead (it places the root from the pelvis through fixed offsets), which in a
-// viewer shows a root wandering metres away and under the floor. Where the pelvis has position
-// channels, hold those joints at their rest transform (the rig's reference rotations and offsets,
-// root at its OFFSET as in the capture) and give the pelvis its world motion relative to them.
-// World positions of every body joint are unchanged. `motion` is in metres, Y up.
-void HoldJointsAbovePelvis(const RigModel& rig, LocalMotion& motion) {
-  const Skeleton& skeleton = rig.skeleton;
-  const int pelvis = rig.topology.landmarks.pelvis;
+}  // namespace
+
+void HoldJointsAbovePelvis(const Skeleton& skeleton, int pelvis, const std::vector<Eigen::Quaternionf>& held_rotations,
+                           const Eigen::Vector3f& root_offset, LocalMotion& motion) {
   if (pelvis <= 0 || !HasPositionChannels(skeleton.joint(pelvis))) return;
   std::vector<int> chain;  // root first, pelvis last
   for (int j = pelvis; j >= 0; j = skeleton.parent(j)) chain.insert(chain.begin(), j);
-  const Eigen::Vector3f root_offset =
-      rig.to_y_up * (skeleton.joint(0).offset * static_cast<float>(MetresPerUnit(rig.unit)));
   for (int f = 0; f < motion.num_frames(); ++f) {
     Eigen::Quaternionf world_rotation = Eigen::Quaternionf::Identity(), held_rotation = world_rotation;
     Eigen::Vector3f world_position = Eigen::Vector3f::Zero(), held_position = world_position;
@@ -37,7 +29,7 @@ void HoldJointsAbovePelvis(const RigModel& rig, LocalMotion& motion) {
       world_rotation = (world_rotation * motion.rotation(f, j)).normalized();
       if (j == pelvis) break;
       const Eigen::Vector3f translation = j == 0 ? root_offset : motion.translation(f, j);
-      const Eigen::Quaternionf rotation = rig.reference_rotations[j];  // the root's includes the turn to Y up
+      const Eigen::Quaternionf rotation = held_rotations[j];
       held_position += held_rotation * translation;
       held_rotation = (held_rotation * rotation).normalized();
       motion.SetTranslation(f, j, translation);
@@ -49,15 +41,16 @@ void HoldJointsAbovePelvis(const RigModel& rig, LocalMotion& motion) {
   }
 }
 
-}  // namespace
-
 BvhClip ReconstructionToBvh(const ReconstructionDatabase& database, const std::vector<ReconstructedFrame>& frames) {
   const BodyModel& body = database.body();
   std::vector<BodyPose> poses;
   poses.reserve(frames.size());
   for (const ReconstructedFrame& frame : frames) poses.push_back(frame.pose);
   LocalMotion motion = body.ToLocalMotion(poses, database.frame_time());
-  HoldJointsAbovePelvis(database.rig(), motion);
+  const RigModel& rig = database.rig();
+  // The rig's reference rotations (the root's includes the turn to Y up), the root at its OFFSET.
+  HoldJointsAbovePelvis(rig.skeleton, rig.topology.landmarks.pelvis, rig.reference_rotations,
+                        rig.to_y_up * (rig.skeleton.joint(0).offset * static_cast<float>(MetresPerUnit(rig.unit))), motion);
   // Back to the file's world: undo the Y-up rotation and the conversion to metres.
   RotateWorld(motion, database.rig().to_y_up.conjugate());
   ScaleTranslations(motion, static_cast<float>(1.0 / MetresPerUnit(database.rig().unit)));

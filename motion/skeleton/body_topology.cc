@@ -386,6 +386,10 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
   topology.landmarks.right_wrist = wrists[arm0_left ? 1 : 0];
   topology.landmarks.left_ankle = ankles[leg0_left ? 0 : 1];
   topology.landmarks.right_ankle = ankles[leg0_left ? 1 : 0];
+  topology.landmarks.left_elbow = elbows[arm0_left ? 0 : 1];
+  topology.landmarks.right_elbow = elbows[arm0_left ? 1 : 0];
+  topology.landmarks.left_knee = knees[leg0_left ? 0 : 1];
+  topology.landmarks.right_knee = knees[leg0_left ? 1 : 0];
 
   // Head landmark: the first branching joint on the head chain, else its end.
   {

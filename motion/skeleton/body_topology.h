@@ -42,6 +42,12 @@ struct BodyLandmarks {
   int right_wrist = -1;
   int left_ankle = -1;
   int right_ankle = -1;
+  // Where each limb bends (the joint between its two longest segments, step 5); -1 when unknown
+  // (rigs stored before these were kept).
+  int left_elbow = -1;
+  int right_elbow = -1;
+  int left_knee = -1;
+  int right_knee = -1;
 };
 
 struct BodyTopology {

@@ -12,7 +12,9 @@
 
 #include "cli_util/wrist_source.h"
 #include "mocap/v1/reconstruction.grpc.pb.h"
+#include "motion/bvh/bvh_writer.h"
 #include "tests/support/raw_reconstruct.h"
+#include "tests/support/synthetic_clip.h"
 #include "tests/support/server_fixture.h"
 
 namespace mocap {
@@ -322,6 +324,52 @@ TEST_F(ReconstructionServiceTest, PerformerHeightScalesTheWholeSession) {
   for (size_t i = 0; i < plain.frames.size(); ++i) {
     EXPECT_NEAR(scaled.frames[i].pelvis_position().y(), plain.frames[i].pelvis_position().y() * factor, 2e-3) << i;
   }
+}
+
+// Issue #12: a session on the caller's rig answers with that rig (joint order, names) and its
+// size: a body 1.25 times as large in inches, Z up, with fingers and toes, has its pelvis 1.25
+// times as far from the origin as the database rig's; what is not a rig is refused.
+TEST_F(ReconstructionServiceTest, ATargetRigAnswersEveryFrameOnThatRig) {
+  StartServer();
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  const std::vector<v1::WristSample> samples = QueryWrists(30);
+  Streamed plain = Stream(*client, Config(0), samples);
+  ASSERT_TRUE(plain.summary.ok()) << plain.summary.status();
+
+  const BvhClip avatar = testing::MakeWalkingClip({.z_up = true, .fingers_and_toes = true, .length_scale = 1.25 / 2.54}, 10);
+  v1::SessionConfig config = Config(0);
+  config.mutable_target_rig()->set_bvh(FormatBvh(avatar));
+  Streamed on_avatar = Stream(*client, config, samples);
+  ASSERT_TRUE(on_avatar.summary.ok()) << on_avatar.summary.status();
+  ASSERT_EQ(on_avatar.started.skeleton().joints_size(), avatar.skeleton.num_joints());
+  for (int j = 0; j < avatar.skeleton.num_joints(); ++j) {
+    EXPECT_EQ(on_avatar.started.skeleton().joints(j).name(), avatar.skeleton.joint(j).name);
+  }
+  EXPECT_FALSE(on_avatar.started.config().has_target_rig());  // no echo of the rig's text
+  ASSERT_EQ(on_avatar.frames.size(), plain.frames.size());
+  for (size_t i = 0; i < plain.frames.size(); ++i) {
+    ASSERT_EQ(on_avatar.frames[i].rotations_size(), avatar.skeleton.num_joints());
+    EXPECT_NEAR(on_avatar.frames[i].pelvis_position().y(), plain.frames[i].pelvis_position().y() * 1.25, 2e-3) << i;
+    EXPECT_NEAR(on_avatar.frames[i].pelvis_position().z(), plain.frames[i].pelvis_position().z() * 1.25, 2e-3) << i;
+  }
+
+  config.mutable_target_rig()->set_bvh("HIERARCHY\nROOT Hips\n{\n");
+  auto bad = client->OpenReconstruction(config);
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument) << bad.status();
+  config.mutable_target_rig()->set_unit("furlong");
+  bad = client->OpenReconstruction(config);
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument) << bad.status();
+  EXPECT_NE(bad.status().message().find("target_rig.unit"), std::string::npos) << bad.status();
+  config.mutable_target_rig()->clear_unit();
+  for (int j = 0; j < 4; ++j) {  // a chain of bones: no body
+    v1::TargetJoint* joint = config.mutable_target_rig()->mutable_joints()->add_joints();
+    joint->set_name("bone" + std::to_string(j));
+    joint->set_parent(j - 1);
+    joint->mutable_offset()->set_y(j == 0 ? 0 : 10);
+  }
+  bad = client->OpenReconstruction(config);
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kFailedPrecondition) << bad.status();
 }
 
 TEST_F(ReconstructionServiceTest, ShutdownEndsLiveSessionsAfterTheirFrames) {

@@ -7,6 +7,7 @@
 
 #include "cli_util/similar_json.h"
 #include "motion/similarity/named_pose.h"
+#include "server/named_pose_convert.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nlohmann::json json = nlohmann::json::parse(data, data + size, nullptr, /*allow_exceptions=*/false);
@@ -14,19 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   absl::StatusOr<mocap::v1::NamedPose> parsed = mocap::NamedPoseFromJson(json);
   if (!parsed.ok()) return 0;
   // The proto as the server receives it, in the engine's terms.
-  mocap::NamedPose pose;
-  pose.up = parsed->up();
-  for (const mocap::v1::NamedJoint& joint : parsed->joints()) {
-    pose.joints.push_back({joint.name(), joint.parent(),
-                           Eigen::Vector3f(joint.position().x(), joint.position().y(), joint.position().z())});
-  }
-  const mocap::v1::NamedLandmarks& l = parsed->landmarks();
-  pose.pelvis = l.pelvis();
-  pose.head = l.head();
-  pose.left_wrist = l.left_wrist();
-  pose.right_wrist = l.right_wrist();
-  pose.left_ankle = l.left_ankle();
-  pose.right_ankle = l.right_ankle();
+  const mocap::NamedPose pose = mocap::FromProto(*parsed);
   (void)mocap::NamedPosePoints(pose, {});
   return 0;
 }

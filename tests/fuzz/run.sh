@@ -13,23 +13,12 @@ targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(bvh_reader_fuzz wrist_csv_fuzz session_request_fuzz pose_query_json_fuzz)
 build="$repo/build-fuzz"
 
-"$repo/scripts/setup.sh" --no-build
-# clang and its runtime libraries (libFuzzer is in libclang-rt-N-dev, only recommended by clang).
-missing=()
-command -v clang++ >/dev/null 2>&1 || missing+=(clang)
-if [ ${#missing[@]} -gt 0 ]; then
-  sudo_cmd=(); [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
-  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
-fi
-clang_major=$(clang++ -dumpversion | cut -d. -f1)
-if ! clang++ -print-file-name=libclang_rt.fuzzer-x86_64.a | grep -q /; then
-  sudo_cmd=(); [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
-  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "libclang-rt-$clang_major-dev"
-fi
+"$repo/scripts/setup.sh" --no-build --with-clang
 
 # -O1 and line tables only: what fuzzing wants, and half the compile time of -O2 -g.
 cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_CXX_FLAGS_FUZZ="-O1 -gline-tables-only" \
-  -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DMOCAP_FUZZ=ON -DMOCAP_BUILD_TESTS=OFF \
+  -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 \
+  -DMOCAP_FUZZ=ON -DMOCAP_BUILD_TESTS=OFF \
   -DMOCAP_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build "$build" -j "$(nproc)" --target mocap_fuzzers
 

@@ -11,15 +11,17 @@
 
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
+#include "tests/support/rotation_checks.h"
 #include "tests/support/synthetic_clip.h"
 
 namespace mocap {
 namespace {
 
+using testing::kPi;
+
 using testing::MakeWalkingClip;
 using testing::SyntheticRigOptions;
 
-constexpr float kPi = static_cast<float>(M_PI);
 
 // Largest coefficient difference of two quaternions, q and -q being equal.
 float QuaternionDistance(const Eigen::Quaternionf& a, const Eigen::Quaternionf& b) {

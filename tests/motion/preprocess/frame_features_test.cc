@@ -12,24 +12,22 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
+#include "tests/support/rotation_checks.h"
 #include "tests/support/synthetic_clip.h"
 
 namespace mocap {
 namespace {
 
+using testing::AngleBetween;
+using testing::kDegree;
+using testing::kPi;
+
 using testing::MakeWalkingClip;
 using testing::SyntheticRigOptions;
 
-constexpr float kPi = static_cast<float>(M_PI);
-constexpr float kDegree = kPi / 180.0f;
 
 Eigen::Vector3f Vec(const float v[3]) { return Eigen::Vector3f(v[0], v[1], v[2]); }
 
-// Angle in radians between two rotations (q and -q are the same rotation).
-double AngleBetween(const Eigen::Quaternionf& a, const Eigen::Quaternionf& b) {
-  const Eigen::Quaterniond d = a.cast<double>().normalized().conjugate() * b.cast<double>().normalized();
-  return 2 * std::atan2(d.vec().norm(), std::abs(d.w()));
-}
 
 // a - b wrapped into (-pi, pi].
 float AngleDifference(float a, float b) { return std::remainder(a - b, 2 * kPi); }

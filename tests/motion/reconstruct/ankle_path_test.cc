@@ -7,7 +7,7 @@
 namespace mocap {
 namespace {
 
-constexpr double kFrameTime = 1.0 / 30.0;
+constexpr double kFrameSeconds = 1.0 / 30.0;
 
 // A true candidate (left foot planted, right foot lifting and lowering: consistent positions and
 // velocities, no sliding) hidden among distractors scattered around it.
@@ -24,7 +24,7 @@ std::vector<std::vector<AnkleCandidate>> CloudsAroundTruth(int frames, int distr
     truth.position[1] = Eigen::Vector3f(-0.1f, 0.13f + 0.05f * std::sin(0.3f * t), 0.3f);
     truth.velocity[0] = Eigen::Vector3f::Zero();
     // Forward difference, so that position + Δt·velocity lands exactly on the next frame.
-    truth.velocity[1] = Eigen::Vector3f(0.0f, 0.05f * (std::sin(0.3f * (t + 1)) - std::sin(0.3f * t)) / kFrameTime, 0.0f);
+    truth.velocity[1] = Eigen::Vector3f(0.0f, 0.05f * (std::sin(0.3f * (t + 1)) - std::sin(0.3f * t)) / kFrameSeconds, 0.0f);
     for (int i = 0; i < distractors; ++i) {
       AnkleCandidate d = truth;
       d.row = i;
@@ -41,7 +41,7 @@ std::vector<std::vector<AnkleCandidate>> CloudsAroundTruth(int frames, int distr
 TEST(AnklePathTest, FollowsTheConsistentCandidate) {
   std::vector<int> truth;
   const auto clouds = CloudsAroundTruth(40, 30, 3, &truth);
-  auto solved = SolveAnkleWindow(clouds, std::nullopt, kFrameTime, {});
+  auto solved = SolveAnkleWindow(clouds, std::nullopt, kFrameSeconds, {});
   ASSERT_TRUE(solved.ok()) << solved.status();
   int hits = 0;
   for (int t = 0; t < 40; ++t) hits += solved->nodes[t] == truth[t] ? 1 : 0;
@@ -53,8 +53,8 @@ TEST(AnklePathTest, WindowsCarryTheirLastNode) {
   const auto clouds = CloudsAroundTruth(60, 20, 5, &truth);
   AnklePathOptions options;
   options.smoothing_sigma_frames = 0.0f;
-  auto global = SolveAnklePath(clouds, 0, kFrameTime, options);
-  auto windowed = SolveAnklePath(clouds, 10, kFrameTime, options);
+  auto global = SolveAnklePath(clouds, 0, kFrameSeconds, options);
+  auto windowed = SolveAnklePath(clouds, 10, kFrameSeconds, options);
   ASSERT_TRUE(global.ok() && windowed.ok());
   ASSERT_EQ(windowed->size(), 60u);
   int same = 0;
@@ -71,12 +71,12 @@ TEST(AnklePathTest, SlidingIsPenalised) {
   AnkleCandidate slides = start, lifts = start;
   slides.position[0] += Eigen::Vector3f(0, 0, 0.05f);
   lifts.position[0] += Eigen::Vector3f(0, 0.05f, 0);
-  auto solved = SolveAnkleWindow({{slides, lifts}}, start, kFrameTime, {});
+  auto solved = SolveAnkleWindow({{slides, lifts}}, start, kFrameSeconds, {});
   ASSERT_TRUE(solved.ok());
   EXPECT_EQ(solved->nodes[0], 1);
   AnklePathOptions no_slide_term;
   no_slide_term.prior_weight = 1.0f;
-  auto tie = SolveAnkleWindow({{slides, lifts}}, start, kFrameTime, no_slide_term);
+  auto tie = SolveAnkleWindow({{slides, lifts}}, start, kFrameSeconds, no_slide_term);
   EXPECT_NEAR(tie->cost, 0.05f * 0.05f * 1e4f, 1e-3f);  // σ in cm²
 }
 
@@ -89,8 +89,8 @@ TEST(AnklePathTest, OnlyTheContactRuleSparesALevelSwingAboveTheGround) {
   AnklePathOptions contact, patent;
   contact.prior_weight = patent.prior_weight = 0.0f;  // the slide term alone
   patent.slide_rule = SlideRule::kPatent;
-  EXPECT_EQ(SolveAnkleWindow({{to}}, from, kFrameTime, contact)->cost, 0.0f);
-  EXPECT_GT(SolveAnkleWindow({{to}}, from, kFrameTime, patent)->cost, 1.0f);
+  EXPECT_EQ(SolveAnkleWindow({{to}}, from, kFrameSeconds, contact)->cost, 0.0f);
+  EXPECT_GT(SolveAnkleWindow({{to}}, from, kFrameSeconds, patent)->cost, 1.0f);
 }
 
 TEST(AnklePathTest, SmoothingKeepsLinesAndDampsJitter) {
@@ -106,8 +106,8 @@ TEST(AnklePathTest, SmoothingKeepsLinesAndDampsJitter) {
 }
 
 TEST(AnklePathTest, RejectsEmptyInput) {
-  EXPECT_EQ(SolveAnkleWindow({}, std::nullopt, kFrameTime, {}).status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_EQ(SolveAnkleWindow({{}}, std::nullopt, kFrameTime, {}).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(SolveAnkleWindow({}, std::nullopt, kFrameSeconds, {}).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(SolveAnkleWindow({{}}, std::nullopt, kFrameSeconds, {}).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "motion/similarity/pose_distance.h"
+#include "tests/support/rotation_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +11,10 @@
 namespace mocap {
 namespace {
 
+using testing::kPi;
+
 constexpr int kPointsPerGroup = 5;
 constexpr int kPosePoints = kNumBodyGroups * kPointsPerGroup;
-constexpr float kPi = static_cast<float>(M_PI);
 
 // A deterministic, non-degenerate cloud of `frames` poses (kPosePoints points each), roughly the
 // size of a body in body scales: x, z in [-0.6, 0.6], y in [-1, 1].

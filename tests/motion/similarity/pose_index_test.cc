@@ -19,17 +19,22 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
+#include "tests/support/clip_points.h"
 #include "tests/support/rig_variants.h"
+#include "tests/support/rotation_checks.h"
 #include "tests/support/synthetic_clip.h"
 
 namespace mocap {
 namespace {
 
+using testing::kDegree;
+using testing::PointsOf;
+using testing::QueryPoints;
+
 using testing::MakeWalkingClip;
 using testing::SyntheticRigOptions;
 
 constexpr int kFrames = 90;  // three gait cycles at 30 fps
-constexpr float kDegree = static_cast<float>(M_PI / 180.0);
 
 // ---------------------------------------------------------------------------------------------
 // Clip edits. All work on any of the synthetic rigs (they only use joint names the generator
@@ -85,19 +90,7 @@ BvhClip Walk(const SyntheticRigOptions& rig = {}) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The pipeline: rig model, prepared clip (metres, Y up, 30 fps), forward kinematics, body points.
-
-absl::StatusOr<ClipPoints> PointsOf(const BvhClip& clip, const RigModel& rig, const BodyPointOptions& options = {}) {
-  MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared, PrepareClip(clip, rig, {}));
-  const GlobalPoses poses = ForwardKinematics(prepared.skeleton, prepared.motion);
-  return MakeClipPoints(poses, MakeBodyChains(rig.skeleton, rig.topology), options);
-}
-
-// A query: the clip with its own rig model.
-absl::StatusOr<ClipPoints> QueryPoints(const BvhClip& clip, const BodyPointOptions& options = {}) {
-  MOCAP_ASSIGN_OR_RETURN(RigModel rig, BuildRigModel(clip, {}));
-  return PointsOf(clip, rig, options);
-}
+// The pipeline (tests/support/clip_points.h): rig model, prepared clip, body points, index.
 
 // An index over `clips`; the first clip of each rig defines that rig's model.
 absl::StatusOr<PoseIndex> BuildIndex(const std::vector<BvhClip>& clips, const BodyPointOptions& options = {}) {

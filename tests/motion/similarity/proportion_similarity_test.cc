@@ -23,26 +23,20 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/similarity/pose_index.h"
 #include "motion/skeleton/forward_kinematics.h"
+#include "tests/support/clip_points.h"
 #include "tests/support/rig_variants.h"
 #include "tests/support/shared_data.h"
 
 namespace mocap {
 namespace {
 
-constexpr int kDatabaseStride = 2;   // every other clip of a set in its database
+using testing::PointsOf;
+using testing::QueryPoints;
+
+constexpr int kVariantDatabaseStride = 2;   // every other clip of a set in its database
 constexpr int kQueryStride = 10;     // every 10th clip queried (all of them in the database)
 constexpr int kFrameStride = 6;      // query frames
 
-absl::StatusOr<ClipPoints> PointsOf(const BvhClip& clip, const BodyPointOptions& options, const RigModel* rig = nullptr) {
-  std::optional<RigModel> own;
-  if (!rig) {
-    MOCAP_ASSIGN_OR_RETURN(own, BuildRigModel(clip, {}));
-    rig = &*own;
-  }
-  MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared, PrepareClip(clip, *rig, {}));
-  return MakeClipPoints(ForwardKinematics(prepared.skeleton, prepared.motion), MakeBodyChains(rig->skeleton, rig->topology),
-                        options);
-}
 
 struct Rate {
   int queries = 0, same_pose = 0, same_content = 0;
@@ -79,7 +73,7 @@ SetResult MeasureSet(const std::filesystem::path& folder, const BodyPointOptions
   std::vector<std::string> content;            // per database clip
   std::vector<std::pair<int, BvhClip>> queried;  // database clip index, the clip as read
   std::vector<RigModel> rigs;
-  for (size_t i = 0; i < files.size(); i += kDatabaseStride) {
+  for (size_t i = 0; i < files.size(); i += kVariantDatabaseStride) {
     absl::StatusOr<BvhClip> clip = ReadBvhFile(files[i]);
     if (!clip.ok()) return {.error = clip.status().ToString()};
     auto rig = std::find_if(rigs.begin(), rigs.end(), [&](const RigModel& r) { return r.skeleton.SameRigAs(clip->skeleton); });
@@ -89,7 +83,7 @@ SetResult MeasureSet(const std::filesystem::path& folder, const BodyPointOptions
       rigs.push_back(*std::move(built));
       rig = rigs.end() - 1;
     }
-    absl::StatusOr<ClipPoints> points = PointsOf(*clip, options, &*rig);
+    absl::StatusOr<ClipPoints> points = PointsOf(*clip, *rig, options);
     if (!points.ok()) return {.error = StrCat(files[i].filename().string(), ": ", points.status().ToString())};
     index.AddClip(*std::move(points));
     content.push_back(ContentOf(files[i], descriptions));
@@ -110,7 +104,7 @@ SetResult MeasureSet(const std::filesystem::path& folder, const BodyPointOptions
           !status.ok()) {
         return {.error = status.ToString()};
       }
-      absl::StatusOr<ClipPoints> query = PointsOf(variant, options);
+      absl::StatusOr<ClipPoints> query = QueryPoints(variant, options);
       if (!query.ok()) return {.error = query.status().ToString()};
       Rate& rate = scale_proportions ? result.proportions : result.rerigged;
       for (int f = 2; f < query->points.rows() - 2; f += kFrameStride) {

@@ -22,22 +22,20 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/similarity/pose_index.h"
 #include "motion/skeleton/forward_kinematics.h"
+#include "tests/support/clip_points.h"
 #include "tests/support/shared_data.h"
 
 namespace mocap {
 namespace {
 
-// One in kDatabaseStride clips of each content, to keep the test to a few seconds.
-constexpr int kDatabaseStride = 8;
+using testing::PointsOf;
+
+// One in kSharedDatabaseStride clips of each content, to keep the test to a few seconds.
+constexpr int kSharedDatabaseStride = 8;
 const std::set<std::string> kDatabaseContents = {
     "walk", "run", "wave-both-hands", "wave-left-hand", "wave-right-hand",
     "raise-up-both-hands", "raise-up-left-hand", "raise-up-right-hand"};
 
-absl::StatusOr<ClipPoints> PointsOf(const BvhClip& clip, const RigModel& rig, const BodyPointOptions& options) {
-  MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared, PrepareClip(clip, rig, {}));
-  const GlobalPoses poses = ForwardKinematics(prepared.skeleton, prepared.motion);
-  return MakeClipPoints(poses, MakeBodyChains(rig.skeleton, rig.topology), options);
-}
 
 struct Database {
   PoseIndex index;
@@ -58,7 +56,7 @@ const Database& GetDatabase(const std::filesystem::path& folder, const BodyPoint
     std::unique_ptr<RigModel> rig;
     for (const std::filesystem::path& file : testing::BvhFilesIn(folder)) {
       const std::string content = LabelValue(ParseClipLabels(file.filename().string()), "content");
-      if (!kDatabaseContents.count(content) || seen[content]++ % kDatabaseStride != 0) continue;
+      if (!kDatabaseContents.count(content) || seen[content]++ % kSharedDatabaseStride != 0) continue;
       absl::StatusOr<BvhClip> clip = ReadBvhFile(file);
       if (!clip.ok()) {
         db->error = clip.status().ToString();

@@ -9,17 +9,16 @@
 #include <gtest/gtest.h>
 
 #include "motion/skeleton/local_motion.h"
+#include "tests/support/rotation_checks.h"
 #include "tests/support/synthetic_clip.h"
 
 namespace mocap {
 namespace {
 
-constexpr float kDegree = static_cast<float>(M_PI / 180.0);
+using testing::AngleBetween;
+using testing::kDegree;
 
-double AngleBetween(const Eigen::Quaternionf& a, const Eigen::Quaternionf& b) {
-  const Eigen::Quaterniond d = a.cast<double>().normalized().conjugate() * b.cast<double>().normalized();
-  return 2 * std::atan2(d.vec().norm(), std::abs(d.w()));
-}
+
 
 Eigen::Quaternionf AxisAngle(float degrees, const Eigen::Vector3f& axis) {
   return Eigen::Quaternionf(Eigen::AngleAxisf(degrees * kDegree, axis.normalized()));

@@ -10,18 +10,16 @@
 #include <gtest/gtest.h>
 
 #include "motion/skeleton/forward_kinematics.h"
+#include "tests/support/rotation_checks.h"
 #include "tests/support/synthetic_clip.h"
 
 namespace mocap {
 namespace {
 
-constexpr double kDegree = M_PI / 180.0;
+using testing::AngleBetween;
+using testing::kDegree;
 
-// Angle in radians of the rotation taking `a` to `b` (q and -q are the same rotation).
-double AngleBetween(const Eigen::Quaternionf& a, const Eigen::Quaternionf& b) {
-  const Eigen::Quaterniond d = a.cast<double>().normalized().conjugate() * b.cast<double>().normalized();
-  return 2 * std::atan2(d.vec().norm(), std::abs(d.w()));
-}
+
 
 ChannelType Rotation(char axis) {
   return axis == 'X' ? ChannelType::kXrotation : axis == 'Y' ? ChannelType::kYrotation : ChannelType::kZrotation;
