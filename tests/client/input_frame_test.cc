@@ -16,6 +16,7 @@
 #include "cli_util/wrist_source.h"
 #include "motion/frames/frame_transform.h"
 #include "motion/frames/input_frame.h"
+#include "motion/bvh/bvh_writer.h"
 #include "motion/preprocess/clip_labels.h"
 #include "tests/support/server_fixture.h"
 #include "tests/support/shared_data.h"
@@ -255,6 +256,22 @@ TEST_F(InputFrameTest, WrongDeclarationsAreNamed) {
   ASSERT_GE(reports.size(), 2u);  // the first second's (floor, no warning), then the sides'
   EXPECT_TRUE(reports[0].warnings().empty());
   EXPECT_EQ(reports.back().warnings(0).kind(), v1::INPUT_WARNING_KIND_SWAPPED);
+}
+
+// Both parts of issue #12 together: declared frame → native → reconstruct → retarget onto the
+// caller's rig → declared frame. The avatar's skeleton and frames come back in the caller's
+// convention, equal to the native session's converted.
+TEST_F(InputFrameTest, ATargetRigAnswersInTheDeclaredFrameToo) {
+  SetUpData();
+  const BvhClip avatar = testing::MakeWalkingClip({.z_up = true, .fingers_and_toes = true, .length_scale = 1.1f}, 10);
+  v1::SessionConfig config = Config();
+  config.mutable_target_rig()->set_bvh(FormatBvh(avatar));
+  const v1::ReconstructTrajectoryResponse native = Reconstruct(config, query_);
+  ASSERT_EQ(native.started().skeleton().joints_size(), avatar.skeleton.num_joints());
+  const InputFrame unreal = FindInputFramePreset("unreal")->frame;
+  config.mutable_input_frame()->set_preset(v1::INPUT_FRAME_PRESET_UNREAL);
+  const FrameTransform sent(unreal.convention, unreal.floor.height);
+  ExpectSameMotion(native, Reconstruct(config, InFrame(query_, sent)), sent, "unreal on a target rig");
 }
 
 // `mocap reconstruct --bvh` converts the clip's wrists into the declared frame; its BVH and JSON
