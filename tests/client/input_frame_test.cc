@@ -238,6 +238,9 @@ TEST_F(InputFrameTest, WrongDeclarationsAreNamed) {
   EXPECT_EQ(mirrored.input_report().warnings(0).kind(), v1::INPUT_WARNING_KIND_SWAPPED);
   EXPECT_NE(mirrored.input_report().warnings(0).message().find("left and right look swapped"), std::string::npos);
 
+  std::cout << "[ input frames ] messages:\n  " << cm.rejected(0).reason() << "\n  " << below.input_report().warnings(0).message()
+            << "\n  " << mirrored.input_report().warnings(0).message() << "\n";
+
   // With strict, a warning ends the call with its message.
   config.set_strict(true);
   auto strict = client_->ReconstructTrajectory(config, local);
