@@ -18,11 +18,13 @@
 namespace mocap {
 namespace {
 
-constexpr std::array<std::string_view, 9> kCsvColumns = {"time",    "left_x",  "left_y",          "left_z",          "right_x",
-                                                         "right_y", "right_z", "left_confidence", "right_confidence"};
-constexpr size_t kPositionColumns = 7;
+constexpr std::array<std::string_view, 17> kCsvColumns = {
+    "time",    "left_x",  "left_y",  "left_z",  "right_x",  "right_y",  "right_z",  "left_confidence", "right_confidence",
+    "left_qw", "left_qx", "left_qy", "left_qz", "right_qw", "right_qx", "right_qy", "right_qz"};
+constexpr size_t kPositionColumns = 7, kConfidenceColumns = 9;
 constexpr std::string_view kCsvHeader =
-    "time,left_x,left_y,left_z,right_x,right_y,right_z[,left_confidence,right_confidence]";
+    "time,left_x,left_y,left_z,right_x,right_y,right_z[,left_confidence,right_confidence"
+    "[,left_qw,left_qx,left_qy,left_qz,right_qw,right_qx,right_qy,right_qz]]";
 
 std::string_view Trim(std::string_view text) {
   const size_t begin = text.find_first_not_of(" \t");
@@ -77,7 +79,8 @@ absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(std::istream& in, con
         }
         return true;
       }();
-      if ((fields.size() != kPositionColumns && fields.size() != kCsvColumns.size()) || !names_match) {
+      if ((fields.size() != kPositionColumns && fields.size() != kConfidenceColumns && fields.size() != kCsvColumns.size()) ||
+          !names_match) {
         return absl::InvalidArgumentError(
             StrCat(name, ":", line_number, ": expected the header ", kCsvHeader, ", found \"", text, "\""));
       }
@@ -91,13 +94,13 @@ absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(std::istream& in, con
     std::array<double, kCsvColumns.size()> values{};
     std::array<bool, kCsvColumns.size()> present{};
     for (size_t i = 0; i < columns; ++i) {
-      if (i >= kPositionColumns && fields[i].empty()) continue;  // confidence left unset
+      if (i >= kPositionColumns && fields[i].empty()) continue;  // confidence or orientation left unset
       const std::optional<double> value = ParseNumber(fields[i]);
       if (!value) {
         return absl::InvalidArgumentError(StrCat(name, ":", line_number, ": ", kCsvColumns[i],
                                                  " is not a number: \"", fields[i], "\""));
       }
-      if (i >= kPositionColumns && std::isfinite(*value) && (*value < 0.0 || *value > 1.0)) {
+      if (i >= kPositionColumns && i < kConfidenceColumns && std::isfinite(*value) && (*value < 0.0 || *value > 1.0)) {
         return absl::InvalidArgumentError(
             StrCat(name, ":", line_number, ": ", kCsvColumns[i], " must lie in 0..1, found ", fields[i]));
       }
@@ -114,6 +117,15 @@ absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(std::istream& in, con
     sample.mutable_right()->set_z(static_cast<float>(values[6]));
     if (present[7]) sample.set_left_confidence(static_cast<float>(values[7]));
     if (present[8]) sample.set_right_confidence(static_cast<float>(values[8]));
+    for (int side = 0; side < 2; ++side) {
+      const size_t first = kConfidenceColumns + 4 * side;
+      if (!present[first] && !present[first + 1] && !present[first + 2] && !present[first + 3]) continue;
+      v1::Quaternion* q = side == 0 ? sample.mutable_left_orientation() : sample.mutable_right_orientation();
+      q->set_w(static_cast<float>(values[first]));
+      q->set_x(static_cast<float>(values[first + 1]));
+      q->set_y(static_cast<float>(values[first + 2]));
+      q->set_z(static_cast<float>(values[first + 3]));
+    }
   }
   if (in.bad()) return absl::DataLossError(StrCat(name, ": read error"));
   if (columns == 0) return absl::InvalidArgumentError(StrCat(name, ": empty file, expected the header ", kCsvHeader));

@@ -15,8 +15,11 @@ namespace mocap {
 
 // Samples of a CSV file (comma-separated, one sample per line). The first non-blank line is the
 // header, exactly
-//   time,left_x,left_y,left_z,right_x,right_y,right_z[,left_confidence,right_confidence]
-// (spaces around names and values are ignored). Time in seconds, positions in metres, world Y up.
+//   time,left_x,left_y,left_z,right_x,right_y,right_z[,left_confidence,right_confidence
+//   [,left_qw,left_qx,left_qy,left_qz,right_qw,right_qx,right_qy,right_qz]]
+// (spaces around names and values are ignored). Time in seconds, positions in the session's
+// declared input frame (by default metres, world Y up); the quaternions are the tracked devices'
+// orientations (SessionConfig.input_frame.tracked_device), an empty cell leaving them unset.
 // Blank lines and lines starting with '#' are skipped. Values are decimal numbers; "nan" and "inf"
 // (any case, optional sign) are accepted as data — the server refuses such samples itself. With
 // the confidence columns, an empty cell leaves that confidence unset (the server reads 1); a

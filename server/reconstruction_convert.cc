@@ -123,7 +123,7 @@ absl::StatusOr<PerformerScale> ScaleForPerformer(const ReconstructionDatabase& d
   return scale;
 }
 
-SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const PerformerScale& scale, WristSample* out) {
+SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const InputConversion& input, WristSample* out) {
   auto refused = [](std::string reason) { return SampleCheck{SampleCheck::kRefused, std::move(reason)}; };
   if (!std::isfinite(sample.time())) return refused("time is not a finite number");
   const float confidences[2] = {sample.has_left_confidence() ? sample.left_confidence() : 1.0f,
@@ -131,25 +131,41 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
   for (float c : confidences) {
     if (!(c >= 0.0f && c <= 1.0f)) return refused(StrCat("confidence ", c, " is outside [0, 1]"));
   }
+  const LengthUnit unit = input.frame.convention.unit;
+  const double metres_per_unit = MetresPerUnit(unit);
   for (const v1::Vec3* v : {&sample.left(), &sample.right()}) {
     for (double x : {v->x(), v->y(), v->z()}) {
       if (!std::isfinite(x)) return refused("a wrist position is not a finite number");
-      if (std::abs(x) > kMaxWristCoordinateMetres) {
-        return refused(StrCat("a wrist coordinate of ", x, " m is beyond ", kMaxWristCoordinateMetres,
-                              " m from the origin (positions are metres)"));
+      if (std::abs(x * metres_per_unit) > kMaxWristCoordinateMetres) {
+        return refused(StrCat("a wrist coordinate of ", x, " ", UnitName(unit), " is beyond ", kMaxWristCoordinateMetres,
+                              " m from the origin"));
       }
     }
   }
   if (confidences[0] < min_confidence || confidences[1] < min_confidence) {
     return {SampleCheck::kDropout, "confidence below min_confidence (treated as a dropout)"};
   }
+  Eigen::Vector3f left = FromProto(sample.left(), 1.0f), right = FromProto(sample.right(), 1.0f);
+  if (input.frame.tracked_device) {
+    Eigen::Quaternionf orientations[2];
+    for (int side = 0; side < 2; ++side) {
+      const v1::Quaternion& q = side == 0 ? sample.left_orientation() : sample.right_orientation();
+      orientations[side] = Eigen::Quaternionf(q.w(), q.x(), q.y(), q.z());
+      const float norm = orientations[side].norm();
+      if (!(norm > 0.5f && norm < 2.0f)) {
+        return refused(StrCat("the tracked point is a device: the ", side == 0 ? "left" : "right",
+                              "_orientation must be a unit quaternion (norm ", norm, ")"));
+      }
+      orientations[side].normalize();
+    }
+    left = DeviceToWrist(left, orientations[0], input.frame.device_offset);
+    right = DeviceToWrist(right, orientations[1], input.frame.device_offset);
+  }
   out->time = sample.time();
-  out->left = FromProto(sample.left(), 1.0f / scale.scale);
-  out->right = FromProto(sample.right(), 1.0f / scale.scale);
-  const float separation = (out->left - out->right).norm();
-  if (separation > kMaxWristSeparationMetres) {
-    return refused(StrCat("wrists ", separation, " m apart (more than ", kMaxWristSeparationMetres,
-                          " m: not one person's wrists; positions are metres)"));
+  out->left = input.transform.PositionToNative(left);
+  out->right = input.transform.PositionToNative(right);
+  if (std::optional<std::string> problem = WristSeparationProblem((out->left - out->right).norm(), unit)) {
+    return refused(*std::move(problem));
   }
   return {};
 }

@@ -7,6 +7,7 @@
 #include "absl/status/statusor.h"
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/reconstruct/reconstruction_session.h"
+#include "server/input_frame_convert.h"
 #include "motion/retarget/retarget_rig.h"
 
 namespace mocap {
@@ -31,19 +32,18 @@ struct PerformerScale {
 // InvalidArgument for a height that is negative, not finite, or outside 0.3–3 × the database's.
 absl::StatusOr<PerformerScale> ScaleForPerformer(const ReconstructionDatabase& database, float performer_height);
 
-// A sample to the session's units.
+// A sample to native metres (the input frame's transform; performer scaling comes after).
 // What became of one wire sample: accepted (into `out`), a dropout (confidence below
 // min_confidence: the session bridges or splits it), or refused with a reason (not finite,
-// positions or confidences out of range: garbage is never reconstructed).
+// positions or confidences out of range, a tracked device without its orientation, wrists more
+// than kMaxWristSeparationMetres apart: garbage is never reconstructed).
 struct SampleCheck {
   enum Kind { kAccepted, kDropout, kRefused } kind = kAccepted;
   std::string reason;
 };
 // Positions beyond this many metres from the origin, in any axis, are refused.
 inline constexpr double kMaxWristCoordinateMetres = 10000.0;
-// Wrists further apart than this (metres, after performer scaling) are not one person's.
-inline constexpr double kMaxWristSeparationMetres = 3.0;
-SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const PerformerScale& scale, WristSample* out);
+SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const InputConversion& input, WristSample* out);
 
 void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out);
 void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out);

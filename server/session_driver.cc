@@ -14,6 +14,7 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::S
   MOCAP_ASSIGN_OR_RETURN(ReconstructionOptions options, OptionsFromConfig(config));
   options.max_window_frames = limits.max_window_frames;
   MOCAP_ASSIGN_OR_RETURN(PerformerScale scale, ScaleForPerformer(*database, config.performer_height()));
+  MOCAP_ASSIGN_OR_RETURN(InputFrame input_frame, InputFrameFromProto(config.input_frame()));
   MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session, ReconstructionSession::Create(database, options));
   std::unique_ptr<SessionDriver> driver(new SessionDriver(metrics));
   metrics.SessionStarted();
@@ -22,6 +23,11 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::S
   driver->config_ = config;
   driver->scale_ = scale;
   driver->limits_ = limits;
+  const FloorSpec& floor = input_frame.floor;
+  driver->input_ = {input_frame, FrameTransform(input_frame.convention, floor.calibrate ? 0.0 : floor.height)};
+  driver->monitor_ = std::make_unique<InputMonitor>(input_frame.convention, floor.calibrate,
+                                                    InputMonitorOptions{.body_height = scale.database_height * scale.scale});
+  if (config.output_frame() == v1::OUTPUT_FRAME_INPUT && !IsNativeFrame(input_frame)) driver->output_transform_ = driver->input_.transform;
   v1::SessionStarted& started = driver->started_;
   started.set_session_id(std::move(session_id));
   ToProto(*database, scale, started.mutable_skeleton());
@@ -32,27 +38,30 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::S
     started.clear_skeleton();
     ToProto(driver->retargeter_->target(), started.mutable_skeleton());
   }
+  // Last, whatever the rig: into the caller's frame (issue #12 part 1).
+  if (driver->output_transform_) ToCallerFrame(*driver->output_transform_, started.mutable_skeleton());
   started.set_frame_rate(1.0 / database->frame_time());
   started.set_latency_frames(driver->session_->latency_frames());
   started.set_database_height(scale.database_height);
   started.set_database_frames(database->num_frames());
   *started.mutable_config() = EffectiveConfig(config, options);
+  *started.mutable_config()->mutable_input_frame() = ToProto(input_frame, config.input_frame().preset());
   started.mutable_config()->clear_target_rig();  // the rig itself is `skeleton`; no echo of its text
   return driver;
 }
 
 SessionDriver::~SessionDriver() { metrics_.SessionEnded(); }
 
-absl::Status SessionDriver::Reject(const v1::WristSample& sample, const std::string& reason,
+absl::Status SessionDriver::Reject(long index, double time, const std::string& reason,
                                    std::vector<v1::ReconstructResponse>* replies) {
   if (config_.strict()) {
-    return absl::InvalidArgumentError(StrCat("sample ", samples_ - 1, " (time ", sample.time(), "): ", reason));
+    return absl::InvalidArgumentError(StrCat("sample ", index, " (time ", time, "): ", reason));
   }
   ++rejected_;
   metrics_.SamplesRejected(1);
   v1::SampleRejected* rejected = replies->emplace_back().mutable_rejected();
-  rejected->set_sample_index(samples_ - 1);
-  rejected->set_time(sample.time());
+  rejected->set_sample_index(index);
+  rejected->set_time(time);
   rejected->set_reason(reason);
   return absl::OkStatus();
 }
@@ -63,28 +72,63 @@ absl::Status SessionDriver::Push(const v1::WristSamples& samples, int begin, int
     const v1::WristSample& sample = samples.samples(i);
     ++samples_;
     WristSample input;
-    const SampleCheck check = FromProto(sample, config_.min_confidence(), scale_, &input);
+    const SampleCheck check = FromProto(sample, config_.min_confidence(), input_, &input);
     if (check.kind != SampleCheck::kAccepted) {
-      MOCAP_RETURN_IF_ERROR(Reject(sample, check.reason, replies));
+      MOCAP_RETURN_IF_ERROR(Reject(samples_ - 1, sample.time(), check.reason, replies));
       continue;
     }
-    if (!first_time_) first_time_ = sample.time();
-    if (sample.time() - *first_time_ > limits_.max_session_seconds) {
-      return absl::ResourceExhaustedError(StrCat("session length limit: samples span more than ",
-                                                 limits_.max_session_seconds, " s; start a new session"));
-    }
-    absl::Status pushed = session_->Push(input, &pending_);
-    if (absl::IsInvalidArgument(pushed)) {
-      MOCAP_RETURN_IF_ERROR(Reject(sample, std::string(pushed.message()), replies));
-    } else {
-      MOCAP_RETURN_IF_ERROR(pushed);
-    }
+    monitor_->Add(input, samples_ - 1, &ready_, &warnings_);
+    MOCAP_RETURN_IF_ERROR(ReportInput(replies));
+    MOCAP_RETURN_IF_ERROR(PushReady(replies));
   }
   AppendFrames(replies);
   return absl::OkStatus();
 }
 
+absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* replies) {
+  for (MonitoredSample& ready : ready_) {
+    WristSample& input = ready.sample;
+    if (!first_time_) first_time_ = input.time;
+    if (input.time - *first_time_ > limits_.max_session_seconds) {
+      return absl::ResourceExhaustedError(StrCat("session length limit: samples span more than ",
+                                                 limits_.max_session_seconds, " s; start a new session"));
+    }
+    input.left /= scale_.scale;  // the performer's metres to the database performer's
+    input.right /= scale_.scale;
+    absl::Status pushed = session_->Push(input, &pending_);
+    if (absl::IsInvalidArgument(pushed)) {
+      MOCAP_RETURN_IF_ERROR(Reject(ready.index, input.time, std::string(pushed.message()), replies));
+    } else {
+      MOCAP_RETURN_IF_ERROR(pushed);
+    }
+  }
+  ready_.clear();
+  return absl::OkStatus();
+}
+
+absl::Status SessionDriver::ReportInput(std::vector<v1::ReconstructResponse>* replies) {
+  if (!monitor_->window_done() || (input_reported_ && warnings_.empty())) return absl::OkStatus();
+  if (config_.strict() && !warnings_.empty()) {
+    return absl::InvalidArgumentError(StrCat("input frame: ", warnings_.front().message));
+  }
+  const FrameConvention& convention = input_.frame.convention;
+  const float floor_native = input_.transform.floor_native() + monitor_->calibrated_floor();
+  if (!input_reported_ && output_transform_ && input_.frame.floor.calibrate) {
+    output_transform_ = FrameTransform(convention, FloorHeightFromNative(convention, floor_native));
+  }
+  input_reported_ = true;
+  v1::InputReport* report = replies->emplace_back().mutable_input_report();
+  report->set_floor_height(static_cast<float>(FloorHeightFromNative(convention, floor_native)));
+  report->set_floor_calibrated(input_.frame.floor.calibrate);
+  for (const InputWarning& warning : warnings_) *report->add_warnings() = ToProto(warning);
+  warnings_.clear();
+  return absl::OkStatus();
+}
+
 absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies) {
+  monitor_->Finish(&ready_, &warnings_);
+  MOCAP_RETURN_IF_ERROR(ReportInput(replies));
+  MOCAP_RETURN_IF_ERROR(PushReady(replies));
   MOCAP_RETURN_IF_ERROR(session_->Finish(&pending_));
   AppendFrames(replies);
   v1::SessionSummary* summary = replies->emplace_back().mutable_summary();
@@ -112,10 +156,12 @@ void SessionDriver::AppendFrames(std::vector<v1::ReconstructResponse>* replies) 
     for (size_t i = start; i < end; ++i) {
       v1::Frame* frame = frames->add_frames();
       ToProto(pending_[i], scale_, config_.include_diagnostics(), frame);
-      if (!retargeter_) continue;
-      retargeter_->Retarget(session_->database().body(), pending_[i].pose, &target_pose_);
-      const int pelvis = retargeter_->target().topology.landmarks.pelvis;
-      SetTargetPose(target_pose_, retargeter_->world_rotations()[pelvis], retargeter_->world_positions()[pelvis], frame);
+      if (retargeter_) {
+        retargeter_->Retarget(session_->database().body(), pending_[i].pose, &target_pose_);
+        const int pelvis = retargeter_->target().topology.landmarks.pelvis;
+        SetTargetPose(target_pose_, retargeter_->world_rotations()[pelvis], retargeter_->world_positions()[pelvis], frame);
+      }
+      if (output_transform_) ToCallerFrame(*output_transform_, frame);  // last, whatever the rig
     }
   }
   frames_emitted_ += static_cast<long>(pending_.size());

@@ -2,6 +2,9 @@
 // transport (the Reconstruct stream or the unary ReconstructTrajectory): config → `started`,
 // sample messages → frames and rejected samples, end of input → the last frames and the summary.
 // Replies are mocap.v1 messages ready to send; frames go in batches of at most kFramesPerReply.
+// Samples are converted from the client's declared input frame to native metres (and the floor
+// calibrated, the input checked: InputMonitor) on the way in; replies go back into that frame
+// unless config.output_frame asks for the server's.
 // The driver keeps the server's session counters: a session is active from Create to destruction,
 // and its frames, refused samples and reply latencies are counted as they happen.
 //
@@ -16,6 +19,7 @@
 
 #include "absl/status/statusor.h"
 #include "mocap/v1/reconstruction.pb.h"
+#include "motion/frames/input_monitor.h"
 #include "motion/reconstruct/reconstruction_session.h"
 #include "motion/retarget/retargeter.h"
 #include "server/reconstruction_convert.h"
@@ -63,12 +67,21 @@ class SessionDriver {
  private:
   explicit SessionDriver(ServerMetrics& metrics) : metrics_(metrics) {}
   void AppendFrames(std::vector<v1::ReconstructResponse>* replies);
-  absl::Status Reject(const v1::WristSample& sample, const std::string& reason, std::vector<v1::ReconstructResponse>* replies);
+  absl::Status Reject(long index, double time, const std::string& reason, std::vector<v1::ReconstructResponse>* replies);
+  // The monitor's released samples into the session, its findings into an InputReport.
+  absl::Status PushReady(std::vector<v1::ReconstructResponse>* replies);
+  absl::Status ReportInput(std::vector<v1::ReconstructResponse>* replies);
 
   ServerMetrics& metrics_;
   v1::SessionConfig config_;
   std::unique_ptr<ReconstructionSession> session_;
   PerformerScale scale_;
+  InputConversion input_;
+  std::unique_ptr<InputMonitor> monitor_;
+  std::vector<MonitoredSample> ready_;  // released by the monitor, not yet pushed
+  std::vector<InputWarning> warnings_;  // found, not yet reported
+  bool input_reported_ = false;
+  std::optional<FrameTransform> output_transform_;  // native → caller; unset: the server's frame
   SessionLimits limits_;
   v1::SessionStarted started_;
   std::vector<ReconstructedFrame> pending_;  // decided, not yet converted

@@ -59,6 +59,11 @@ void TrajectoryReactor::Slice(int begin) {
       response_->add_rejected()->Swap(reply.mutable_rejected());
     } else if (reply.has_summary()) {
       response_->mutable_summary()->Swap(reply.mutable_summary());
+    } else if (reply.has_input_report()) {  // one report: the floor, every warning
+      v1::InputReport* report = response_->mutable_input_report();
+      report->set_floor_height(reply.input_report().floor_height());
+      report->set_floor_calibrated(reply.input_report().floor_calibrated());
+      for (v1::InputWarning& warning : *reply.mutable_input_report()->mutable_warnings()) report->add_warnings()->Swap(&warning);
     }
   }
   // An answer over the send limit would fail in the transport after this call logged OK.

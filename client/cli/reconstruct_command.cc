@@ -10,6 +10,7 @@
 
 #include "cli_util/progress_bar.h"
 #include "cli_util/wrist_source.h"
+#include "client/cli/input_frame_flags.h"
 #include "client/cli/reconstruction_bvh.h"
 #include "client/cli/target_rig_file.h"
 
@@ -29,6 +30,7 @@ struct ReconstructOptions {
   bool diagnostics = false, strict = false, unary = false, realtime = false, quiet = false;
   int samples_per_message = 30;
   std::string output = "reconstruction";
+  InputFrameFlags input_frame;
   std::string target_rig;  // issue #12: an avatar's BVH to answer on
   std::string target_rig_text;
 };
@@ -75,6 +77,12 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
       if (!reply.ok() || !*reply) break;
       for (const v1::Frame& frame : (*reply)->frames().frames()) *result.add_frames() = frame;
       if ((*reply)->has_rejected()) *result.add_rejected() = (*reply)->rejected();
+      if ((*reply)->has_input_report()) {  // one report, as the unary call answers
+        const v1::InputReport& report = (*reply)->input_report();
+        result.mutable_input_report()->set_floor_height(report.floor_height());
+        result.mutable_input_report()->set_floor_calibrated(report.floor_calibrated());
+        for (const v1::InputWarning& warning : report.warnings()) *result.mutable_input_report()->add_warnings() = warning;
+      }
       frames_back = result.frames_size();
     }
   });
@@ -116,8 +124,15 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
   absl::StatusOr<std::vector<v1::WristSample>> samples =
       o.csv.empty() ? WristsFromBvh(o.bvh, o.noise_cm, o.seed) : WristsFromCsv(o.csv);
   if (!samples.ok()) return Fail(samples.status());
+  absl::StatusOr<DeclaredInputFrame> input_frame = ResolveInputFrame(o.input_frame);
+  if (!input_frame.ok()) return Fail(input_frame.status());
+  if (!o.bvh.empty()) {  // the clip's wrists as a tracker in the declared frame would send them
+    if (absl::Status s = ToDeclaredFrame(input_frame->frame, &*samples); !s.ok()) return Fail(s);
+  }
   absl::StatusOr<v1::SessionConfig> config = Config(o);
   if (!config.ok()) return Fail(config.status());
+  *config->mutable_input_frame() = input_frame->proto;
+  config->set_output_frame(v1::OUTPUT_FRAME_SERVER);  // BVH and JSON stay standard: metres, Y up, right-handed
   absl::StatusOr<v1::ReconstructTrajectoryResponse> result =
       o.unary ? client.ReconstructTrajectory(*config, *samples)
               : Stream(client, *config, *samples, o, !o.quiet && !global.json);
@@ -137,6 +152,9 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
     out["session_id"] = result->started().session_id();
     std::cout << out.dump(2) << "\n";
     return 0;
+  }
+  for (const v1::InputWarning& warning : result->input_report().warnings()) {
+    std::cerr << "  input frame: " << warning.message() << "\n";
   }
   for (const v1::SampleRejected& rejected : result->rejected()) {
     std::cerr << "  sample " << rejected.sample_index() << " (t = " << rejected.time() << " s) refused: " << rejected.reason()
@@ -161,7 +179,8 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   command->add_option("--database", o->database, "Database to draw motion from")->required();
   auto* csv = command->add_option("--csv", o->csv,
                                   "Wrist samples: time,left_x,left_y,left_z,right_x,right_y,right_z"
-                                  "[,left_confidence,right_confidence] (seconds, metres, Y up)")
+                                  "[,left_confidence,right_confidence[,left_qw,...,right_qz]] (seconds; metres, Y up "
+                                  "unless --input-frame or --units, --up, --handedness, --floor say otherwise)")
                   ->check(CLI::ExistingFile);
   auto* bvh = command->add_option("--bvh", o->bvh, "Take the wrists from this BVH clip's forward kinematics")
                   ->check(CLI::ExistingFile);
@@ -183,6 +202,7 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
       ->check(CLI::IsMember({"estimated", "database", "both"}))->capture_default_str();
   command->add_option("--performer-height", o->performer_height, "Performer's height in metres (scales input and output)")
       ->check(CLI::NonNegativeNumber);
+  AddInputFrameFlags(command, &o->input_frame);
   command->add_option("--target-rig", o->target_rig,
                       "Answer on this avatar's rig (a BVH file: any joint names, count, proportions, unit, up axis); "
                       "OUTPUT.bvh is then written on that rig, in its own unit, axes and channels")

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -72,6 +73,25 @@ TEST_F(WristSourceTest, CsvAcceptsNanAndConfidences) {
   EXPECT_TRUE(std::isinf((*samples)[1].right().y()));
   EXPECT_FALSE((*samples)[1].has_left_confidence());
   EXPECT_FLOAT_EQ((*samples)[1].right_confidence(), 1.0f);
+}
+
+TEST_F(WristSourceTest, CsvReadsTrackedDevicesOrientations) {
+  const fs::path path = Write("w.csv", std::string(kHeaderWithConfidence).substr(0, std::strlen(kHeaderWithConfidence) - 1) +
+                                           ",left_qw,left_qx,left_qy,left_qz,right_qw,right_qx,right_qy,right_qz\n"
+                                           "0.0,0,1,0,0.4,1,0,,,0.7071,0,0.7071,0,1,0,0,0\n"
+                                           "0.1,0,1,0,0.4,1,0,,,,,,,,,,\n");
+  auto samples = WristsFromCsv(path);
+  ASSERT_TRUE(samples.ok()) << samples.status();
+  ASSERT_EQ(samples->size(), 2u);
+  EXPECT_FLOAT_EQ((*samples)[0].left_orientation().w(), 0.7071f);
+  EXPECT_FLOAT_EQ((*samples)[0].left_orientation().y(), 0.7071f);
+  EXPECT_FLOAT_EQ((*samples)[0].right_orientation().w(), 1.0f);
+  EXPECT_FALSE((*samples)[1].has_left_orientation());  // the server refuses it for a tracked device
+  // A quaternion is not a confidence: no 0..1 limit.
+  EXPECT_TRUE(WristsFromCsv(Write("q.csv", "time,left_x,left_y,left_z,right_x,right_y,right_z,left_confidence,"
+                                           "right_confidence,left_qw,left_qx,left_qy,left_qz,right_qw,right_qx,right_qy,"
+                                           "right_qz\n0,0,1,0,0,1,0,,,-1,0,0,0,-1,0,0,0\n"))
+                  .ok());
 }
 
 // Each bad input names the file and the line, and says what was expected.

@@ -1,0 +1,139 @@
+// Floor calibration and the plausibility checks of motion/frames/input_monitor.h on synthetic
+// wrists whose body, floor and sides are known (the real held-out clips: held_out_input_test.cc).
+#include "motion/frames/input_monitor.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace mocap {
+namespace {
+
+constexpr float kHeight = 1.7f;
+constexpr double kRate = 30.0;
+
+// A performer walking at `speed` m/s along `direction` (horizontal, unit), wrists hanging around
+// the hang fraction and swinging, the left wrist on the left of the direction; `floor` added to y.
+std::vector<WristSample> Walk(int frames, float speed, Eigen::Vector3f direction, float floor = 0.0f, bool swapped = false) {
+  const Eigen::Vector3f left_side(direction.z(), 0.0f, -direction.x());  // up × direction
+  std::vector<WristSample> samples;
+  for (int f = 0; f < frames; ++f) {
+    const float t = static_cast<float>(f / kRate);
+    const Eigen::Vector3f middle = direction * speed * t + Eigen::Vector3f(0, kWristHangFraction * kHeight + floor, 0);
+    const float swing = 0.2f * std::sin(2.0f * static_cast<float>(M_PI) * t);
+    WristSample s;
+    s.time = 5.0 + t;
+    s.left = middle + 0.2f * left_side + swing * direction;
+    s.right = middle - 0.2f * left_side - swing * direction;
+    if (swapped) std::swap(s.left, s.right);
+    samples.push_back(s);
+  }
+  return samples;
+}
+
+struct Outcome {
+  std::vector<MonitoredSample> ready;
+  std::vector<InputWarning> warnings;
+};
+
+Outcome Monitor(const std::vector<WristSample>& samples, bool calibrate, FrameConvention convention = {}) {
+  InputMonitor monitor(convention, calibrate, {.body_height = kHeight});
+  Outcome out;
+  for (size_t i = 0; i < samples.size(); ++i) monitor.Add(samples[i], static_cast<long>(i), &out.ready, &out.warnings);
+  monitor.Finish(&out.ready, &out.warnings);
+  return out;
+}
+
+bool Has(const Outcome& outcome, InputWarning::Kind kind) {
+  for (const InputWarning& warning : outcome.warnings) {
+    if (warning.kind == kind) return true;
+  }
+  return false;
+}
+
+TEST(InputMonitorTest, PlausibleInputPassesThroughUntouchedAndUnwarned) {
+  const std::vector<WristSample> walk = Walk(150, 1.3f, {0, 0, -1});
+  const Outcome outcome = Monitor(walk, false);
+  EXPECT_TRUE(outcome.warnings.empty()) << outcome.warnings.front().message;
+  ASSERT_EQ(outcome.ready.size(), walk.size());
+  for (size_t i = 0; i < walk.size(); ++i) {
+    EXPECT_EQ(outcome.ready[i].index, static_cast<long>(i));
+    EXPECT_EQ(outcome.ready[i].sample.left, walk[i].left);
+  }
+}
+
+TEST(InputMonitorTest, CalibrationHoldsTheFirstSecondAndPutsTheFloorAtZero) {
+  const std::vector<WristSample> walk = Walk(90, 1.0f, {1, 0, 0}, /*floor=*/-1.45f);
+  InputMonitor monitor({}, /*calibrate_floor=*/true, {.body_height = kHeight});
+  std::vector<MonitoredSample> ready;
+  std::vector<InputWarning> warnings;
+  for (int i = 0; i <= 30; ++i) monitor.Add(walk[i], i, &ready, &warnings);  // 0..1 s: held
+  EXPECT_TRUE(ready.empty());
+  EXPECT_FALSE(monitor.window_done());
+  monitor.Add(walk[31], 31, &ready, &warnings);
+  ASSERT_TRUE(monitor.window_done());
+  EXPECT_NEAR(monitor.calibrated_floor(), -1.45f, 0.01f);
+  ASSERT_EQ(ready.size(), 32u);
+  EXPECT_EQ(ready[0].index, 0);
+  EXPECT_NEAR(ready[0].sample.left.y(), walk[0].left.y() + 1.45f, 0.01f);
+  EXPECT_TRUE(warnings.empty());
+}
+
+TEST(InputMonitorTest, ShortInputIsCalibratedAtTheEnd) {
+  const Outcome outcome = Monitor(Walk(10, 0.0f, {1, 0, 0}, 0.3f), true);
+  ASSERT_EQ(outcome.ready.size(), 10u);
+  EXPECT_NEAR(outcome.ready[0].sample.left.y(), kWristHangFraction * kHeight, 1e-3);
+}
+
+TEST(InputMonitorTest, MetresDeclaredAsCentimetresAreNamed) {
+  std::vector<WristSample> walk = Walk(60, 1.2f, {0, 0, 1});
+  for (WristSample& s : walk) {  // what a metre stream declared as cm becomes in native metres
+    s.left *= 0.01f;
+    s.right *= 0.01f;
+  }
+  const Outcome outcome = Monitor(walk, true, {LengthUnit::kCentimetre});
+  ASSERT_TRUE(Has(outcome, InputWarning::Kind::kUnits));
+  EXPECT_NE(outcome.warnings.front().message.find("metres declared as centimetres?"), std::string::npos)
+      << outcome.warnings.front().message;
+}
+
+TEST(InputMonitorTest, WristsBelowOrFarAboveADeclaredFloorAreNamed) {
+  Outcome below = Monitor(Walk(60, 1.2f, {0, 0, 1}, -1.6f), false);  // a head-origin space declared as floor-origin
+  ASSERT_TRUE(Has(below, InputWarning::Kind::kBelowFloor));
+  EXPECT_NE(below.warnings.front().message.find("wrists below the floor"), std::string::npos) << below.warnings.front().message;
+  Outcome above = Monitor(Walk(60, 1.2f, {0, 0, 1}, +1.6f), false);  // the floor declared 1.6 m too low
+  EXPECT_TRUE(Has(above, InputWarning::Kind::kAboveFloor));
+  // A calibrated floor is right by construction: nothing to say.
+  EXPECT_TRUE(Monitor(Walk(60, 1.2f, {0, 0, 1}, -1.6f), true).warnings.empty());
+}
+
+TEST(InputMonitorTest, SwappedSidesAreNamedOnlyWhileTheBodyTravels) {
+  for (const Eigen::Vector3f& direction : {Eigen::Vector3f(0, 0, -1), Eigen::Vector3f(0.6f, 0, 0.8f)}) {
+    EXPECT_FALSE(Has(Monitor(Walk(200, 1.3f, direction), false), InputWarning::Kind::kSwapped));
+    const Outcome swapped = Monitor(Walk(200, 1.3f, direction, 0.0f, /*swapped=*/true), false);
+    ASSERT_TRUE(Has(swapped, InputWarning::Kind::kSwapped));
+    EXPECT_NE(swapped.warnings.front().message.find("left and right look swapped"), std::string::npos);
+    EXPECT_EQ(swapped.warnings.size(), 1u);  // once per session
+  }
+  // Standing still, a swapped pair is just another pose.
+  EXPECT_TRUE(Monitor(Walk(200, 0.0f, {0, 0, 1}, 0.0f, true), false).warnings.empty());
+}
+
+TEST(WristSeparationProblemTest, NamesTheUnitThatMakesTheWristsABodys) {
+  EXPECT_FALSE(WristSeparationProblem(1.8, LengthUnit::kMetre));
+  const std::optional<std::string> cm = WristSeparationProblem(180.0, LengthUnit::kMetre);
+  ASSERT_TRUE(cm);
+  EXPECT_NE(cm->find("wrist samples 180 units apart"), std::string::npos) << *cm;
+  EXPECT_NE(cm->find("centimetres"), std::string::npos) << *cm;
+  EXPECT_NE(cm->find(" declared as metres?"), std::string::npos) << *cm;
+  const std::optional<std::string> mm = WristSeparationProblem(0.45 * 1000 * 0.01, LengthUnit::kCentimetre);  // 450 "cm"
+  ASSERT_TRUE(mm);
+  EXPECT_NE(mm->find(": millimetres declared as centimetres?"), std::string::npos) << *mm;
+  // Nothing a unit explains: no guess.
+  const std::optional<std::string> far = WristSeparationProblem(5000.0, LengthUnit::kMetre);
+  ASSERT_TRUE(far);
+  EXPECT_EQ(far->find("declared as"), std::string::npos) << *far;
+}
+
+}  // namespace
+}  // namespace mocap
