@@ -3,6 +3,7 @@
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "cli_util/wrist_source.h"
 #include "mocap/v1/motion_store.grpc.pb.h"
@@ -85,6 +87,18 @@ class ServiceRegressionTest : public testing::ServerFixture {
   std::string ServerLog() {
     std::ifstream in(dir_ / "server.log");
     return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  // The log once it holds every one of `lines` (a session's end line is written after its count
+  // drops), or as it is after 10 s.
+  std::string ServerLogOnceItHas(const std::vector<std::string>& lines) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (true) {
+      std::string log = ServerLog();
+      const bool all = std::all_of(lines.begin(), lines.end(),
+                                   [&](const std::string& line) { return log.find(line) != std::string::npos; });
+      if (all || std::chrono::steady_clock::now() > deadline) return log;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
   }
 };
 
@@ -324,7 +338,7 @@ TEST_F(ServiceRegressionTest, EverySessionEndIsLoggedWithTheClientsCode) {
   size_t frames = 0;
   TimedSession(*acme, Config(0), Samples(10), &frames);
   ASSERT_EQ(ActiveSessionsAfterWaiting(*acme), 0);
-  const std::string log = ServerLog();
+  const std::string log = ServerLogOnceItHas({"ended code=CANCELLED", "ended code=OK: 10 frames"});
   EXPECT_NE(log.find("ended code=CANCELLED"), std::string::npos) << log;
   EXPECT_NE(log.find("ended code=OK: 10 frames"), std::string::npos) << log;
   EXPECT_EQ(log.find("client went away"), std::string::npos);
