@@ -278,8 +278,11 @@ void ReconstructReactor::OnDone() {
     // One line per session end, however it ended, with the code the client was sent (finding 8).
     std::lock_guard session(session_mutex_);
     ReleaseDriverLocked();
+    // Taken even when nothing is logged: the compute task whose PumpLocked() called Finish() still
+    // holds mutex_ until it returns, and deleting the reactor before would free a held mutex
+    // (found by ThreadSanitizer: a session refused before it started).
+    std::lock_guard lock(mutex_);
     if (session_started_) {
-      std::lock_guard lock(mutex_);
       spdlog::info("session={} request={} ended code={}: {} frames, {} samples rejected", session_id_, call_.request_id(),
                    GrpcCodeName(final_status_.error_code()), frames_emitted_, samples_rejected_);
     }
