@@ -37,6 +37,9 @@ struct Options {
   double ramp_seconds = 1.0;
   bool json = false;
   double max_p99_ms = 0;
+  int samples_per_message = 1;
+  bool unpaced = false;
+  double reopen_after = 0;  // seconds; 0: one session per stream
 };
 
 // The clip's samples, one per 1/rate seconds, repeated forwards until `seconds` are filled; each
@@ -78,6 +81,10 @@ v1::SessionConfig Config(const Options& o, int stream) {
   return config;
 }
 
+std::chrono::steady_clock::duration Seconds(double seconds) {
+  return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+}
+
 int Run(const Options& o) {
   absl::StatusOr<std::vector<v1::WristSample>> clip =
       !o.csv.empty() ? WristsFromCsv(o.csv) : WristsFromBvh(o.bvh, o.noise_cm, o.seed);
@@ -85,7 +92,9 @@ int Run(const Options& o) {
     spdlog::error("{}", clip.status().ToString());
     return 2;
   }
-  const std::vector<v1::WristSample> samples = Schedule(*clip, o.rate, o.seconds);
+  // At least one whole message, however short the session.
+  const std::vector<v1::WristSample> samples =
+      Schedule(*clip, o.rate, std::max(o.seconds, o.samples_per_message / o.rate));
   std::mt19937 random(o.seed);
   std::uniform_real_distribution<double> offset(0.0, o.ramp_seconds);
   const auto start = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
@@ -95,8 +104,10 @@ int Run(const Options& o) {
   const auto began = std::chrono::steady_clock::now();
   for (int s = 0; s < o.streams; ++s) {
     StreamPlan plan{Config(o, s), samples,
-                    start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(offset(random)))};
-    threads.emplace_back([&o, &outcomes, s, plan = std::move(plan)] {
+                    start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(offset(random))),
+                    o.samples_per_message, !o.unpaced, std::nullopt};
+    if (o.reopen_after > 0) plan.cancel_after = Seconds(o.reopen_after);
+    threads.emplace_back([&o, &outcomes, s, plan = std::move(plan)]() mutable {
       client::ConnectOptions connect;
       connect.api_key = o.key;
       connect.tls = o.tls;
@@ -105,7 +116,16 @@ int Run(const Options& o) {
         outcomes[s].status = client.status();
         return;
       }
-      outcomes[s] = RunStream(**client, plan);
+      if (!plan.cancel_after) {
+        outcomes[s] = RunStream(**client, plan);
+        return;
+      }
+      // Cancel-and-reopen: sessions of --reopen-after seconds, one after another, for --seconds.
+      const auto end = plan.start + Seconds(o.seconds);
+      do {
+        Accumulate(outcomes[s], RunStream(**client, plan));
+        plan.start = std::chrono::steady_clock::now();
+      } while (plan.start < end);
     });
   }
   for (std::thread& thread : threads) thread.join();
@@ -113,7 +133,7 @@ int Run(const Options& o) {
 
   std::vector<double> latencies;
   std::map<std::string, int> errors;
-  long frames = 0, sent = 0, rejected = 0;
+  long frames = 0, sent = 0, rejected = 0, sessions = 0, cancelled = 0;
   double late = 0, server_mean = 0, server_max = 0;
   int ok = 0;
   for (const StreamOutcome& outcome : outcomes) {
@@ -121,6 +141,8 @@ int Run(const Options& o) {
     frames += outcome.frames;
     sent += outcome.samples_sent;
     rejected += outcome.rejected;
+    sessions += outcome.sessions;
+    cancelled += outcome.cancelled;
     late = std::max(late, outcome.late_send_ms);
     if (outcome.status.ok()) {
       ++ok;
@@ -136,7 +158,7 @@ int Run(const Options& o) {
 
   if (o.json) {
     nlohmann::json report = {
-        {"streams", o.streams}, {"streams_ok", ok}, {"seconds", elapsed}, {"input_rate", o.rate},
+        {"streams", o.streams}, {"streams_ok", ok}, {"sessions", sessions}, {"sessions_cancelled", cancelled}, {"seconds", elapsed}, {"input_rate", o.rate},
         {"samples_sent", sent}, {"samples_rejected", rejected}, {"frames", frames},
         {"frames_per_second", frames / elapsed},
         {"latency_ms", {{"count", latency.count}, {"mean", latency.mean_ms}, {"p50", latency.p50_ms}, {"p90", latency.p90_ms},
@@ -146,7 +168,8 @@ int Run(const Options& o) {
     std::cout << report.dump(2) << "\n";
   } else {
     std::cout << "streams " << ok << "/" << o.streams << " ok, " << elapsed << " s, " << sent << " samples sent ("
-              << rejected << " rejected), " << frames << " frames (" << frames / elapsed << " frames/s)\n"
+              << rejected << " rejected), " << frames << " frames (" << frames / elapsed << " frames/s), " << sessions
+              << " sessions (" << cancelled << " cancelled on purpose)\n"
               << "frame latency ms: mean " << latency.mean_ms << "  p50 " << latency.p50_ms << "  p90 " << latency.p90_ms
               << "  p99 " << latency.p99_ms << "  max " << latency.max_ms << "  (" << latency.count << " frames)\n"
               << "server reply ms: mean " << server_mean << "  max " << server_max << "; worst late send " << late << " ms\n";
@@ -185,6 +208,11 @@ int main(int argc, char** argv) {
   app.add_option("--k2", o.k2, "Override K2 (pose neighbours)");
   app.add_option("--ramp-seconds", o.ramp_seconds, "Streams start at random offsets within this span")->capture_default_str();
   app.add_option("--max-p99-ms", o.max_p99_ms, "Exit 1 when the p99 frame latency exceeds this");
+  app.add_option("--samples-per-message", o.samples_per_message, "Samples sent in each message")
+      ->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_flag("--unpaced", o.unpaced, "Send every message as soon as the server takes it, not at the input rate");
+  app.add_option("--reopen-after", o.reopen_after, "Cancel each session after this many seconds and open a new one, "
+                 "until --seconds have passed")->check(CLI::NonNegativeNumber);
   app.add_flag("--json", o.json, "Report as JSON on stdout");
   CLI11_PARSE(app, argc, argv);
   return mocap::load::Run(o);

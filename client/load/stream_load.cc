@@ -1,6 +1,8 @@
 #include "client/load/stream_load.h"
 
 #include <algorithm>
+#include <atomic>
+#include <condition_variable>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -43,6 +45,7 @@ StreamOutcome RunStream(client::Client& client, const StreamPlan& plan) {
     return outcome;
   }
   client::ReconstructionStream& stream = **opened;
+  outcome.sessions = 1;
   const double frame_rate = stream.started().frame_rate();
   const int lag = plan.config.has_fixed_lag() ? plan.config.fixed_lag().lag_frames() : 0;
   const double lag_seconds = frame_rate > 0 ? lag / frame_rate : 0.0;
@@ -71,22 +74,65 @@ StreamOutcome RunStream(client::Client& client, const StreamPlan& plan) {
 
   const Clock::time_point stream_start = Clock::now();
   const double first_time = plan.samples.empty() ? 0.0 : plan.samples.front().time();
-  for (size_t i = 0; i < plan.samples.size(); ++i) {
-    const auto due = stream_start + std::chrono::duration_cast<Clock::duration>(
-                                        std::chrono::duration<double>(plan.samples[i].time() - first_time));
-    std::this_thread::sleep_until(due);
-    const Clock::time_point now = Clock::now();
-    outcome.late_send_ms = std::max(outcome.late_send_ms, std::chrono::duration<double, std::milli>(now - due).count());
-    send_times.Set(i, now);
-    if (!stream.Write({plan.samples[i]}).ok()) break;  // the call ended: Finish says why
-    ++outcome.samples_sent;
+  const size_t per_message = static_cast<size_t>(std::max(1, plan.samples_per_message));
+  // Cancel-and-reopen: a timer cancels the call even while a Write waits for the server.
+  std::atomic<bool> cancelled = false;
+  std::mutex session_mutex;
+  std::condition_variable session_over;
+  bool over = false;
+  std::thread canceller;
+  if (plan.cancel_after) {
+    canceller = std::thread([&] {
+      std::unique_lock lock(session_mutex);
+      if (!session_over.wait_for(lock, *plan.cancel_after, [&] { return over; })) {
+        cancelled = true;
+        stream.Cancel();
+      }
+    });
   }
-  stream.CloseInput().IgnoreError();  // always OK
+  std::vector<v1::WristSample> message;
+  for (size_t i = 0; i < plan.samples.size() && !cancelled; i += per_message) {
+    if (plan.paced) {
+      const auto due = stream_start + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(plan.samples[i].time() - first_time));
+      std::this_thread::sleep_until(due);
+      outcome.late_send_ms = std::max(outcome.late_send_ms, std::chrono::duration<double, std::milli>(Clock::now() - due).count());
+    }
+    const size_t end = std::min(plan.samples.size(), i + per_message);
+    message.assign(plan.samples.begin() + static_cast<std::ptrdiff_t>(i), plan.samples.begin() + static_cast<std::ptrdiff_t>(end));
+    const Clock::time_point now = Clock::now();
+    for (size_t j = i; j < end; ++j) send_times.Set(j, now);
+    if (!stream.Write(message).ok()) break;  // the call ended: Finish says why
+    outcome.samples_sent += static_cast<long>(end - i);
+  }
+  if (!cancelled) stream.CloseInput().IgnoreError();  // always OK
   reader.join();
+  if (canceller.joinable()) {
+    {
+      std::lock_guard lock(session_mutex);
+      over = true;
+    }
+    session_over.notify_one();
+    canceller.join();
+  }
+  if (cancelled) ++outcome.cancelled;
   absl::StatusOr<v1::SessionSummary> summary = stream.Finish();
   outcome.status = summary.status();
+  if (cancelled && absl::IsCancelled(outcome.status)) outcome.status = absl::OkStatus();  // as planned
   if (summary.ok()) outcome.summary = *summary;
   return outcome;
+}
+
+void Accumulate(StreamOutcome& total, StreamOutcome one) {
+  if (total.status.ok()) total.status = one.status;
+  total.latencies_ms.insert(total.latencies_ms.end(), one.latencies_ms.begin(), one.latencies_ms.end());
+  total.samples_sent += one.samples_sent;
+  total.frames += one.frames;
+  total.rejected += one.rejected;
+  total.sessions += one.sessions;
+  total.cancelled += one.cancelled;
+  total.late_send_ms = std::max(total.late_send_ms, one.late_send_ms);
+  if (one.summary.ByteSizeLong() > 0) total.summary = std::move(one.summary);
 }
 
 }  // namespace mocap::load

@@ -1,6 +1,7 @@
 // One simulated tracker for the load generator: a Reconstruct stream fed wrist samples in real
 // time (one message per sample at the input rate, as an app sends them), with a reader thread
-// timing every frame that comes back.
+// timing every frame that comes back. Hostile shapes for fairness benchmarks: several samples per
+// message, messages sent as fast as the server takes them, and sessions cancelled and reopened.
 //
 // A frame's latency is measured from the moment the sample that completed it was handed to the
 // SDK to the moment the frame was read: with fixed lag D the frame at time t is complete once the
@@ -9,6 +10,7 @@
 #pragma once
 
 #include <chrono>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,11 @@ struct StreamPlan {
   v1::SessionConfig config;
   std::vector<v1::WristSample> samples;  // sent in order, each at start + (time − first time)
   std::chrono::steady_clock::time_point start;
+  int samples_per_message = 1;  // a message goes when its first sample is due (or at once, unpaced)
+  bool paced = true;            // false: every message as soon as the stream accepts it
+  // When set, the session is cancelled this long after it opened (Finish: CANCELLED, which the
+  // outcome counts as `cancelled`, not as an error).
+  std::optional<std::chrono::steady_clock::duration> cancel_after;
 };
 
 struct StreamOutcome {
@@ -29,11 +36,16 @@ struct StreamOutcome {
   long samples_sent = 0;
   long frames = 0;
   long rejected = 0;
+  long sessions = 0;                   // sessions opened (more than one with cancel-and-reopen)
+  long cancelled = 0;                  // sessions this side cancelled on purpose
   double late_send_ms = 0;             // worst delay of a send behind its schedule (backpressure)
   v1::SessionSummary summary;          // the server's, when the session ended OK
 };
 
 // Runs one session to its end (blocks). Never throws; errors are in the outcome.
 StreamOutcome RunStream(client::Client& client, const StreamPlan& plan);
+
+// Adds one session's outcome to a stream's running total (the first error is kept).
+void Accumulate(StreamOutcome& total, StreamOutcome one);
 
 }  // namespace mocap::load
