@@ -15,7 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli_util/wrist_source.h"
+#include "client/wrist_input/wrist_source.h"
 #include "mocap/client.h"
 
 namespace {

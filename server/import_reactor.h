@@ -9,7 +9,7 @@
 #include <string>
 
 #include "mocap/v1/motion_store.grpc.pb.h"
-#include "server/import_writer.h"
+#include "storage/import_writer.h"
 #include "server/service_context.h"
 
 namespace mocap {

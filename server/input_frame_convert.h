@@ -3,7 +3,7 @@
 // to whatever skeleton and frames a session answers with (the database's rig or another).
 #pragma once
 
-#include "cli_util/input_frame_proto.h"
+#include "proto/convert/input_frame_proto.h"
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/frames/frame_transform.h"
 #include "motion/frames/input_frame.h"

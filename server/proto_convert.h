@@ -3,7 +3,7 @@
 
 #include "mocap/v1/motion_store.pb.h"
 #include "motion/preprocess/clip_preprocessor.h"
-#include "server/import_writer.h"
+#include "storage/import_writer.h"
 #include "storage/motion_store.h"
 
 namespace mocap {

@@ -1,4 +1,4 @@
-// What the `mocap` subcommands share: global options, the command registry, error and JSON output.
+// What the `mocap` subcommands share: global options, their registry, JSON output.
 #pragma once
 
 #include <functional>
@@ -14,6 +14,7 @@
 
 #include "absl/status/status.h"
 #include "mocap/client.h"
+#include "tools/command_line/command_registry.h"
 
 namespace mocap::cli {
 
@@ -25,11 +26,6 @@ struct GlobalOptions {
   bool json = false;
   double timeout_seconds = 30;
 };
-
-inline int Fail(const absl::Status& status) {
-  spdlog::error("{}", std::string(status.message()));
-  return 1;
-}
 
 inline std::string Json(const google::protobuf::Message& message) {
   std::string out;
@@ -51,12 +47,13 @@ std::string JsonList(const std::vector<Message>& messages) {
 using Action = std::function<int(client::Client&)>;
 using LocalAction = std::function<int()>;  // a command that needs no server
 
+// mocap's commands on the registry every tool uses; most connect to the server before they run.
 struct Registry {
   std::shared_ptr<GlobalOptions> global = std::make_shared<GlobalOptions>();
-  std::vector<std::pair<CLI::App*, Action>> actions;
-  std::vector<std::pair<CLI::App*, LocalAction>> local_actions;
-  void Add(CLI::App* command, Action action) { actions.emplace_back(command, std::move(action)); }
-  void AddLocal(CLI::App* command, LocalAction action) { local_actions.emplace_back(command, std::move(action)); }
+  CommandRegistry commands;
+  // A command that talks to the server: connects with the global options, then runs.
+  void Add(CLI::App* command, Action action);
+  void AddLocal(CLI::App* command, LocalAction action) { commands.Add(command, std::move(action)); }
 };
 
 }  // namespace mocap::cli

@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include "cli_util/bvh_files.h"
-#include "cli_util/progress_bar.h"
+#include "motion/bvh/bvh_files.h"
+#include "tools/command_line/progress_bar.h"
 #include "client/cli/cli_common.h"
 #include "client/cli/reconstruct_command.h"
 #include "client/cli/similar_command.h"
@@ -47,7 +47,7 @@ void RegisterDatabases(CLI::App& app, Registry& registry) {
   registry.Add(databases, [global, list](client::Client& client) {
     (void)list;
     auto listed = client.ListDatabases();
-    if (!listed.ok()) return Fail(listed.status());
+    if (!listed.ok()) return ReportError(listed.status());
     if (global->json) {
       std::cout << JsonList(*listed) << "\n";
       return 0;
@@ -66,7 +66,7 @@ void RegisterDatabases(CLI::App& app, Registry& registry) {
   describe->add_option("name", *name, "Database name")->required();
   registry.Add(describe, [global, name](client::Client& client) {
     auto info = client.DescribeDatabase(*name);
-    if (!info.ok()) return Fail(info.status());
+    if (!info.ok()) return ReportError(info.status());
     if (global->json) {
       std::cout << Json(*info) << "\n";
       return 0;
@@ -86,7 +86,7 @@ void RegisterDatabases(CLI::App& app, Registry& registry) {
       ->check(CLI::Range(0.0, 1000.0));
   registry.Add(create, [global, name, frame_rate](client::Client& client) {
     auto created = client.CreateDatabase(*name, *frame_rate);
-    if (!created.ok()) return Fail(created.status());
+    if (!created.ok()) return ReportError(created.status());
     if (global->json) std::cout << Json(*created) << "\n";
     else std::cout << "database '" << created->name() << "' created at " << created->frame_rate() << " fps\n";
     return 0;
@@ -94,7 +94,7 @@ void RegisterDatabases(CLI::App& app, Registry& registry) {
   CLI::App* remove = databases->add_subcommand("delete", "Delete a database and all its clips");
   remove->add_option("name", *name, "Database name")->required();
   registry.Add(remove, [global, name](client::Client& client) {
-    if (absl::Status status = client.DeleteDatabase(*name); !status.ok()) return Fail(status);
+    if (absl::Status status = client.DeleteDatabase(*name); !status.ok()) return ReportError(status);
     if (!global->json) std::cout << "database '" << *name << "' deleted\n";
     return 0;
   });
@@ -107,7 +107,7 @@ void RegisterClips(CLI::App& app, Registry& registry) {
   clips->add_option("database", *database, "Database name")->required();
   registry.Add(clips, [global, database](client::Client& client) {
     auto listed = client.ListClips(*database);
-    if (!listed.ok()) return Fail(listed.status());
+    if (!listed.ok()) return ReportError(listed.status());
     if (global->json) {
       std::cout << JsonList(*listed) << "\n";
       return 0;
@@ -141,14 +141,14 @@ void RegisterImport(CLI::App& app, Registry& registry) {
   command->add_flag("--quiet", options->quiet, "No progress bar");
   registry.Add(command, [global, options](client::Client& client) {
     auto files = CollectBvhFiles(options->inputs);
-    if (!files.ok()) return Fail(files.status());
+    if (!files.ok()) return ReportError(files.status());
     ProgressBar bar("importing", 1, !options->quiet && !global->json);
     auto result = client.ImportFiles(options->database, *files, options->import, [&](const client::ImportProgress& p) {
       bar.SetTotal(p.bytes_total);
       bar.Update(p.bytes_sent, std::to_string(p.files_sent) + "/" + std::to_string(p.files_total) + " files sent");
     });
     bar.Finish();
-    if (!result.ok()) return Fail(result.status());
+    if (!result.ok()) return ReportError(result.status());
     if (global->json) {
       std::cout << Json(*result) << "\n";
       return 0;
@@ -177,14 +177,14 @@ void RegisterExport(CLI::App& app, Registry& registry) {
   command->add_option("-o,--output", options->output, "Output file (default: stdout)");
   registry.Add(command, [options](client::Client& client) {
     auto bvh = client.ExportClip(options->database, options->clip_id);
-    if (!bvh.ok()) return Fail(bvh.status());
+    if (!bvh.ok()) return ReportError(bvh.status());
     if (options->output.empty()) {
       std::cout << *bvh;
       return 0;
     }
     std::ofstream out(options->output, std::ios::binary);
     out << *bvh;
-    if (!out) return Fail(absl::DataLossError("cannot write " + options->output));
+    if (!out) return ReportError(absl::DataLossError("cannot write " + options->output));
     return 0;
   });
 }
@@ -208,19 +208,15 @@ std::function<int()> RegisterCommands(CLI::App& app) {
   RegisterReconstruct(app, *registry);
   RegisterSimilar(app, *registry);
   RegisterView(app, *registry);
-  return [registry] {
-    for (const auto& [command, action] : registry->local_actions) {
-      if (command->parsed()) return action();
-    }
-    // The deepest parsed command wins (databases describe before databases).
-    for (auto it = registry->actions.rbegin(); it != registry->actions.rend(); ++it) {
-      if (!it->first->parsed()) continue;
-      auto client = Connect(*registry->global);
-      if (!client.ok()) return Fail(client.status());
-      return it->second(**client);
-    }
-    return 2;
-  };
+  return [registry, &app] { return registry->commands.RunParsed(app); };
+}
+
+void Registry::Add(CLI::App* command, Action action) {
+  commands.Add(command, [global = global, action = std::move(action)] {
+    auto client = Connect(*global);
+    if (!client.ok()) return ReportError(client.status());
+    return action(**client);
+  });
 }
 
 }  // namespace mocap::cli

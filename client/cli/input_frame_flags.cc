@@ -2,7 +2,7 @@
 
 #include <charconv>
 
-#include "cli_util/input_frame_proto.h"
+#include "proto/convert/input_frame_proto.h"
 #include "motion/frames/frame_transform.h"
 
 namespace mocap::cli {

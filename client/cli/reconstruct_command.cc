@@ -8,8 +8,8 @@
 #include <iostream>
 #include <thread>
 
-#include "cli_util/progress_bar.h"
-#include "cli_util/wrist_source.h"
+#include "tools/command_line/progress_bar.h"
+#include "client/wrist_input/wrist_source.h"
 #include "client/cli/input_frame_flags.h"
 #include "client/cli/reconstruction_bvh.h"
 #include "client/cli/target_rig_file.h"
@@ -118,32 +118,32 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
   if (!o.target_rig.empty()) {
     // The server's BVH limit, less room for the rest of the config.
     absl::StatusOr<std::string> text = TargetRigText(o.target_rig, (1 << 20) - 4096);
-    if (!text.ok()) return Fail(text.status());
+    if (!text.ok()) return ReportError(text.status());
     o.target_rig_text = std::move(*text);
   }
   absl::StatusOr<std::vector<v1::WristSample>> samples =
       o.csv.empty() ? WristsFromBvh(o.bvh, o.noise_cm, o.seed) : WristsFromCsv(o.csv);
-  if (!samples.ok()) return Fail(samples.status());
+  if (!samples.ok()) return ReportError(samples.status());
   absl::StatusOr<DeclaredInputFrame> input_frame = ResolveInputFrame(o.input_frame);
-  if (!input_frame.ok()) return Fail(input_frame.status());
+  if (!input_frame.ok()) return ReportError(input_frame.status());
   if (!o.bvh.empty()) {  // the clip's wrists as a tracker in the declared frame would send them
-    if (absl::Status s = ToDeclaredFrame(input_frame->frame, &*samples); !s.ok()) return Fail(s);
+    if (absl::Status s = ToDeclaredFrame(input_frame->frame, &*samples); !s.ok()) return ReportError(s);
   }
   absl::StatusOr<v1::SessionConfig> config = Config(o);
-  if (!config.ok()) return Fail(config.status());
+  if (!config.ok()) return ReportError(config.status());
   *config->mutable_input_frame() = input_frame->proto;
   config->set_output_frame(v1::OUTPUT_FRAME_SERVER);  // BVH and JSON stay standard: metres, Y up, right-handed
   absl::StatusOr<v1::ReconstructTrajectoryResponse> result =
       o.unary ? client.ReconstructTrajectory(*config, *samples)
               : Stream(client, *config, *samples, o, !o.quiet && !global.json);
-  if (!result.ok()) return Fail(result.status());
+  if (!result.ok()) return ReportError(result.status());
   const std::vector<v1::Frame> frames(result->frames().begin(), result->frames().end());
   absl::StatusOr<std::string> bvh = o.target_rig.empty() ? ReconstructionBvh(result->started(), frames)
                                                          : RetargetedBvhText(o.target_rig_text, result->started(), frames);
-  if (!bvh.ok()) return Fail(bvh.status());
+  if (!bvh.ok()) return ReportError(bvh.status());
   const std::string bvh_path = o.output + ".bvh", json_path = o.output + ".json";
-  if (absl::Status s = WriteFile(bvh_path, *bvh); !s.ok()) return Fail(s);
-  if (absl::Status s = WriteFile(json_path, Json(*result)); !s.ok()) return Fail(s);
+  if (absl::Status s = WriteFile(bvh_path, *bvh); !s.ok()) return ReportError(s);
+  if (absl::Status s = WriteFile(json_path, Json(*result)); !s.ok()) return ReportError(s);
   const v1::SessionSummary& summary = result->summary();
   if (global.json) {
     nlohmann::json out = nlohmann::json::parse(Json(summary));

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <iostream>
 
-#include "cli_util/similar_json.h"
+#include "tools/similar_json/similar_json.h"
 
 namespace mocap::cli {
 namespace {
@@ -55,14 +55,14 @@ absl::StatusOr<v1::FindSimilarPosesRequest> MakeRequest(const SimilarCliOptions&
 
 int Run(client::Client& client, const SimilarCliOptions& o, const GlobalOptions& global) {
   absl::StatusOr<v1::FindSimilarPosesRequest> request = MakeRequest(o);
-  if (!request.ok()) return Fail(request.status());
+  if (!request.ok()) return ReportError(request.status());
   // The streamed form: any query length, the answer collected as it comes.
   v1::FindSimilarPosesResponse response;
   absl::Status status = client.StreamSimilarPoses(*request, [&](const v1::FindSimilarPosesResponse& part) {
     AppendSimilarResults(part, &response);
     return true;
   });
-  if (!status.ok()) return Fail(status);
+  if (!status.ok()) return ReportError(status);
   const nlohmann::json results = SimilarResultsJson(o.pose_file.empty() ? o.query : "pose", response);
   if (global.json) {
     std::cout << results.dump(2) << "\n";

@@ -73,9 +73,9 @@ void AddTraces(nlohmann::json& clip, const fs::path& json_path) {
 int Run(const ViewOptions& o) {
   std::vector<fs::path> bvh_files, json_files;
   for (const std::string& input : o.inputs) (fs::path(input).extension() == ".json" ? json_files : bvh_files).emplace_back(input);
-  if (bvh_files.empty()) return Fail(absl::InvalidArgumentError("give at least one BVH file"));
+  if (bvh_files.empty()) return ReportError(absl::InvalidArgumentError("give at least one BVH file"));
   absl::StatusOr<std::map<fs::path, fs::path>> json_of = PairJsonWithBvh(bvh_files, json_files);
-  if (!json_of.ok()) return Fail(json_of.status());
+  if (!json_of.ok()) return ReportError(json_of.status());
 
   nlohmann::json clips = nlohmann::json::array();
   const std::vector<std::string> display_names = DisplayNames(bvh_files);
@@ -84,7 +84,7 @@ int Run(const ViewOptions& o) {
   for (size_t i = 0; i < bvh_files.size(); ++i) {
     const fs::path& bvh = bvh_files[i];
     absl::StatusOr<std::string> text = html_view::ReadTextFile(bvh);
-    if (!text.ok()) return Fail(text.status());
+    if (!text.ok()) return ReportError(text.status());
     nlohmann::json clip = html_view::ClipJson(display_names[i], *text);
     if (const std::string error = html_view::ClipError(clip); !error.empty()) {
       spdlog::error("{} (the page shows this in its place)", error);
@@ -98,7 +98,7 @@ int Run(const ViewOptions& o) {
   html_view::Page page;
   page.title = o.title.empty() ? "mocap view — " + names : o.title;
   page.data = {{"layout", o.layout}, {"follow", o.follow}, {"scenes", {{{"label", page.title}, {"clips", std::move(clips)}}}}};
-  if (absl::Status s = html_view::WriteTextFile(o.output, html_view::PageHtml(page)); !s.ok()) return Fail(s);
+  if (absl::Status s = html_view::WriteTextFile(o.output, html_view::PageHtml(page)); !s.ok()) return ReportError(s);
   std::cout << "wrote " << o.output << " (" << names << ")\n";
   return unreadable == 0 ? 0 : 1;
 }

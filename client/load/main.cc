@@ -13,7 +13,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
-#include "cli_util/wrist_source.h"
+#include "client/wrist_input/wrist_source.h"
 #include "client/load/latency_summary.h"
 #include "client/load/stream_load.h"
 

@@ -7,12 +7,6 @@
 #include "motion/reconstruct/ankle_edge_cost.h"
 
 namespace mocap {
-namespace {
-
-AnklePair AnklesOf(const AnkleCandidate& c) { return {c.position[0], c.position[1]}; }
-
-}  // namespace
-
 AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<float>& kernel, int t, int available) {
   const int radius = static_cast<int>(kernel.size()) / 2;
   AnklePair sum = {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};

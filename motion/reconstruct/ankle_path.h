@@ -47,6 +47,8 @@ struct AnklePathOptions {
 
 using AnklePair = std::array<Eigen::Vector3f, 2>;  // [0] left, [1] right ankle, world metres
 
+inline AnklePair AnklesOf(const AnkleCandidate& c) { return {c.position[0], c.position[1]}; }
+
 struct AnkleWindowResult {
   std::vector<int> nodes;          // chosen candidate per frame of the window
   std::vector<AnklePair> ankles;   // its ankles (not smoothed)

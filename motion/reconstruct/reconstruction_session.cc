@@ -20,8 +20,6 @@ using Clock = std::chrono::steady_clock;
 
 double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-AnklePair AnklesOf(const AnkleCandidate& c) { return {c.position[0], c.position[1]}; }
-
 // A database frame's pelvis placed in the query's wrist reference frame (A1: local coordinates
 // are comparable across frames).
 void PelvisInQueryFrame(const FrameFeatures& f, const ReferenceFrame& ref, SolvedPose* pose) {

@@ -12,8 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_util/input_frame_proto.h"
-#include "cli_util/wrist_source.h"
+#include "proto/convert/input_frame_proto.h"
+#include "client/wrist_input/wrist_source.h"
 #include "motion/frames/frame_transform.h"
 #include "motion/frames/input_frame.h"
 #include "motion/bvh/bvh_writer.h"

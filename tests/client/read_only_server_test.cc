@@ -6,7 +6,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "cli_util/wrist_source.h"
+#include "client/wrist_input/wrist_source.h"
 #include "tests/support/server_fixture.h"
 
 namespace mocap {

@@ -10,7 +10,7 @@
 #include <limits>
 #include <thread>
 
-#include "cli_util/wrist_source.h"
+#include "client/wrist_input/wrist_source.h"
 #include "mocap/v1/reconstruction.grpc.pb.h"
 #include "motion/bvh/bvh_writer.h"
 #include "tests/support/raw_reconstruct.h"

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_util/similar_json.h"
+#include "tools/similar_json/similar_json.h"
 #include "motion/similarity/named_pose.h"
 #include "server/named_pose_convert.h"
 

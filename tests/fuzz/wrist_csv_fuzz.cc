@@ -4,7 +4,7 @@
 #include <sstream>
 #include <string>
 
-#include "cli_util/wrist_source.h"
+#include "client/wrist_input/wrist_source.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "cli_util/wrist_source.h"
+#include "client/wrist_input/wrist_source.h"
 #include "mocap/v1/motion_store.grpc.pb.h"
 #include "mocap/v1/reconstruction.grpc.pb.h"
 #include "tests/support/raw_reconstruct.h"

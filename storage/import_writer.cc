@@ -1,4 +1,4 @@
-#include "server/import_writer.h"
+#include "storage/import_writer.h"
 
 #include <cstdio>
 

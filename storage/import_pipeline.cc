@@ -1,4 +1,4 @@
-#include "server/import_command.h"
+#include "storage/import_pipeline.h"
 
 #include <algorithm>
 #include <atomic>
@@ -19,8 +19,8 @@
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
-#include "cli_util/bvh_files.h"
-#include "server/import_writer.h"
+#include "motion/bvh/bvh_files.h"
+#include "storage/import_writer.h"
 #include "storage/motion_store.h"
 #include "storage/tenant_directory.h"
 

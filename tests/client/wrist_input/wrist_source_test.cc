@@ -1,5 +1,5 @@
 // Wrist trajectories for the client tools: CSV samples and a BVH clip's forward kinematics.
-#include "cli_util/wrist_source.h"
+#include "client/wrist_input/wrist_source.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "cli_util/bvh_files.h"
+#include "motion/bvh/bvh_files.h"
 
 #include <algorithm>
 

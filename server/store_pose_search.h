@@ -1,4 +1,5 @@
-// `mocapd similar`: cross-skeleton similar-pose search on a store file (METHOD.md B; issue #5).
+// Cross-skeleton similar-pose search straight on a store file (METHOD.md B), without a server:
+// what `mocapd similar` runs. The same search and answer as the PoseSearch service.
 #pragma once
 
 #include <filesystem>
@@ -6,9 +7,8 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "absl/status/statusor.h"
+#include "mocap/v1/pose_search.pb.h"
 #include "motion/similarity/pose_index.h"
 
 namespace mocap {
@@ -18,10 +18,7 @@ struct SimilarOptions {
   std::string tenant;                   // tenant name; empty: the default tenant
   std::vector<std::string> databases;   // searched together; matches merged by distance
   std::filesystem::path query;          // a BVH file on any humanoid rig, or
-  std::optional<nlohmann::json> pose;   // one pose as joint positions with the landmarks named:
-  // {"units": "m", "up": "+Y", "joints": [{"name": "Hips", "parent": null, "position": [x, y, z]},
-  //  ...], "landmarks": {"pelvis": "Hips", "head": ..., "left_wrist": ..., "right_wrist": ...,
-  //  "left_ankle": ..., "right_ankle": ...}}   (parents listed before children)
+  std::optional<v1::NamedPose> pose;    // one pose as named joint positions with its landmarks
   std::optional<int> first_frame;       // query frames in the file's own numbering (inclusive)
   std::optional<int> last_frame;
   int frame_step = 1;
@@ -30,7 +27,8 @@ struct SimilarOptions {
 };
 
 // Per query frame, the matches with the clip's file name, frame index (in the clip's own frame
-// numbering, and at the database rate), distance, per-group distances and alignment.
-absl::StatusOr<nlohmann::json> RunSimilar(const SimilarOptions& options);
+// numbering, and at the database rate), distance, per-group distances and alignment: the
+// PoseSearch service's answer, so that both print through tools/similar_json.
+absl::StatusOr<v1::FindSimilarPosesResponse> FindSimilarPosesInStore(const SimilarOptions& options);
 
 }  // namespace mocap

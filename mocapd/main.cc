@@ -5,7 +5,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
-#include "server/cli_commands.h"
+#include "mocapd/commands.h"
 
 int main(int argc, char** argv) {
   // Logs go to stderr so that stdout carries only results (JSON for scripts).
@@ -13,11 +13,12 @@ int main(int argc, char** argv) {
   spdlog::set_pattern("%^%l%$: %v");
   CLI::App app{"mocapd — whole-body motion from wrist trajectories: server and local admin commands"};
   app.require_subcommand(1);
-  mocap::RegisterCommands(app);
+  mocap::CommandRegistry registry;
+  mocap::RegisterCommands(app, registry);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
     return app.exit(error);
   }
-  return mocap::RunSelectedCommand(app);
+  return registry.RunParsed(app);
 }

@@ -8,7 +8,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "server/cli_commands.h"
+#include "mocapd/commands.h"
 #include "server/grpc_server.h"
 
 namespace mocap {
@@ -53,7 +53,7 @@ int Serve(const ServeOptions& options) {
 
 }  // namespace
 
-void RegisterServeCommand(CLI::App& app) {
+void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
   auto options = std::make_shared<ServeOptions>();
   auto drain_seconds = std::make_shared<double>(10.0);
   auto idle_seconds = std::make_shared<double>(30.0);
@@ -95,7 +95,7 @@ void RegisterServeCommand(CLI::App& app) {
       ->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--drain-seconds", *drain_seconds, "On SIGTERM/SIGINT, how long running calls may finish")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
-  AddCommand(command, [options, drain_seconds, idle_seconds] {
+  registry.Add(command, [options, drain_seconds, idle_seconds] {
     options->drain_timeout = std::chrono::milliseconds(static_cast<long>(*drain_seconds * 1000));
     options->reconstruction.idle_timeout = std::chrono::milliseconds(static_cast<long>(*idle_seconds * 1000));
     return Serve(*options);

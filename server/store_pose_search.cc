@@ -1,6 +1,5 @@
-#include "server/similar_command.h"
+#include "server/store_pose_search.h"
 
-#include "cli_util/similar_json.h"
 #include "motion/core/status_macros.h"
 #include "server/pose_search_convert.h"
 #include "server/similar_search.h"
@@ -9,7 +8,7 @@
 
 namespace mocap {
 
-absl::StatusOr<nlohmann::json> RunSimilar(const SimilarOptions& options) {
+absl::StatusOr<v1::FindSimilarPosesResponse> FindSimilarPosesInStore(const SimilarOptions& options) {
   if (options.databases.empty()) return absl::InvalidArgumentError("name at least one database");
   if (options.frame_step < 1) return absl::InvalidArgumentError("frame step must be at least 1");
   if (options.pose && options.search.window != 1) {
@@ -20,8 +19,7 @@ absl::StatusOr<nlohmann::json> RunSimilar(const SimilarOptions& options) {
   MOCAP_ASSIGN_OR_RETURN(const TenantId tenant, ResolveTenant(*store, options.tenant));
   absl::StatusOr<SimilarQuery> query = [&]() -> absl::StatusOr<SimilarQuery> {
     if (options.pose) {
-      MOCAP_ASSIGN_OR_RETURN(v1::NamedPose pose, NamedPoseFromJson(*options.pose));
-      return SimilarQuery::FromPoses({FromProto(pose)}, options.points);
+      return SimilarQuery::FromPoses({FromProto(*options.pose)}, options.points);
     }
     MOCAP_ASSIGN_OR_RETURN(BvhClip clip, ReadBvhFile(options.query));
     return SimilarQuery::FromBvh(std::move(clip), options.query.string(), options.first_frame, options.last_frame,
@@ -43,7 +41,7 @@ absl::StatusOr<nlohmann::json> RunSimilar(const SimilarOptions& options) {
     MOCAP_ASSIGN_OR_RETURN(std::vector<FoundPose> found, query->Search(i, options.search));
     ToProto(query->frames()[i], found, response.add_results());
   }
-  return SimilarResultsJson(options.pose ? "pose" : options.query.string(), response);
+  return response;
 }
 
 }  // namespace mocap

@@ -1,4 +1,4 @@
-#include "server/import_command.h"
+#include "storage/import_pipeline.h"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class ImportCommandTest : public ::testing::Test {
+class ImportPipelineTest : public ::testing::Test {
  protected:
   void SetUp() override {
     fs::create_directories(dir_ / "clips");
@@ -60,7 +60,7 @@ class ImportCommandTest : public ::testing::Test {
   fs::path store_;
 };
 
-TEST_F(ImportCommandTest, ImportsFolderAndDetectsDuplicates) {
+TEST_F(ImportPipelineTest, ImportsFolderAndDetectsDuplicates) {
   for (int i = 0; i < 5; ++i) WriteClip("walk_" + std::to_string(i) + ".bvh", 40 + i);
   auto summary = RunImport(Options({(dir_ / "clips").string()}));
   ASSERT_TRUE(summary.ok()) << summary.status();
@@ -79,7 +79,7 @@ TEST_F(ImportCommandTest, ImportsFolderAndDetectsDuplicates) {
   EXPECT_EQ(ClipCount(), 6);
 }
 
-TEST_F(ImportCommandTest, BadFileRollsBackTheBatchAndNamesTheFile) {
+TEST_F(ImportPipelineTest, BadFileRollsBackTheBatchAndNamesTheFile) {
   WriteClip("a.bvh", 40);
   ASSERT_TRUE(RunImport(Options({(dir_ / "clips" / "a.bvh").string()})).ok());
   const fs::path b = WriteClip("b.bvh", 41);
@@ -93,7 +93,7 @@ TEST_F(ImportCommandTest, BadFileRollsBackTheBatchAndNamesTheFile) {
   EXPECT_EQ(ClipCount(), 1);  // only the earlier import
 }
 
-TEST_F(ImportCommandTest, EarlierBatchesAreKept) {
+TEST_F(ImportPipelineTest, EarlierBatchesAreKept) {
   std::vector<std::string> inputs;
   for (int i = 0; i < 4; ++i) inputs.push_back(WriteClip("w" + std::to_string(i) + ".bvh", 40 + i).string());
   inputs.push_back(WriteText("w4.bvh", "not a bvh file").string());
@@ -107,7 +107,7 @@ TEST_F(ImportCommandTest, EarlierBatchesAreKept) {
   EXPECT_EQ(ClipCount(), 4);
 }
 
-TEST_F(ImportCommandTest, KeepGoingSkipsBadFiles) {
+TEST_F(ImportPipelineTest, KeepGoingSkipsBadFiles) {
   WriteClip("a.bvh", 40);
   WriteText("b.bvh", "HIERARCHY\n");
   WriteClip("c.bvh", 42);
@@ -121,7 +121,7 @@ TEST_F(ImportCommandTest, KeepGoingSkipsBadFiles) {
   EXPECT_NE(summary->problems[0].find("b.bvh"), std::string::npos);
 }
 
-TEST_F(ImportCommandTest, KeepGoingWithOnlyBadFilesCreatesNoDatabase) {
+TEST_F(ImportPipelineTest, KeepGoingWithOnlyBadFilesCreatesNoDatabase) {
   // A one-frame clip: its rig reads, but it is too short to store, so nothing is imported.
   const fs::path single = WriteClip("single_frame.bvh", 1);
   ImportOptions options = Options({single.string()});
@@ -136,7 +136,7 @@ TEST_F(ImportCommandTest, KeepGoingWithOnlyBadFilesCreatesNoDatabase) {
   EXPECT_EQ((*store)->FindDatabase("walks").status().code(), absl::StatusCode::kNotFound);
 }
 
-TEST_F(ImportCommandTest, RefusesAnotherRig) {
+TEST_F(ImportPipelineTest, RefusesAnotherRig) {
   WriteClip("plain.bvh", 40);
   ASSERT_TRUE(RunImport(Options({(dir_ / "clips" / "plain.bvh").string()})).ok());
   const fs::path other = WriteClip("fingers.bvh", 40, {.fingers_and_toes = true});
@@ -148,12 +148,12 @@ TEST_F(ImportCommandTest, RefusesAnotherRig) {
   EXPECT_EQ(ClipCount(), 1);
 }
 
-TEST_F(ImportCommandTest, MissingInputsAreClearErrors) {
+TEST_F(ImportPipelineTest, MissingInputsAreClearErrors) {
   EXPECT_EQ(RunImport(Options({(dir_ / "nope").string()})).status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(RunImport(Options({(dir_ / "clips").string()})).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
-TEST_F(ImportCommandTest, ResamplesOtherRatesAndConvertsUnits) {
+TEST_F(ImportPipelineTest, ResamplesOtherRatesAndConvertsUnits) {
   const fs::path path = dir_ / "clips" / "fast.bvh";
   ASSERT_TRUE(WriteBvhFile(testing::MakeWalkingClip({.length_scale = 1.0 / 2.54}, 121, 1.0 / 60.0), path).ok());
   auto summary = RunImport(Options({path.string()}));
@@ -174,7 +174,7 @@ TEST_F(ImportCommandTest, ResamplesOtherRatesAndConvertsUnits) {
 }
 
 // kill -9 in the middle of a large import leaves the store exactly as it was.
-TEST_F(ImportCommandTest, KillDuringImportLeavesStoreIntact) {
+TEST_F(ImportPipelineTest, KillDuringImportLeavesStoreIntact) {
   MOCAP_REQUIRE_SHARED_DATA(bandai1, "bandai-namco-1");
   MOCAP_REQUIRE_SHARED_DATA(bandai2, "bandai-namco-2");
   ImportOptions first = Options({bandai1.string()});

@@ -1,4 +1,4 @@
-#include "cli_util/wrist_source.h"
+#include "client/wrist_input/wrist_source.h"
 
 #include <array>
 #include <charconv>

@@ -1,6 +1,6 @@
 // The input frame's wire form (input_frame.proto) <-> motion/frames: every preset has its enum
 // value, explicit fields override a preset, and bad values are refused naming the field.
-#include "cli_util/input_frame_proto.h"
+#include "proto/convert/input_frame_proto.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "server/inspect_command.h"
+#include "motion/bvh/bvh_inspection.h"
 
 #include <string>
 
@@ -30,20 +30,33 @@ TEST_P(InspectSharedDataTest, FindsLandmarksInEveryFile) {
   MOCAP_REQUIRE_SHARED_DATA(folder, expected.set);
   int checked = 0;
   for (const auto& file : testing::BvhFilesIn(folder)) {
-    auto report = InspectBvhFile(file.string(), {});
+    auto report = InspectBvhFile(file);
     ASSERT_TRUE(report.ok()) << report.status();
-    const auto& landmarks = (*report)["landmarks"];
-    EXPECT_EQ(landmarks["pelvis"], expected.pelvis) << file;
-    EXPECT_EQ(landmarks["left_wrist"], expected.left_wrist) << file;
-    EXPECT_EQ(landmarks["right_wrist"], expected.right_wrist) << file;
-    EXPECT_EQ(landmarks["left_ankle"], expected.left_ankle) << file;
-    EXPECT_EQ(landmarks["right_ankle"], expected.right_ankle) << file;
-    EXPECT_EQ(landmarks["head"], expected.head) << file;
-    EXPECT_EQ((*report)["up_axis"], "+Y") << file;
-    EXPECT_EQ((*report)["units"]["unit"], "cm") << file;
+    const BodyLandmarks& landmarks = report->topology.landmarks;
+    auto name = [&](int joint) { return report->skeleton.joint(joint).name; };
+    EXPECT_EQ(name(landmarks.pelvis), expected.pelvis) << file;
+    EXPECT_EQ(name(landmarks.left_wrist), expected.left_wrist) << file;
+    EXPECT_EQ(name(landmarks.right_wrist), expected.right_wrist) << file;
+    EXPECT_EQ(name(landmarks.left_ankle), expected.left_ankle) << file;
+    EXPECT_EQ(name(landmarks.right_ankle), expected.right_ankle) << file;
+    EXPECT_EQ(name(landmarks.head), expected.head) << file;
+    EXPECT_EQ(AxisName(report->topology.up_axis, report->topology.up_sign), "+Y") << file;
+    EXPECT_EQ(report->topology.unit, LengthUnit::kCentimetre) << file;
+    EXPECT_GT(report->frames, 0) << file;
     ++checked;
   }
   EXPECT_GT(checked, 0);
+}
+
+TEST(BvhInspectionTest, MissingFileIsNotFoundAndNamed) {
+  auto report = InspectBvhFile("/nonexistent/walk.bvh");
+  ASSERT_FALSE(report.ok());
+  EXPECT_NE(report.status().message().find("walk.bvh"), std::string::npos) << report.status();
+}
+
+TEST(BvhInspectionTest, AxisNames) {
+  EXPECT_EQ(AxisName(0, 1), "+X");
+  EXPECT_EQ(AxisName(2, -1), "-Z");
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -1,4 +1,4 @@
-#include "cli_util/input_frame_proto.h"
+#include "proto/convert/input_frame_proto.h"
 
 #include <algorithm>
 #include <cctype>

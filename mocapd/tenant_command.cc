@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "server/cli_commands.h"
+#include "mocapd/commands.h"
 #include "storage/tenant_directory.h"
 
 namespace mocap {
@@ -38,7 +38,7 @@ nlohmann::json TenantJson(const Tenant& tenant, const std::vector<ApiKeyInfo>& k
 
 }  // namespace
 
-void RegisterTenantCommands(CLI::App& app) {
+void RegisterTenantCommands(CLI::App& app, CommandRegistry& registry) {
   auto options = std::make_shared<TenantOptions>();
   CLI::App* tenant = app.add_subcommand("tenant", "Tenants and their API keys (keys are stored hashed)");
   tenant->require_subcommand(1);
@@ -50,7 +50,7 @@ void RegisterTenantCommands(CLI::App& app) {
   CLI::App* create = tenant->add_subcommand("create", "Create a tenant (creates the store when missing)");
   create->add_option("name", options->name, "Tenant name: letters, digits, '.', '_', '-'")->required();
   add_common(create);
-  AddCommand(create, [options] {
+  registry.Add(create, [options] {
     return WithDirectory(*options, true, [&](MotionStore&, TenantDirectory& directory) {
       auto created = directory.CreateTenant(options->name);
       if (!created.ok()) return ReportError(created.status());
@@ -66,7 +66,7 @@ void RegisterTenantCommands(CLI::App& app) {
 
   CLI::App* list = tenant->add_subcommand("list", "List tenants with their key ids and database counts");
   add_common(list);
-  AddCommand(list, [options] {
+  registry.Add(list, [options] {
     return WithDirectory(*options, false, [&](MotionStore&, TenantDirectory& directory) {
       auto tenants = directory.ListTenants();
       if (!tenants.ok()) return ReportError(tenants.status());
@@ -92,7 +92,7 @@ void RegisterTenantCommands(CLI::App& app) {
   CLI::App* add_key = tenant->add_subcommand("add-key", "Make an API key for a tenant; it is printed once, only here");
   add_key->add_option("name", options->name, "Tenant name")->required();
   add_common(add_key);
-  AddCommand(add_key, [options] {
+  registry.Add(add_key, [options] {
     return WithDirectory(*options, false, [&](MotionStore&, TenantDirectory& directory) {
       auto tenant = directory.FindTenant(options->name);
       if (!tenant.ok()) return ReportError(tenant.status());
@@ -113,7 +113,7 @@ void RegisterTenantCommands(CLI::App& app) {
   revoke->add_option("name", options->name, "Tenant name")->required();
   revoke->add_option("key_id", options->key_id, "Key id, as `tenant list` shows it")->required();
   add_common(revoke);
-  AddCommand(revoke, [options] {
+  registry.Add(revoke, [options] {
     return WithDirectory(*options, false, [&](MotionStore&, TenantDirectory& directory) {
       auto tenant = directory.FindTenant(options->name);
       if (!tenant.ok()) return ReportError(tenant.status());

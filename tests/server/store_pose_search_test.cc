@@ -1,20 +1,34 @@
-#include "server/similar_command.h"
+#include "server/store_pose_search.h"
+
+#include <optional>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "motion/bvh/bvh_writer.h"
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
-#include "server/import_command.h"
+#include "motion/core/status_macros.h"
+#include "storage/import_pipeline.h"
 #include "tests/support/synthetic_clip.h"
 #include "tests/support/temp_dir.h"
+#include "tools/similar_json/similar_json.h"
 
 namespace mocap {
 namespace {
 
+// The search as `mocapd similar --json` prints it, the pose (when given) parsed as the command does.
+absl::StatusOr<nlohmann::json> RunSimilar(SimilarOptions options, const std::optional<nlohmann::json>& pose = {}) {
+  if (pose) {
+    MOCAP_ASSIGN_OR_RETURN(options.pose, NamedPoseFromJson(*pose));
+  }
+  MOCAP_ASSIGN_OR_RETURN(v1::FindSimilarPosesResponse response, FindSimilarPosesInStore(options));
+  return SimilarResultsJson(options.pose ? "pose" : options.query.string(), response);
+}
+
 namespace fs = std::filesystem;
 
-class SimilarCommandTest : public ::testing::Test {
+class StorePoseSearchTest : public ::testing::Test {
  protected:
   void SetUp() override {
     fs::create_directories(dir_ / "db");
@@ -46,7 +60,7 @@ class SimilarCommandTest : public ::testing::Test {
   fs::path query_;
 };
 
-TEST_F(SimilarCommandTest, FindsTheSamePoseOnAnotherRig) {
+TEST_F(StorePoseSearchTest, FindsTheSamePoseOnAnotherRig) {
   SimilarOptions options = Options();
   options.first_frame = 20;
   options.last_frame = 60;
@@ -89,31 +103,29 @@ nlohmann::json PoseOfFrame(int frame) {
                          {"left_ankle", "LeftFoot"}, {"right_ankle", "RightFoot"}}}};
 }
 
-TEST_F(SimilarCommandTest, FindsAPoseSentAsJointPositions) {
+TEST_F(StorePoseSearchTest, FindsAPoseSentAsJointPositions) {
   SimilarOptions options = Options();
-  options.pose = PoseOfFrame(20);
-  auto result = RunSimilar(options);
+  auto result = RunSimilar(options, PoseOfFrame(20));
   ASSERT_TRUE(result.ok()) << result.status();
   const auto& best = (*result)["results"][0]["matches"][0];
   const int phase = (best["frame"].get<int>() - 20 + 300) % 30;
   EXPECT_TRUE(phase <= 1 || phase >= 29) << best.dump();
   EXPECT_LT(best["distance"].get<double>(), 0.05);
 
-  options.pose = PoseOfFrame(20);
-  (*options.pose)["landmarks"]["left_wrist"] = "Nope";
-  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
-  options.pose = PoseOfFrame(20);
-  (*options.pose)["landmarks"]["left_wrist"] = "Chest";  // the wrists' common ancestor itself
-  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
-  options.pose = PoseOfFrame(20);
-  (*options.pose)["joints"][3]["position"][0] = "x";
-  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
-  options.pose = PoseOfFrame(20);
+  nlohmann::json pose = PoseOfFrame(20);
+  pose["landmarks"]["left_wrist"] = "Nope";
+  EXPECT_EQ(RunSimilar(options, pose).status().code(), absl::StatusCode::kInvalidArgument);
+  pose = PoseOfFrame(20);
+  pose["landmarks"]["left_wrist"] = "Chest";  // the wrists' common ancestor itself
+  EXPECT_EQ(RunSimilar(options, pose).status().code(), absl::StatusCode::kInvalidArgument);
+  pose = PoseOfFrame(20);
+  pose["joints"][3]["position"][0] = "x";
+  EXPECT_EQ(RunSimilar(options, pose).status().code(), absl::StatusCode::kInvalidArgument);
   options.search.window = 3;
-  EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(RunSimilar(options, PoseOfFrame(20)).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
-TEST_F(SimilarCommandTest, BadRequestsAreClearErrors) {
+TEST_F(StorePoseSearchTest, BadRequestsAreClearErrors) {
   SimilarOptions options = Options();
   options.databases = {"nope"};
   EXPECT_EQ(RunSimilar(options).status().code(), absl::StatusCode::kNotFound);

@@ -1,4 +1,4 @@
-#include "cli_util/similar_json.h"
+#include "tools/similar_json/similar_json.h"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "cli_util/progress_bar.h"
+#include "tools/command_line/progress_bar.h"
 
 #include <unistd.h>
 
