@@ -17,14 +17,14 @@ ImportReactor::ImportReactor(ServiceContext& service, grpc::CallbackServerContex
 }
 
 void ImportReactor::Begin() {
-  std::lock_guard lock(step_);
+  absl::MutexLock lock(&mutex_);
   if (absl::Status status = call_.Begin(); !status.ok()) return Complete(status);
   if (absl::Status status = call_.RequireWritableStore(); !status.ok()) return Complete(status);
   StartRead(&request_);
 }
 
 void ImportReactor::OnReadDone(bool ok) {
-  std::lock_guard lock(step_);
+  absl::MutexLock lock(&mutex_);
   if (!ok) {
     // The client half-closed without `end`, went away, or the server is stopping: nothing of the
     // pending batch is stored (the writer's buffered clips are dropped).
@@ -37,13 +37,8 @@ void ImportReactor::OnReadDone(bool ok) {
   call_.service().workers.Post([this] { Handle(); });
 }
 
-void ImportReactor::OnDone() {
-  { std::lock_guard lock(step_); }  // the last step's writes happen before the destruction
-  delete this;
-}
-
 void ImportReactor::Handle() {
-  std::lock_guard lock(step_);
+  absl::MutexLock lock(&mutex_);
   absl::Status status;
   try {
     status = HandleMessage();

@@ -5,20 +5,21 @@
 #pragma once
 
 #include <memory>
-#include <mutex>
 #include <string>
 
+#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
 #include "mocap/v1/motion_store.grpc.pb.h"
 #include "storage/import_writer.h"
+#include "server/owned_reactor.h"
 #include "server/service_context.h"
 
 namespace mocap {
 
-class ImportReactor : public grpc::ServerReadReactor<v1::ImportBvhRequest> {
+class ImportReactor : public OwnedReactor<grpc::ServerReadReactor<v1::ImportBvhRequest>> {
  public:
   ImportReactor(ServiceContext& service, grpc::CallbackServerContext* context, v1::ImportBvhResponse* response);
   void OnReadDone(bool ok) override;
-  void OnDone() override;
 
  private:
   static constexpr size_t kMaxFileNameBytes = 255;
@@ -32,10 +33,6 @@ class ImportReactor : public grpc::ServerReadReactor<v1::ImportBvhRequest> {
   absl::Status ImportFile();
   void Complete(const absl::Status& status);
 
-  // Taken by each step on a worker and by each gRPC reaction: the steps already follow one another
-  // (a read starts only when a step ends), and the lock states that order where ThreadSanitizer
-  // can see it (gRPC's own ordering is inside its uninstrumented library).
-  std::mutex step_;
   CallScope call_;
   v1::ImportBvhResponse* response_;
   v1::ImportBvhRequest request_;

@@ -8,6 +8,7 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/skeleton/local_motion.h"
 #include "server/import_reactor.h"
+#include "server/owned_reactor.h"
 #include "server/proto_convert.h"
 
 namespace mocap {
@@ -25,7 +26,7 @@ absl::StatusOr<DatabaseSummary> TenantDatabase(CallScope& call, const std::strin
 }
 
 // ExportClip: formats the clip on a worker, then writes it in chunks, one write in flight.
-class ExportReactor : public grpc::ServerWriteReactor<v1::ExportClipResponse> {
+class ExportReactor : public OwnedReactor<grpc::ServerWriteReactor<v1::ExportClipResponse>> {
  public:
   static constexpr size_t kChunkBytes = 64 << 10;
 
@@ -34,13 +35,14 @@ class ExportReactor : public grpc::ServerWriteReactor<v1::ExportClipResponse> {
     service.workers.Post([this] { Load(); });
   }
   void OnWriteDone(bool ok) override {
+    absl::MutexLock lock(&mutex_);
     if (!ok) return Complete(absl::CancelledError("the client stopped reading"));
     WriteNext();
   }
-  void OnDone() override { delete this; }
 
  private:
   void Load() {
+    absl::MutexLock lock(&mutex_);
     absl::Status status = call_.Begin();
     if (status.ok()) {
       try {

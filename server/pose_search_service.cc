@@ -1,12 +1,13 @@
 #include "server/pose_search_service.h"
 
-#include <mutex>
+#include "server/owned_reactor.h"
+
 
 namespace mocap {
 namespace {
 
 // FindSimilarPoses: every query frame's matches in one response.
-class FindReactor final : public grpc::ServerUnaryReactor, private PoseSearchCall {
+class FindReactor final : public OwnedReactor<grpc::ServerUnaryReactor>, private PoseSearchCall {
  public:
   FindReactor(PoseSearchState& state, grpc::CallbackServerContext* context, const v1::FindSimilarPosesRequest& request,
               v1::FindSimilarPosesResponse* response)
@@ -14,10 +15,10 @@ class FindReactor final : public grpc::ServerUnaryReactor, private PoseSearchCal
     Start();
   }
   void OnCancel() override { Cancel(); }
-  void OnDone() override { delete this; }
 
  private:
   void Searchable() override {
+    absl::MutexLock lock(&mutex_);
     if (absl::Status status = SearchSlice(response_); !status.ok()) return Complete(status);
     if (done()) return Complete(absl::OkStatus());
     Post([this] { Searchable(); });
@@ -32,7 +33,8 @@ class FindReactor final : public grpc::ServerUnaryReactor, private PoseSearchCal
 // StreamSimilarPoses: one response per slice of query frames, one write in flight; the next
 // slice is searched when the previous one has been written (a client that stops reading pauses
 // the search).
-class StreamReactor final : public grpc::ServerWriteReactor<v1::FindSimilarPosesResponse>, private PoseSearchCall {
+class StreamReactor final : public OwnedReactor<grpc::ServerWriteReactor<v1::FindSimilarPosesResponse>>,
+                            private PoseSearchCall {
  public:
   StreamReactor(PoseSearchState& state, grpc::CallbackServerContext* context, const v1::FindSimilarPosesRequest& request)
       : PoseSearchCall(state, context, "StreamSimilarPoses", request, /*streaming=*/true) {
@@ -40,27 +42,20 @@ class StreamReactor final : public grpc::ServerWriteReactor<v1::FindSimilarPoses
   }
   void OnCancel() override { Cancel(); }
   void OnWriteDone(bool ok) override {
-    std::lock_guard lock(step_);
+    absl::MutexLock lock(&mutex_);
     if (!ok) return Complete(absl::CancelledError("the client stopped reading"));
     if (done()) return Complete(absl::OkStatus());
     Post([this] { Searchable(); });
   }
-  void OnDone() override {
-    { std::lock_guard lock(step_); }  // the last step's writes happen before the destruction
-    delete this;
-  }
 
  private:
   void Searchable() override {
-    std::lock_guard lock(step_);
+    absl::MutexLock lock(&mutex_);
     part_.Clear();
     if (absl::Status status = SearchSlice(&part_); !status.ok()) return Complete(status);
     StartWrite(&part_);
   }
   void Complete(absl::Status status) override { Finish(End(status)); }
-  // Held by each search step on the pool and each reaction: they already follow one another (a
-  // write starts when a step ends), and the lock states that order where ThreadSanitizer sees it.
-  std::mutex step_;
   v1::FindSimilarPosesResponse part_;
 };
 

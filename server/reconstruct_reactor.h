@@ -20,22 +20,24 @@
 #include <chrono>
 #include <deque>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 
+#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
+#include "server/owned_reactor.h"
 #include "server/reconstruction_service.h"
 
 namespace mocap {
 
-class ReconstructReactor : public grpc::ServerBidiReactor<v1::ReconstructRequest, v1::ReconstructResponse> {
+class ReconstructReactor
+    : public OwnedReactor<grpc::ServerBidiReactor<v1::ReconstructRequest, v1::ReconstructResponse>> {
  public:
   ReconstructReactor(ReconstructionState& state, grpc::CallbackServerContext* context);
 
   void OnReadDone(bool ok) override;
   void OnWriteDone(bool ok) override;
   void OnCancel() override;
-  void OnDone() override;
 
   // Watchdog and drain (any thread, with state.live_mutex held).
   // True when waiting for the client's next message since before `cutoff`.
@@ -52,51 +54,55 @@ class ReconstructReactor : public grpc::ServerBidiReactor<v1::ReconstructRequest
 
   // Runs `work` on the compute pool under this session's tenant; the reactor stays alive until
   // it has returned. An exception ends the call with INTERNAL.
-  void Post(std::function<void()> work);
-  // With mutex_ held: posts the next slice of the samples message in progress.
-  void PostSliceLocked();
+  void Post(std::function<void()> work) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Posts the next slice of the samples message in progress.
+  void PostSliceLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   // Samples [begin, end) of `samples`; `arrival` for the message's last slice (its reply latency).
   void HandleSlice(const v1::WristSamples& samples, int begin, int end, std::optional<Clock::time_point> arrival);
   void Authenticate();
   void HandleConfig(const v1::SessionConfig& config);
-  // With session_mutex_ held: frees the session, keeping its counts for the end-of-session line.
-  void ReleaseDriverLocked();
+  // Frees the session, keeping its counts for the end-of-session line.
+  void ReleaseDriverLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(session_mutex_);
+  // One line per session end, however it ended, with the code the client was sent (finding 8).
+  void BeforeDelete() override;
   void EndInput(absl::Status final_status);
   // Queues replies; `status` not OK ends the call after them.
   void Deliver(Replies replies, const absl::Status& status);
-  // With mutex_ held: ends the call with `status` after the queued replies (dropped when
-  // `discard_replies`). The first call wins.
-  void CompleteLocked(const absl::Status& status, bool discard_replies);
-  // With mutex_ held: starts the next write, read or Finish, whichever is due.
-  void PumpLocked();
+  // Ends the call with `status` after the queued replies (dropped when `discard_replies`). The
+  // first call wins.
+  void CompleteLocked(const absl::Status& status, bool discard_replies) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Starts the next write, read or Finish, whichever is due.
+  void PumpLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   ReconstructionState& state_;
   CallScope call_;
   const std::string session_id_;
   v1::ReconstructRequest request_;  // read buffer
-  std::mutex session_mutex_;        // driver_ and the config phase (compute tasks)
-  std::unique_ptr<SessionDriver> driver_;
-  bool session_started_ = false;  // a driver was created: the session's end is logged
-  std::int64_t frames_emitted_ = 0, samples_rejected_ = 0;  // kept when the driver is freed
+  absl::Mutex session_mutex_ ABSL_ACQUIRED_BEFORE(mutex_);  // the session itself (compute tasks)
+  std::unique_ptr<SessionDriver> driver_ ABSL_GUARDED_BY(session_mutex_);
+  bool session_started_ ABSL_GUARDED_BY(session_mutex_) = false;  // a driver was created: its end is logged
+  std::int64_t frames_emitted_ ABSL_GUARDED_BY(session_mutex_) = 0;  // kept when the driver is freed
+  std::int64_t samples_rejected_ ABSL_GUARDED_BY(session_mutex_) = 0;
   std::atomic<bool> cancelled_{false};  // set once the outcome is decided: stops the session's compute
   std::atomic<WorkPool::Key> pool_key_{WorkPool::kSharedKey};  // the tenant, once authenticated
 
-  std::mutex mutex_;  // everything below
-  bool reading_ = false, writing_ = false;
-  bool authenticated_ = false;  // key checked, session admitted: reads may start
-  int tasks_ = 0;            // compute tasks queued or running, and a database wait
-  bool configured_ = false;  // config received
-  bool input_done_ = false;  // half-close, `finish`, or drain: no more reads
-  bool completing_ = false;  // the final status is decided
-  bool finished_ = false;    // Finish called
-  grpc::Status final_status_;
-  std::deque<v1::ReconstructResponse> outbox_;
-  v1::ReconstructResponse writing_message_;
-  Clock::time_point last_read_ = Clock::now();
+  // Guarded by the base's mutex_ (owned_reactor.h).
+  bool reading_ ABSL_GUARDED_BY(mutex_) = false;
+  bool writing_ ABSL_GUARDED_BY(mutex_) = false;
+  bool authenticated_ ABSL_GUARDED_BY(mutex_) = false;  // key checked, session admitted: reads may start
+  int tasks_ ABSL_GUARDED_BY(mutex_) = 0;            // compute tasks queued or running, and a database wait
+  bool configured_ ABSL_GUARDED_BY(mutex_) = false;  // config received
+  bool input_done_ ABSL_GUARDED_BY(mutex_) = false;  // half-close, `finish`, or drain: no more reads
+  bool completing_ ABSL_GUARDED_BY(mutex_) = false;  // the final status is decided
+  bool finished_ ABSL_GUARDED_BY(mutex_) = false;    // Finish called
+  grpc::Status final_status_ ABSL_GUARDED_BY(mutex_);
+  std::deque<v1::ReconstructResponse> outbox_ ABSL_GUARDED_BY(mutex_);
+  v1::ReconstructResponse writing_message_ ABSL_GUARDED_BY(mutex_);
+  Clock::time_point last_read_ ABSL_GUARDED_BY(mutex_) = Clock::now();
   // The samples message being dispatched slice by slice (null when none or wholly dispatched).
-  std::shared_ptr<const v1::WristSamples> samples_;
-  int next_sample_ = 0;
-  Clock::time_point samples_arrival_;
+  std::shared_ptr<const v1::WristSamples> samples_ ABSL_GUARDED_BY(mutex_);
+  int next_sample_ ABSL_GUARDED_BY(mutex_) = 0;
+  Clock::time_point samples_arrival_ ABSL_GUARDED_BY(mutex_);
 };
 
 }  // namespace mocap

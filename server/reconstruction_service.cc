@@ -59,10 +59,9 @@ ReconstructionService::ReconstructionService(ServiceContext& service, const Reco
 
 ReconstructionService::~ReconstructionService() {
   {
-    std::lock_guard lock(watch_mutex_);
+    absl::MutexLock lock(&watch_mutex_);
     stopping_ = true;
   }
-  watch_wake_.notify_all();
   watchdog_.join();
 }
 
@@ -79,17 +78,17 @@ grpc::ServerUnaryReactor* ReconstructionService::ReconstructTrajectory(grpc::Cal
 
 void ReconstructionService::Drain() {
   state_.draining = true;
-  std::lock_guard live(state_.live_mutex);
+  absl::MutexLock live(&state_.live_mutex);
   spdlog::info("ending {} reconstruction sessions for shutdown", state_.live.size());
   for (ReconstructReactor* reactor : state_.live) reactor->EndForShutdown();
 }
 
 void ReconstructionService::Watch() {
   const auto period = std::clamp(state_.limits.idle_timeout / 4, std::chrono::milliseconds(50), std::chrono::milliseconds(1000));
-  std::unique_lock lock(watch_mutex_);
-  while (!watch_wake_.wait_for(lock, period, [this] { return stopping_; })) {
+  absl::MutexLock lock(&watch_mutex_);
+  while (!watch_mutex_.AwaitWithTimeout(absl::Condition(&stopping_), absl::FromChrono(period))) {
     const auto cutoff = std::chrono::steady_clock::now() - state_.limits.idle_timeout;
-    std::lock_guard live(state_.live_mutex);
+    absl::MutexLock live(&state_.live_mutex);
     for (ReconstructReactor* reactor : state_.live) {
       if (reactor->IdleSince(cutoff)) reactor->EndIdle();
     }

@@ -8,12 +8,12 @@
 
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <memory>
-#include <mutex>
 #include <set>
 #include <thread>
 
+#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
 #include "mocap/v1/reconstruction.grpc.pb.h"
 #include "server/reconstruction_databases.h"
 #include "server/service_context.h"
@@ -44,8 +44,8 @@ struct ReconstructionState {
   const std::string instance_tag;
   std::atomic<std::uint64_t> next_session_id{1};
   std::string NextSessionId();
-  std::mutex live_mutex;
-  std::set<ReconstructReactor*> live;  // streams between start and OnDone
+  absl::Mutex live_mutex;
+  std::set<ReconstructReactor*> live ABSL_GUARDED_BY(live_mutex);  // streams between start and OnDone
   // Last, so it is destroyed first: its destructor runs the queued tasks and joins its threads,
   // and those tasks use every member above (found by ThreadSanitizer: a task releasing a session's
   // admission while the admissions were being destroyed, at shutdown).
@@ -73,9 +73,8 @@ class ReconstructionService final : public v1::Reconstruction::CallbackService {
  private:
   void Watch();
   ReconstructionState state_;
-  std::mutex watch_mutex_;
-  std::condition_variable watch_wake_;
-  bool stopping_ = false;
+  absl::Mutex watch_mutex_;
+  bool stopping_ ABSL_GUARDED_BY(watch_mutex_) = false;
   std::thread watchdog_;
 };
 

@@ -6,7 +6,6 @@
 #include <atomic>
 #include <cstdint>
 #include <map>
-#include <mutex>
 #include <string>
 #include <utility>
 
@@ -44,13 +43,15 @@ class ServerMetrics {
   std::atomic<std::int64_t> sessions_total_{0};
   std::atomic<std::int64_t> frames_reconstructed_{0};
   std::atomic<std::int64_t> samples_rejected_{0};
-  mutable std::mutex mutex_;
-  std::map<std::pair<std::string, std::string>, std::int64_t> calls_;  // (method, code)
-  std::map<std::string, double> call_seconds_;                         // per method
-  std::map<std::string, std::int64_t> rejected_;                       // per reason
-  std::array<std::int64_t, 8> latency_buckets_{};                      // ≤ kLatencyBounds[i], then +Inf
-  double latency_sum_ = 0.0;
-  std::int64_t latency_count_ = 0;
+  mutable absl::Mutex mutex_;
+  std::map<std::pair<std::string, std::string>, std::int64_t> calls_ ABSL_GUARDED_BY(mutex_);  // (method, code)
+  std::map<std::string, double> call_seconds_ ABSL_GUARDED_BY(mutex_);                         // per method
+  std::map<std::string, std::int64_t> rejected_ ABSL_GUARDED_BY(mutex_);                       // per reason
+  std::array<std::int64_t, 8> latency_buckets_ ABSL_GUARDED_BY(mutex_){};  // ≤ kLatencyBounds[i], then +Inf
+  double latency_sum_ ABSL_GUARDED_BY(mutex_) = 0.0;
+  std::int64_t latency_count_ ABSL_GUARDED_BY(mutex_) = 0;
 };
 
-}  // namespace mocap
+}  // namespace mocap#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
+

@@ -6,9 +6,10 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <vector>
 
+#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
 #include "absl/status/statusor.h"
 #include "storage/motion_store.h"
 
@@ -34,8 +35,8 @@ class StorePool {
   }
   std::filesystem::path path_;
   bool read_only_ = false;
-  std::mutex mutex_;
-  std::vector<std::unique_ptr<MotionStore>> idle_;
+  absl::Mutex mutex_;
+  std::vector<std::unique_ptr<MotionStore>> idle_ ABSL_GUARDED_BY(mutex_);
 };
 
 }  // namespace mocap

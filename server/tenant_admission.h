@@ -4,10 +4,11 @@
 
 #include <map>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <utility>
 
+#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
 #include "absl/status/statusor.h"
 #include "storage/motion_store.h"
 
@@ -27,8 +28,8 @@ class TenantAdmission {
  private:
   const int max_calls_;
   const std::string what_;
-  std::mutex mutex_;
-  std::map<TenantId, int> active_;
+  absl::Mutex mutex_;
+  std::map<TenantId, int> active_ ABSL_GUARDED_BY(mutex_);
 };
 
 }  // namespace mocap

@@ -8,18 +8,18 @@
 #include <memory>
 #include <vector>
 
+#include "server/owned_reactor.h"
 #include "server/reconstruction_service.h"
 
 namespace mocap {
 
-class TrajectoryReactor : public grpc::ServerUnaryReactor {
+class TrajectoryReactor : public OwnedReactor<grpc::ServerUnaryReactor> {
  public:
   // Starts the call; the reactor deletes itself when gRPC is done with it.
   TrajectoryReactor(ReconstructionState& state, grpc::CallbackServerContext* context,
                     const v1::ReconstructTrajectoryRequest* request, v1::ReconstructTrajectoryResponse* response);
 
   void OnCancel() override { cancelled_ = true; }
-  void OnDone() override { delete this; }
 
  private:
   static constexpr int kSamplesPerTask = 8;
@@ -27,8 +27,8 @@ class TrajectoryReactor : public grpc::ServerUnaryReactor {
   void Begin();
   void Start(absl::StatusOr<ReconstructionDatabases::Database> database);
   void PostSlice(int begin);
-  void Slice(int begin);
-  void Complete(absl::Status status);
+  void Slice(int begin) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  void Complete(absl::Status status) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   ReconstructionState& state_;
   CallScope call_;
@@ -36,10 +36,10 @@ class TrajectoryReactor : public grpc::ServerUnaryReactor {
   v1::ReconstructTrajectoryResponse* response_;
   std::atomic<bool> cancelled_{false};
   WorkPool::Key pool_key_ = WorkPool::kSharedKey;
-  // Compute tasks run one after another (each posts the next), so no lock guards these.
-  v1::WristSamples samples_;
-  std::unique_ptr<SessionDriver> driver_;
-  std::vector<v1::ReconstructResponse> replies_;
+  // Compute tasks run one after another (each posts the next); each holds mutex_.
+  v1::WristSamples samples_ ABSL_GUARDED_BY(mutex_);
+  std::unique_ptr<SessionDriver> driver_ ABSL_GUARDED_BY(mutex_);
+  std::vector<v1::ReconstructResponse> replies_ ABSL_GUARDED_BY(mutex_);
 };
 
 }  // namespace mocap

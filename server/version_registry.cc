@@ -28,33 +28,35 @@ VersionRegistry::VersionRegistry(StorePool& stores, int max_cached, std::string 
 VersionRegistry::~VersionRegistry() {
   std::list<Builder> builders;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     builders.swap(builders_);
   }
   for (Builder& builder : builders) builder.thread.join();
 }
 
 int VersionRegistry::builds() const {
-  std::lock_guard lock(mutex_);
+  absl::MutexLock lock(&mutex_);
   return builds_;
 }
 
 void VersionRegistry::Acquire(const DatabaseVersion& version, Ready ready) {
-  std::unique_lock lock(mutex_);
-  ReapBuilders();
-  Entry& entry = entries_[{version.database_id, version.content_stamp}];
-  entry.last_used = ++clock_;
-  if (entry.value) {
-    Value value = entry.value;
-    lock.unlock();
-    ready(std::move(value));
-    return;
+  Value value;
+  {
+    absl::MutexLock lock(&mutex_);
+    ReapBuilders();
+    Entry& entry = entries_[{version.database_id, version.content_stamp}];
+    entry.last_used = ++clock_;
+    if (!entry.value) {
+      entry.waiting.push_back(std::move(ready));
+      if (entry.building) return;
+      entry.building = true;
+      Builder& builder = builders_.emplace_back();
+      builder.thread = std::thread([this, version, &builder] { Build(version, &builder); });
+      return;
+    }
+    value = entry.value;
   }
-  entry.waiting.push_back(std::move(ready));
-  if (entry.building) return;
-  entry.building = true;
-  Builder& builder = builders_.emplace_back();
-  builder.thread = std::thread([this, version, &builder] { Build(version, &builder); });
+  ready(std::move(value));  // outside the lock: it may call back into the registry
 }
 
 void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
@@ -75,7 +77,7 @@ void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
   }
   std::vector<Ready> waiting;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     const EntryKey entry_key{version.database_id, version.content_stamp};
     Entry& entry = entries_[entry_key];
     waiting.swap(entry.waiting);
@@ -94,7 +96,7 @@ void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
     }
   }
   for (Ready& ready : waiting) ready(built);
-  std::lock_guard lock(mutex_);
+  absl::MutexLock lock(&mutex_);
   self->done = true;  // nothing left to run: ReapBuilders (or the destructor) joins the thread
 }
 

@@ -17,12 +17,13 @@
 #include <list>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <utility>
 #include <vector>
 
+#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
 #include "absl/status/statusor.h"
 #include "server/store_pool.h"
 
@@ -73,18 +74,18 @@ class VersionRegistry {
     bool done = false;
   };
   void Build(DatabaseVersion version, Builder* self);
-  void Evict();          // with mutex_ held
-  void ReapBuilders();   // with mutex_ held: joins finished builder threads
+  void Evict() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  void ReapBuilders() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);  // joins finished builder threads
 
   StorePool& stores_;
   const int max_cached_;
   const std::string what_;
   const Loader loader_;
-  mutable std::mutex mutex_;
-  std::map<EntryKey, Entry> entries_;
-  std::list<Builder> builders_;
-  std::uint64_t clock_ = 0;
-  int builds_ = 0;
+  mutable absl::Mutex mutex_;
+  std::map<EntryKey, Entry> entries_ ABSL_GUARDED_BY(mutex_);
+  std::list<Builder> builders_ ABSL_GUARDED_BY(mutex_);
+  std::uint64_t clock_ ABSL_GUARDED_BY(mutex_) = 0;
+  int builds_ ABSL_GUARDED_BY(mutex_) = 0;
 };
 
 // A registry of one value type T (a thin typed view of VersionRegistry).

@@ -37,26 +37,24 @@ WorkPool::WorkPool(int threads) {
 
 WorkPool::~WorkPool() {
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     stopping_ = true;
   }
-  ready_.notify_all();
   for (std::thread& thread : threads_) thread.join();
 }
 
 void WorkPool::Post(Key key, std::function<void()> task) {
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     std::deque<std::function<void()>>& queue = queues_[key];
     if (queue.empty()) turn_.push_back(key);
     queue.push_back(std::move(task));
     ++queued_;
   }
-  ready_.notify_one();
 }
 
 size_t WorkPool::queued() const {
-  std::lock_guard lock(mutex_);
+  absl::MutexLock lock(&mutex_);
   return queued_;
 }
 
@@ -64,8 +62,8 @@ void WorkPool::Work() {
   while (true) {
     std::function<void()> task;
     {
-      std::unique_lock lock(mutex_);
-      ready_.wait(lock, [&] { return stopping_ || !turn_.empty(); });
+      absl::MutexLock lock(&mutex_);
+      mutex_.Await(absl::Condition(this, &WorkPool::HasWorkOrStopping));
       if (turn_.empty()) return;  // stopping and drained
       const Key key = turn_.front();
       turn_.pop_front();

@@ -9,12 +9,10 @@
 // samples per task): fairness is per task, not per second.
 #pragma once
 
-#include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <functional>
 #include <map>
-#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -40,13 +38,15 @@ class WorkPool {
 
  private:
   void Work();
-  mutable std::mutex mutex_;
-  std::condition_variable ready_;
-  std::map<Key, std::deque<std::function<void()>>> queues_;  // only non-empty queues
-  std::deque<Key> turn_;  // keys with queued tasks, in the order they are served
-  size_t queued_ = 0;
-  bool stopping_ = false;
+  bool HasWorkOrStopping() const ABSL_SHARED_LOCKS_REQUIRED(mutex_) { return stopping_ || !turn_.empty(); }
+  mutable absl::Mutex mutex_;
+  std::map<Key, std::deque<std::function<void()>>> queues_ ABSL_GUARDED_BY(mutex_);  // only non-empty queues
+  std::deque<Key> turn_ ABSL_GUARDED_BY(mutex_);  // keys with queued tasks, in the order they are served
+  size_t queued_ ABSL_GUARDED_BY(mutex_) = 0;
+  bool stopping_ ABSL_GUARDED_BY(mutex_) = false;
   std::vector<std::thread> threads_;
 };
 
-}  // namespace mocap
+}  // namespace mocap#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
+
