@@ -9,7 +9,7 @@
 #include "motion/bvh/bvh_reader.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/skeleton/forward_kinematics.h"
-#include "tests/support/shared_data.h"
+#include "eval/datasets/shared_data.h"
 
 namespace mocap {
 namespace {
@@ -26,9 +26,9 @@ const Sample& GetSample() {
   static Sample sample = [] {
     Sample s;
     std::string why;
-    auto folder = testing::SharedDataSet("bandai-namco-2", &why);
+    auto folder = datasets::UnpackedSet(datasets::DataLocationFromEnvironment(), "bandai-namco-2", &why);
     if (!folder) return s;
-    auto files = testing::BvhFilesIn(*folder);
+    auto files = datasets::BvhFilesIn(*folder);
     for (size_t i = 0; i < files.size(); i += 26) {  // ~100 files across all contents
       std::ifstream in(files[i]);
       std::stringstream buffer;

@@ -23,7 +23,7 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/similarity/pose_index.h"
 #include "motion/skeleton/forward_kinematics.h"
-#include "tests/support/shared_data.h"
+#include "eval/datasets/shared_data.h"
 
 namespace mocap {
 namespace {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <set>
 #include <iostream>
+#include <iterator>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -15,7 +16,8 @@
 #include "eval/standard_split.h"
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
-#include "tests/support/shared_data.h"
+#include "eval/datasets/shared_data.h"
+#include "eval/quick_thresholds.h"
 
 namespace {
 
@@ -25,7 +27,7 @@ std::vector<std::filesystem::path> BvhFiles(const std::vector<std::string>& path
   std::vector<std::filesystem::path> files;
   for (const std::string& p : paths) {
     if (std::filesystem::is_directory(p)) {
-      for (const auto& f : mocap::testing::BvhFilesIn(p)) files.push_back(f);
+      for (const auto& f : mocap::datasets::BvhFilesIn(p)) files.push_back(f);
     } else {
       files.emplace_back(p);
     }
@@ -55,7 +57,8 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   int max_frames = 0, max_clips = 0, threads = 2;
   mocap::ReconstructionOptions base;
-  std::string thresholds_file = MOCAP_EVAL_THRESHOLDS;
+  std::string thresholds_file;  // empty: the thresholds built in (eval/quick_thresholds.json)
+  std::string shared_data;
   app.add_option("--out", out_dir, "output folder (report.json, report.md, plots/, bvh/)");
   app.add_option("--database-dir", database_dirs, "BVH folders forming the database (default: the standard split)");
   app.add_option("--test", test_paths, "test BVH files or folders (default: the standard split's held-out takes)");
@@ -95,17 +98,21 @@ int main(int argc, char** argv) {
   std::vector<std::string> only_runs;
   app.add_option("--runs", only_runs, "only these runs (full, nearest_neighbour, nearest_average, wrists_only, ...)");
   app.add_flag("--no-bvh", no_bvh, "do not write the reconstructions as BVH");
-  app.add_option("--thresholds", thresholds_file, "regression thresholds for --quick (JSON)");
+  app.add_option("--thresholds", thresholds_file, "regression thresholds for --quick (JSON; default: the built-in ones)");
+  app.add_option("--shared-data", shared_data,
+                 "the shared data folder (its unpack.sh; default: $MOCAP_SHARED_DATA_DIR, else ../shared/data)");
   CLI11_PARSE(app, argc, argv);
   base.footskate.contact_source =
       contacts == "database"    ? mocap::ContactSource::kDatabaseFrame
       : contacts == "estimated" ? mocap::ContactSource::kEstimatedAnkles
                                 : mocap::ContactSource::kBoth;
 
+  mocap::datasets::DataLocation data = mocap::datasets::DataLocationFromEnvironment();
+  if (!shared_data.empty()) data.shared_dir = shared_data;
   nlohmann::json context;
   std::vector<std::filesystem::path> database_files, test_files;
   if (database_dirs.empty()) {
-    auto split = development ? mocap::eval::LoadDevelopmentSplit() : mocap::eval::LoadStandardSplit();
+    auto split = development ? mocap::eval::LoadDevelopmentSplit(data) : mocap::eval::LoadStandardSplit(data);
     if (!split.ok()) {
       std::cerr << "mocap-eval: " << split.status().message() << "\n";
       return kExitNoData;
@@ -151,13 +158,13 @@ int main(int argc, char** argv) {
   }
   if (generalisation) {
     std::string why;
-    auto folder = mocap::testing::SharedDataSet("bandai-namco-1", &why);
+    auto folder = mocap::datasets::UnpackedSet(data, "bandai-namco-1", &why);
     if (!folder) {
       std::cerr << "mocap-eval: --generalisation needs bandai-namco-1: " << why << "\n";
       return kExitNoData;
     }
     std::vector<std::filesystem::path> extra;
-    for (const auto& f : mocap::testing::BvhFilesIn(*folder)) {
+    for (const auto& f : mocap::datasets::BvhFilesIn(*folder)) {
       const std::string c = mocap::LabelValue(mocap::ParseClipLabels(f.filename().string()), "content");
       if (c == "walk" || c == "walk-back" || c == "walk-left" || c == "walk-right" || c == "run" || c == "dash") extra.push_back(f);
     }
@@ -195,12 +202,20 @@ int main(int argc, char** argv) {
   std::cout << "wrote " << out_dir << "/report.html, report.md, report.json, plots/" << (no_bvh ? "" : ", bvh/") << "\n";
   if (!quick) return 0;
   // Regression check against stored thresholds.
-  std::ifstream in(thresholds_file);
-  if (!in) {
-    std::cerr << "mocap-eval: cannot read thresholds " << thresholds_file << "\n";
+  std::string thresholds(mocap::eval::kQuickThresholdsJson);
+  if (!thresholds_file.empty()) {
+    std::ifstream in(thresholds_file);
+    if (!in) {
+      std::cerr << "mocap-eval: cannot read thresholds " << thresholds_file << "\n";
+      return kExitError;
+    }
+    thresholds.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const nlohmann::json limits = nlohmann::json::parse(thresholds, nullptr, false);
+  if (limits.is_discarded()) {
+    std::cerr << "mocap-eval: thresholds are not JSON\n";
     return kExitError;
   }
-  const nlohmann::json limits = nlohmann::json::parse(in, nullptr, false);
   const nlohmann::json full = mocap::eval::MetricsJson(results->front().overall);
   const nlohmann::json nn = mocap::eval::MetricsJson((*results)[1].overall);
   bool ok = true;

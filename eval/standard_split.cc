@@ -8,20 +8,19 @@
 #include "motion/bvh/bvh_reader.h"
 #include "motion/core/status_macros.h"
 #include "motion/preprocess/clip_labels.h"
-#include "tests/support/shared_data.h"
 
 namespace mocap::eval {
 
 namespace {
 
 // Test takes ≡ `test_residue` (mod 10); takes ≡ `excluded_residue` are in neither part (−1: none).
-absl::StatusOr<StandardSplit> LoadSplit(int test_residue, int excluded_residue) {
+absl::StatusOr<StandardSplit> LoadSplit(const datasets::DataLocation& data, int test_residue, int excluded_residue) {
   std::string why;
-  auto folder = testing::SharedDataSet("bandai-namco-2", &why);
+  auto folder = datasets::UnpackedSet(data, "bandai-namco-2", &why);
   if (!folder) return absl::NotFoundError("shared data unavailable: " + why);
   StandardSplit split;
   split.folder = *folder;
-  for (const std::filesystem::path& file : testing::BvhFilesIn(*folder)) {
+  for (const std::filesystem::path& file : datasets::BvhFilesIn(*folder)) {
     const std::string take = LabelValue(ParseClipLabels(file.filename().string()), "take");
     if (take.empty()) continue;
     const int residue = std::stoi(take) % 10;
@@ -36,8 +35,8 @@ absl::StatusOr<StandardSplit> LoadSplit(int test_residue, int excluded_residue) 
 
 }  // namespace
 
-absl::StatusOr<StandardSplit> LoadStandardSplit() { return LoadSplit(3, -1); }
-absl::StatusOr<StandardSplit> LoadDevelopmentSplit() { return LoadSplit(5, 3); }
+absl::StatusOr<StandardSplit> LoadStandardSplit(const datasets::DataLocation& data) { return LoadSplit(data, 3, -1); }
+absl::StatusOr<StandardSplit> LoadDevelopmentSplit(const datasets::DataLocation& data) { return LoadSplit(data, 5, 3); }
 
 absl::Status PrepareAll(const std::vector<std::filesystem::path>& files, const RigModel& rig,
                         const std::function<void(size_t, PreparedClip&&)>& consume) {

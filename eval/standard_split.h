@@ -9,6 +9,7 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "eval/datasets/shared_data.h"
 #include "motion/preprocess/clip_preprocessor.h"
 
 namespace mocap::eval {
@@ -21,12 +22,14 @@ struct StandardSplit {
 };
 
 // Unpacks bandai-namco-2 when needed; NotFound when the shared data is absent.
-absl::StatusOr<StandardSplit> LoadStandardSplit();
+absl::StatusOr<StandardSplit> LoadStandardSplit(
+    const datasets::DataLocation& data = datasets::DataLocationFromEnvironment());
 
 // The development split, for choosing methods and parameters without looking at the standard
 // split's test clips: test = takes ≡ 5 (mod 10); database = takes ≢ 3 and ≢ 5 (mod 10), so the
 // standard split's test clips are in neither part.
-absl::StatusOr<StandardSplit> LoadDevelopmentSplit();
+absl::StatusOr<StandardSplit> LoadDevelopmentSplit(
+    const datasets::DataLocation& data = datasets::DataLocationFromEnvironment());
 
 // Reads and prepares `files` on all cores, handing each result to `consume(index, clip)` from
 // the worker threads (calls for different indices may run at once). Returns the first error.

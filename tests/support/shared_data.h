@@ -1,4 +1,4 @@
-// Access to ../shared/data for tests: unpacks a set on first use, or tells why it cannot.
+// Access to ../shared/data for tests (over eval/datasets): unpacks a set on first use, or tells why it cannot.
 #pragma once
 
 #include <filesystem>
