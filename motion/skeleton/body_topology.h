@@ -16,8 +16,9 @@
 //  5. The pair that branches off closer to the head are the arms (a star rig, where the tree
 //     cannot tell: the pair whose ends are higher).
 //  6. Wrist / ankle = distal end of the more distal of the two longest segments of the limb
-//     chain, elbow / knee = the joint between those two; a segment runs between joints where the
-//     chain really bends (a split bone held straight does not end one).
+//     chain, elbow / knee = distal end of the other one (where they meet, on a normal limb); a
+//     segment runs between joints where the chain really bends (a split bone held straight does
+//     not end one).
 //  7. Forward: two anatomical cues summed over the frames, knees bend forward (the knee's
 //     horizontal offset from the hip-ankle line) and toes point forward from the ankle while the
 //     foot is near its lowest (stance); when those are too weak (straight legs, no toe joints),

@@ -79,7 +79,7 @@ MergedTree MergeShortBones(const Skeleton& skeleton, const Eigen::VectorXf& bone
 // Marks the joints of leaf chains of `tree` that lie along a sibling bone over the sampled frames
 // (twist and share bones): per chain joint, the mean distance to the sibling bone stays under
 // kOverlayDistanceFraction of its length and the joint never projects beyond its ends. Of two
-// chains overlaying each other, the first is kept.
+// chains overlaying each other (duplicates), the first is marked and the other kept as the limb.
 std::vector<bool> FindOverlayChains(const Skeleton& skeleton, const MergedTree& tree, const GlobalPoses& poses,
                                     const std::vector<int>& frames);
 
@@ -148,7 +148,7 @@ ArmsAndLegs SplitArmsAndLegs(const HeadAndPairs& body, const TreeMetric& metric,
 
 struct LimbJoints {
   int end = -1;     // wrist / ankle: the distal end of the more distal of the two longest segments
-  int middle = -1;  // elbow / knee: the proximal end of that segment pair
+  int middle = -1;  // elbow / knee: the distal end of the more proximal of those two segments
 };
 // Splits the chain limb.top .. limb.end into segments at the joints where it really bends: a
 // joint with one child that keeps its two bones within 2 degrees of straight in every sampled
