@@ -1,20 +1,32 @@
 // Body topology of an arbitrary humanoid rig without using joint names (METHOD.md B1), made
 // robust for real rigs: zero-length helper joints, twist and "share" bones, hubs in hands, feet
 // and face, an extra root above the hips, a rest pose that is not standing, a Z-up hierarchy.
-//
-// How it works (the seed's hub rule fails on real rigs, see DESIGN notes in the .cc):
-//  1. Bone lengths from the clip's own frames (position channels honoured). Joints whose bone is
-//     shorter than 2% of the largest root-to-leaf path are merged into their parent; leaf chains
-//     that lie along a sibling bone in the clip's frames (twist bones) are ignored.
-//  2. The five limb ends are picked by farthest-point sampling over the remaining leaves with the
-//     tree metric (path length along bones): hands, feet and head are the leaves farthest apart.
+// The seed's hub rule (joints with >= 3 children start groups) fails on such rigs; instead, in
+// the order AnalyseBody runs them (one function each in body_topology_steps.h):
+//  1. Bone lengths from the clip's own frames (position channels honoured); a joint whose
+//     translation moves over the clip carries the motion and has no bone. Joints whose bone is
+//     shorter than 2% of the body size (half the tree's diameter along the bones) are merged into
+//     their parent; leaf chains that lie along a sibling bone in the clip's frames (twist bones)
+//     are ignored. The remaining leaves are the candidate limb ends.
+//  2. The five limb ends are picked by farthest-point sampling over those leaves with the tree
+//     metric (path length along bones): hands, feet and head are the leaves farthest apart.
 //  3. The head is the limb end with the shortest chain from where it branches off; the other four
-//     pair up by deepest common ancestor; the pair that branches off closest to the head are arms.
-//  4. World up = signed world axis nearest the mean pelvis->head direction over the frames; forward
-//     = mean ground direction ankle->toe; left = up x forward decides left and right.
-//  5. Landmarks: pelvis = common ancestor of legs and head; wrist/ankle = distal end of the more
-//     distal of the two longest bones on the limb chain; head = the branching joint of the head
-//     chain (or its end).
+//     pair up by deepest common ancestor. Pelvis = common ancestor of both pairs and the head.
+//  4. World up = signed world axis nearest the mean pelvis -> head end direction over the frames.
+//  5. The pair that branches off closer to the head are the arms (a star rig, where the tree
+//     cannot tell: the pair whose ends are higher).
+//  6. Wrist / ankle = distal end of the more distal of the two longest segments of the limb
+//     chain, elbow / knee = distal end of the other one (where they meet, on a normal limb); a
+//     segment runs between joints where the chain really bends (a split bone held straight does
+//     not end one).
+//  7. Forward: two anatomical cues summed over the frames, knees bend forward (the knee's
+//     horizontal offset from the hip-ankle line) and toes point forward from the ankle while the
+//     foot is near its lowest (stance); when those are too weak (straight legs, no toe joints),
+//     the pelvis' horizontal travel over the clip. left = up x forward: the limb of each pair
+//     whose first joint lies farther along `left` from where it branches off is the left one.
+//  8. Head landmark = the first branching joint on the head chain (or its end); groups = the
+//     subtree of each limb's first joint, the rest is spine; leg length, pelvis height and floor
+//     along up; unit from the leg length.
 #pragma once
 
 #include <array>
@@ -42,7 +54,7 @@ struct BodyLandmarks {
   int right_wrist = -1;
   int left_ankle = -1;
   int right_ankle = -1;
-  // Where each limb bends (the joint between its two longest segments, step 5); -1 when unknown
+  // Where each limb bends (the joint between its two longest segments, step 6); -1 when unknown
   // (rigs stored before these were kept).
   int left_elbow = -1;
   int right_elbow = -1;
@@ -67,8 +79,8 @@ struct BodyTopology {
   int rest_up_sign = 1;
   // Sizes in the file's length unit.
   float leg_length = 0.0f;           // hip joint -> ankle along bones, mean of both legs
-  float standing_pelvis_height = 0.0f;  // median over frames of pelvis height above the lowest joint
-  float floor_height = 0.0f;         // lowest joint height over the clip, along up
+  float standing_pelvis_height = 0.0f;  // median over frames of pelvis height above the lowest leg joint
+  float floor_height = 0.0f;         // lowest leg joint height over the clip, along up
   LengthUnit unit = LengthUnit::kCentimetre;
   bool unit_detected = true;         // false when given by the caller
 

@@ -1,0 +1,730 @@
+// Each step of AnalyseBody alone (motion/skeleton/body_topology_steps.h): hand-built trees and
+// poses where the answer is easy to work out, and the synthetic walking rig where its joint names
+// are the answer key. body_topology_test.cc checks the steps together.
+#include "motion/skeleton/body_topology_steps.h"
+
+#include <algorithm>
+#include <array>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <gtest/gtest.h>
+
+#include "motion/bvh/bvh_clip.h"
+#include "motion/skeleton/forward_kinematics.h"
+#include "motion/skeleton/local_motion.h"
+#include "tests/support/rig_variants.h"
+#include "tests/support/synthetic_clip.h"
+
+namespace mocap::body_topology {
+namespace {
+
+std::string NameOf(const Skeleton& skeleton, int index) {
+  return index >= 0 && index < skeleton.num_joints() ? skeleton.joint(index).name : "<" + std::to_string(index) + ">";
+}
+
+std::vector<std::string> NamesOf(const Skeleton& skeleton, const std::vector<int>& indices) {
+  std::vector<std::string> names;
+  for (int index : indices) names.push_back(NameOf(skeleton, index));
+  return names;
+}
+
+std::vector<std::string> Sorted(std::vector<std::string> names) {
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// World positions given per frame (one row of joint positions per frame).
+GlobalPoses PosesOf(const std::vector<std::vector<Eigen::Vector3f>>& frames) {
+  GlobalPoses poses;
+  const int rows = static_cast<int>(frames.size());
+  const int joints = static_cast<int>(frames[0].size());
+  for (Eigen::ArrayXXf* array : {&poses.px, &poses.py, &poses.pz, &poses.qw, &poses.qx, &poses.qy, &poses.qz}) {
+    array->setZero(rows, joints);
+  }
+  poses.qw.setOnes();
+  for (int f = 0; f < rows; ++f) {
+    for (int j = 0; j < joints; ++j) {
+      poses.px(f, j) = frames[f][j].x();
+      poses.py(f, j) = frames[f][j].y();
+      poses.pz(f, j) = frames[f][j].z();
+    }
+  }
+  return poses;
+}
+
+// Bone lengths of a rig from its OFFSETs (0 for the root).
+Eigen::VectorXf OffsetLengths(const Skeleton& skeleton) {
+  Eigen::VectorXf bone(skeleton.num_joints());
+  for (int j = 0; j < skeleton.num_joints(); ++j) bone[j] = j == 0 ? 0.0f : skeleton.joint(j).offset.norm();
+  return bone;
+}
+
+// The synthetic walking clip with the first steps' results, as AnalyseBody computes them.
+struct WalkingClip {
+  explicit WalkingClip(const testing::SyntheticRigOptions& options = {}, int frame_count = 40)
+      : WalkingClip(testing::MakeWalkingClip(options, frame_count)) {}
+  explicit WalkingClip(BvhClip clip)
+      : bvh(std::move(clip)),
+        skeleton(bvh.skeleton),
+        motion(MotionFromChannels(skeleton, bvh.channels, bvh.frame_time)),
+        poses(ForwardKinematics(skeleton, motion)),
+        frames(SampleFrames(motion.num_frames())),
+        bone(StaticBoneLengths(motion)),
+        metric(skeleton, bone),
+        body_size(BodySize(metric)),
+        tree(MergeShortBones(skeleton, bone, body_size)) {}
+  WalkingClip(const WalkingClip&) = delete;
+  WalkingClip& operator=(const WalkingClip&) = delete;
+
+  int operator[](const std::string& name) const {
+    const int index = skeleton.Find(name);
+    EXPECT_GE(index, 0) << "no joint " << name;
+    return index;
+  }
+  HeadAndPairs Body() const {
+    return FindHeadAndPairs(
+        PickLimbEnds(LimbEndCandidates(tree, FindOverlayChains(skeleton, tree, poses, frames)), metric), metric);
+  }
+
+  const BvhClip bvh;
+  const Skeleton& skeleton;
+  const LocalMotion motion;
+  const GlobalPoses poses;
+  const std::vector<int> frames;
+  const Eigen::VectorXf bone;
+  const TreeMetric metric;
+  const float body_size;
+  const MergedTree tree;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Helpers shared by the steps.
+
+TEST(BodyStepTreeMetricTest, DistancesAndWalks) {
+  // Root -> A (10) -> B (20); Root -> C (5) -> D (7).
+  const Skeleton skeleton({Joint{.name = "Root", .parent = -1}, Joint{.name = "A", .parent = 0, .offset = {10, 0, 0}},
+                           Joint{.name = "B", .parent = 1, .offset = {20, 0, 0}},
+                           Joint{.name = "C", .parent = 0, .offset = {0, 5, 0}},
+                           Joint{.name = "D", .parent = 3, .offset = {0, 7, 0}}});
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const TreeMetric metric(skeleton, bone);
+  EXPECT_EQ(metric.num_joints(), 5);
+  EXPECT_FLOAT_EQ(metric.path_length(2), 30.0f);
+  EXPECT_FLOAT_EQ(metric.path_length(4), 12.0f);
+  EXPECT_EQ(metric.Lca(2, 4), 0);
+  EXPECT_EQ(metric.Lca(1, 2), 1);
+  EXPECT_EQ(metric.Lca(2, 2), 2);
+  EXPECT_FLOAT_EQ(metric.Distance(2, 4), 42.0f);
+  EXPECT_FLOAT_EQ(metric.Distance(1, 2), 20.0f);
+  EXPECT_EQ(metric.ChildToward(0, 2), 1);
+  EXPECT_EQ(metric.ChildToward(0, 4), 3);
+  EXPECT_EQ(metric.Path(0, 2), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(metric.Path(3, 4), (std::vector<int>{3, 4}));
+}
+
+TEST(BodyStepSampleFramesTest, AllFramesOfAShortClipEvenlySpreadOfALongOne) {
+  EXPECT_EQ(SampleFrames(1), (std::vector<int>{0}));
+  EXPECT_EQ(SampleFrames(4), (std::vector<int>{0, 1, 2, 3}));
+  const std::vector<int> sample = SampleFrames(3 * kMaxFramesSampled);
+  ASSERT_EQ(static_cast<int>(sample.size()), kMaxFramesSampled);
+  EXPECT_EQ(sample[0], 0);
+  EXPECT_EQ(sample[1], 3);
+  EXPECT_EQ(sample.back(), 3 * kMaxFramesSampled - 3);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 1: the tree of real bones.
+
+TEST(BodyStepStaticBoneLengthsTest, JointsWhoseTranslationMovesHaveNoBone) {
+  // Root, Hips carrying the travel in its translation, a static Spine above it.
+  LocalMotion motion;
+  motion.Resize(3, 3);
+  motion.qw.setOnes();
+  motion.qx.setZero();
+  motion.qy.setZero();
+  motion.qz.setZero();
+  for (int f = 0; f < 3; ++f) {
+    motion.SetTranslation(f, 0, Eigen::Vector3f(5.0f * f, 0, 0));
+    motion.SetTranslation(f, 1, Eigen::Vector3f(0, 90, 10.0f * f));
+    // A rounding-size wobble is not motion.
+    motion.SetTranslation(f, 2, Eigen::Vector3f(0, 30.0f + 1e-4f * f, 0));
+  }
+  const Eigen::VectorXf bone = StaticBoneLengths(motion);
+  ASSERT_EQ(bone.size(), 3);
+  EXPECT_EQ(bone[0], 0.0f);
+  EXPECT_EQ(bone[1], 0.0f);
+  EXPECT_NEAR(bone[2], 30.0f, 1e-3f);
+}
+
+TEST(BodyStepStaticBoneLengthsTest, SyntheticRigWithAnExtraRoot) {
+  testing::SyntheticRigOptions options;
+  options.extra_root = true;
+  const WalkingClip clip(options);
+  EXPECT_EQ(clip.bone[clip["Root"]], 0.0f);
+  EXPECT_EQ(clip.bone[clip["Hips"]], 0.0f);  // carries the walk
+  EXPECT_NEAR(clip.bone[clip["Spine"]], 10.0f, 1e-4f);
+  EXPECT_NEAR(clip.bone[clip["LeftLeg"]], testing::kSyntheticThighLength, 1e-4f);
+}
+
+TEST(BodyStepBodySizeTest, HalfTheLongestLeafToLeafPathNotTheStemAboveIt) {
+  // Root -> Stem (30) -> A (50) and Stem -> B (80): 110 from the root to B, 130 from A to B.
+  const Skeleton skeleton(
+      {Joint{.name = "Root", .parent = -1}, Joint{.name = "Stem", .parent = 0, .offset = {0, 30, 0}},
+       Joint{.name = "A", .parent = 1, .offset = {50, 0, 0}}, Joint{.name = "B", .parent = 1, .offset = {-80, 0, 0}}});
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  EXPECT_FLOAT_EQ(BodySize(TreeMetric(skeleton, bone)), 65.0f);
+  const Eigen::VectorXf no_bones = Eigen::VectorXf::Zero(4);
+  EXPECT_EQ(BodySize(TreeMetric(skeleton, no_bones)), 0.0f);
+}
+
+TEST(BodyStepMergeShortBonesTest, ShortBonesMergeIntoTheirParent) {
+  // Root -> Zero (0) -> Long (50) -> Tiny (0.5) -> Tip (30); threshold 2% of 40 = 0.8.
+  const Skeleton skeleton({Joint{.name = "Root", .parent = -1}, Joint{.name = "Zero", .parent = 0},
+                           Joint{.name = "Long", .parent = 1, .offset = {0, 50, 0}},
+                           Joint{.name = "Tiny", .parent = 2, .offset = {0, 0.5f, 0}},
+                           Joint{.name = "Tip", .parent = 3, .offset = {0, 30, 0}}});
+  const MergedTree tree = MergeShortBones(skeleton, OffsetLengths(skeleton), 40.0f);
+  EXPECT_EQ(tree.representative, (std::vector<int>{0, 0, 2, 2, 4}));
+  EXPECT_EQ(tree.children[0], (std::vector<int>{2}));
+  EXPECT_TRUE(tree.children[1].empty());
+  EXPECT_EQ(tree.children[2], (std::vector<int>{4}));
+  EXPECT_TRUE(tree.children[3].empty());
+  EXPECT_TRUE(tree.children[4].empty());
+}
+
+TEST(BodyStepMergeShortBonesTest, HelperJointsOfTheSyntheticTwistRig) {
+  testing::SyntheticRigOptions options;
+  options.twist_bones = true;
+  const WalkingClip clip(options);
+  auto representative = [&](const std::string& name) {
+    return NameOf(clip.skeleton, clip.tree.representative[clip[name]]);
+  };
+  EXPECT_EQ(representative("Pelvis"), "Hips");
+  EXPECT_EQ(representative("LeftKneeShareBone"), "LeftLeg");
+  EXPECT_EQ(representative("LeftUpLegTwist"), "LeftUpLeg");
+  EXPECT_EQ(representative("LeftUpLegTwistMid"), "LeftUpLegTwistMid");
+  EXPECT_EQ(representative("LeftFoot"), "LeftFoot");
+  // The thighs hang off the zero-length Pelvis: in the merged tree, off Hips.
+  EXPECT_EQ(Sorted(NamesOf(clip.skeleton, clip.tree.children[clip["Hips"]])),
+            Sorted({"Spine", "LeftUpLeg", "RightUpLeg"}));
+  EXPECT_EQ(Sorted(NamesOf(clip.skeleton, clip.tree.children[clip["LeftUpLeg"]])),
+            Sorted({"LeftLeg", "LeftUpLegTwistMid"}));
+}
+
+TEST(BodyStepFindOverlayChainsTest, TwistChainsOfTheSyntheticRigAndNothingElse) {
+  testing::SyntheticRigOptions options;
+  options.twist_bones = true;
+  const WalkingClip clip(options);
+  const std::vector<bool> overlay = FindOverlayChains(clip.skeleton, clip.tree, clip.poses, clip.frames);
+  std::vector<int> marked;
+  for (int j = 0; j < clip.skeleton.num_joints(); ++j) {
+    if (overlay[j]) marked.push_back(j);
+  }
+  EXPECT_EQ(Sorted(NamesOf(clip.skeleton, marked)),
+            Sorted({"LeftArmTwistMid", "LeftForeArmTwistMid", "RightArmTwistMid", "RightForeArmTwistMid",
+                    "LeftUpLegTwistMid", "LeftLegTwistMid", "RightUpLegTwistMid", "RightLegTwistMid"}));
+}
+
+// Root with two identical bones down and one up; `extra` adds a leaf half-way along the first.
+Skeleton HubWithDuplicates(bool extra) {
+  std::vector<Joint> joints = {Joint{.name = "Root", .parent = -1, .offset = {0, 100, 0}},
+                               Joint{.name = "Down", .parent = 0, .offset = {0, -40, 0}},
+                               Joint{.name = "DownCopy", .parent = 0, .offset = {0, -40, 0}},
+                               Joint{.name = "Up", .parent = 0, .offset = {0, 40, 0}}};
+  if (extra) joints.push_back(Joint{.name = "HalfDown", .parent = 0, .offset = {0.5f, -20, 0}});
+  return Skeleton(std::move(joints));
+}
+
+TEST(BodyStepFindOverlayChainsTest, OfTwoDuplicatesTheFirstIsTheOverlay) {
+  const Skeleton skeleton = HubWithDuplicates(false);
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const MergedTree tree = MergeShortBones(skeleton, bone, 40.0f);
+  const GlobalPoses poses = ForwardKinematics(skeleton, RestMotion(skeleton));
+  EXPECT_EQ(FindOverlayChains(skeleton, tree, poses, {0}), (std::vector<bool>{false, true, false, false}));
+}
+
+TEST(BodyStepFindOverlayChainsTest, AChainOverlaysOnlyABoneItLiesWithin) {
+  // HalfDown lies within the kept copy of Down (0.5 away from it): an overlay. Neither Down nor
+  // its copy counts as overlaying HalfDown: they reach beyond its end.
+  const Skeleton skeleton = HubWithDuplicates(true);
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const MergedTree tree = MergeShortBones(skeleton, bone, 40.0f);
+  const GlobalPoses poses = ForwardKinematics(skeleton, RestMotion(skeleton));
+  const std::vector<bool> overlay = FindOverlayChains(skeleton, tree, poses, {0});
+  EXPECT_FALSE(overlay[skeleton.Find("Up")]);
+  EXPECT_TRUE(overlay[skeleton.Find("HalfDown")]);
+  EXPECT_NE(overlay[skeleton.Find("Down")], overlay[skeleton.Find("DownCopy")]);
+}
+
+TEST(BodyStepLimbEndCandidatesTest, KeptLeavesThatAreNotOverlays) {
+  // Root -> 1 -> 2 (leaf), Root -> 3 (leaf, overlay), Root -> 4 (merged into Root) -> 5 (leaf).
+  MergedTree tree;
+  tree.representative = {0, 1, 2, 3, 0, 5};
+  tree.children = {{1, 3, 5}, {2}, {}, {}, {}, {}};
+  EXPECT_EQ(LimbEndCandidates(tree, {false, false, false, true, false, false}), (std::vector<int>{2, 5}));
+  EXPECT_EQ(LimbEndCandidates(tree, std::vector<bool>(6, false)), (std::vector<int>{2, 3, 5}));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 2: the five limb ends.
+
+TEST(BodyStepPickLimbEndsTest, FarthestPointOrderLeavesOutTheShortestLeaf) {
+  // Six single-bone limbs off the root: lengths 10, 50, 40, 30, 20, 5.
+  std::vector<Joint> joints = {Joint{.name = "Root", .parent = -1}};
+  for (float length : {10.0f, 50.0f, 40.0f, 30.0f, 20.0f, 5.0f}) {
+    joints.push_back(
+        Joint{.name = "L" + std::to_string(static_cast<int>(length)), .parent = 0, .offset = {length, 0, 0}});
+  }
+  const Skeleton skeleton(std::move(joints));
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const TreeMetric metric(skeleton, bone);
+  // First the farthest from the root, then each time the leaf farthest from those picked.
+  EXPECT_EQ(PickLimbEnds({1, 2, 3, 4, 5, 6}, metric), (std::array<int, 5>{2, 3, 4, 5, 1}));
+}
+
+TEST(BodyStepPickLimbEndsTest, HandsFeetAndHeadOfTheSyntheticRigWithFingersAndToes) {
+  testing::SyntheticRigOptions options;
+  options.fingers_and_toes = true;
+  const WalkingClip clip(options);
+  const std::vector<int> candidates =
+      LimbEndCandidates(clip.tree, FindOverlayChains(clip.skeleton, clip.tree, clip.poses, clip.frames));
+  const std::array<int, 5> ends = PickLimbEnds(candidates, clip.metric);
+  std::vector<std::string> groups;
+  for (int end : ends) {
+    const std::string name = NameOf(clip.skeleton, end);
+    if (name == "Head")
+      groups.push_back("head");
+    else if (name.starts_with("LeftHand"))
+      groups.push_back("left hand");
+    else if (name.starts_with("RightHand"))
+      groups.push_back("right hand");
+    else if (name.starts_with("LeftToe"))
+      groups.push_back("left foot");
+    else if (name.starts_with("RightToe"))
+      groups.push_back("right foot");
+    else
+      groups.push_back(name);
+  }
+  EXPECT_EQ(Sorted(groups), Sorted({"head", "left hand", "right hand", "left foot", "right foot"}));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 3: head, pairs, pelvis.
+
+TEST(BodyStepFindHeadAndPairsTest, SyntheticRig) {
+  const WalkingClip clip;
+  const std::array<int, 5> ends = {clip["LeftHand"], clip["RightToeBase"], clip["Head"], clip["RightHand"],
+                                   clip["LeftToeBase"]};
+  const HeadAndPairs body = FindHeadAndPairs(ends, clip.metric);
+  EXPECT_EQ(NameOf(clip.skeleton, body.head.end), "Head");
+  EXPECT_EQ(NameOf(clip.skeleton, body.head.top), "Neck");
+  EXPECT_EQ(NameOf(clip.skeleton, body.head.branch), "Chest");
+  EXPECT_EQ(NameOf(clip.skeleton, body.pelvis), "Hips");
+  // Pairs in the order of their first end in `ends`.
+  EXPECT_EQ(NamesOf(clip.skeleton, {body.first_pair[0].end, body.first_pair[1].end}),
+            (std::vector<std::string>{"LeftHand", "RightHand"}));
+  EXPECT_EQ(NamesOf(clip.skeleton, {body.second_pair[0].end, body.second_pair[1].end}),
+            (std::vector<std::string>{"RightToeBase", "LeftToeBase"}));
+  EXPECT_EQ(NameOf(clip.skeleton, body.first_pair[0].top), "LeftShoulder");
+  EXPECT_EQ(NameOf(clip.skeleton, body.first_pair[0].branch), "Chest");
+  EXPECT_EQ(NameOf(clip.skeleton, body.second_pair[1].top), "LeftUpLeg");
+  EXPECT_EQ(NameOf(clip.skeleton, body.second_pair[1].branch), "Hips");
+}
+
+TEST(BodyStepFindHeadAndPairsTest, HeadIsTheShortestChainNotTheEndNearestTheRoot) {
+  // Root -> Trunk (60) -> Neck (5) -> Head (5); Trunk -> two arms of 2 x 30; Root -> two legs
+  // of 2 x 20. The feet end nearest the root (40, the head 70), but the head's chain from where
+  // it branches off (Trunk) is the shortest (10).
+  std::vector<Joint> joints = {
+      Joint{.name = "Root", .parent = -1}, Joint{.name = "Trunk", .parent = 0, .offset = {0, 60, 0}},
+      Joint{.name = "Neck", .parent = 1, .offset = {0, 5, 0}}, Joint{.name = "Head", .parent = 2, .offset = {0, 5, 0}}};
+  auto add_limb = [&](const std::string& name, int parent, const Eigen::Vector3f& bone) {
+    joints.push_back(Joint{.name = name + "1", .parent = parent, .offset = bone});
+    joints.push_back(Joint{.name = name + "2", .parent = static_cast<int>(joints.size()) - 1, .offset = bone});
+    return static_cast<int>(joints.size()) - 1;
+  };
+  const int left_hand = add_limb("LeftArm", 1, {30, 0, 0});
+  const int right_hand = add_limb("RightArm", 1, {-30, 0, 0});
+  const int left_foot = add_limb("LeftLeg", 0, {0, -20, 0});
+  const int right_foot = add_limb("RightLeg", 0, {0, -20, 0});
+  const Skeleton skeleton(std::move(joints));
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const TreeMetric metric(skeleton, bone);
+  const HeadAndPairs body = FindHeadAndPairs({left_foot, 3, left_hand, right_foot, right_hand}, metric);
+  EXPECT_EQ(body.head.end, 3);
+  EXPECT_EQ(body.head.top, 2);
+  EXPECT_EQ(body.head.branch, 1);
+  EXPECT_EQ(body.first_pair[0].end, left_foot);
+  EXPECT_EQ(body.first_pair[1].end, right_foot);
+  EXPECT_EQ(body.second_pair[0].end, left_hand);
+  EXPECT_EQ(body.second_pair[1].end, right_hand);
+  EXPECT_EQ(body.pelvis, 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 4: up.
+
+TEST(BodyStepNearestAxisTest, SignedAxisAndAlignment) {
+  const UpAxis up = NearestAxis(Eigen::Vector3f(0.1f, -0.9f, 0.2f));
+  EXPECT_EQ(up.axis, 1);
+  EXPECT_EQ(up.sign, -1);
+  EXPECT_FLOAT_EQ(up.alignment, 0.9f / Eigen::Vector3f(0.1f, -0.9f, 0.2f).norm());
+  const UpAxis z = NearestAxis(Eigen::Vector3f(0.0f, 0.0f, 3.0f));
+  EXPECT_EQ(z.axis, 2);
+  EXPECT_EQ(z.sign, 1);
+  EXPECT_FLOAT_EQ(z.alignment, 1.0f);
+  EXPECT_EQ(NearestAxis(Eigen::Vector3f::Zero()).alignment, 0.0f);
+}
+
+TEST(BodyStepMeasureUpTest, ClipUpAndRestUpOfAZUpHierarchy) {
+  testing::SyntheticRigOptions options;
+  options.z_up = true;
+  const WalkingClip clip(options);
+  const UpAxis up = MeasureUp(clip.poses, clip.frames, clip["Hips"], clip["Head"]);
+  EXPECT_EQ(up.axis, 1);
+  EXPECT_EQ(up.sign, 1);
+  EXPECT_GT(up.alignment, 0.95f);
+  const UpAxis rest = RestUp(clip.skeleton, clip["Hips"], clip["Head"]);
+  EXPECT_EQ(rest.axis, 2);
+  EXPECT_EQ(rest.sign, 1);
+}
+
+TEST(BodyStepMeasureUpTest, MeanDirectionOverTheSampledFramesOnly) {
+  // Pelvis at the origin, head end along -X in frame 0 and along +Y in frames 1 and 2.
+  const GlobalPoses poses = PosesOf({{Eigen::Vector3f::Zero(), Eigen::Vector3f(-50, 0, 0)},
+                                     {Eigen::Vector3f::Zero(), Eigen::Vector3f(0, 50, 0)},
+                                     {Eigen::Vector3f::Zero(), Eigen::Vector3f(0, 50, 0)}});
+  EXPECT_EQ(MeasureUp(poses, {0, 1, 2}, 0, 1).axis, 1);
+  const UpAxis first = MeasureUp(poses, {0}, 0, 1);
+  EXPECT_EQ(first.axis, 0);
+  EXPECT_EQ(first.sign, -1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 5: arms and legs.
+
+TEST(BodyStepSplitArmsAndLegsTest, ArmsBranchOffCloserToTheHead) {
+  const WalkingClip clip;
+  HeadAndPairs body = clip.Body();
+  for (int swap = 0; swap < 2; ++swap) {
+    if (swap) std::swap(body.first_pair, body.second_pair);
+    const ArmsAndLegs limbs = SplitArmsAndLegs(body, clip.metric, clip.poses, clip.frames, Eigen::Vector3f::UnitY());
+    EXPECT_EQ(Sorted(NamesOf(clip.skeleton, {limbs.arms[0].end, limbs.arms[1].end})),
+              Sorted({"LeftHand", "RightHand"}));
+    EXPECT_EQ(Sorted(NamesOf(clip.skeleton, {limbs.legs[0].end, limbs.legs[1].end})),
+              Sorted({"LeftToeBase", "RightToeBase"}));
+  }
+}
+
+TEST(BodyStepSplitArmsAndLegsTest, OnAStarRigTheHigherPairAreTheArms) {
+  // Every limb branches off the root: the tree cannot tell, the heights do.
+  const Skeleton skeleton({Joint{.name = "Root", .parent = -1, .offset = {0, 100, 0}},
+                           Joint{.name = "Head", .parent = 0, .offset = {0, 20, 0}},
+                           Joint{.name = "LegA", .parent = 0, .offset = {10, -90, 0}},
+                           Joint{.name = "LegB", .parent = 0, .offset = {-10, -90, 0}},
+                           Joint{.name = "ArmA", .parent = 0, .offset = {60, 10, 0}},
+                           Joint{.name = "ArmB", .parent = 0, .offset = {-60, 10, 0}}});
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const TreeMetric metric(skeleton, bone);
+  const GlobalPoses poses = ForwardKinematics(skeleton, RestMotion(skeleton));
+  auto limb = [](int end) { return Limb{.branch = 0, .top = end, .end = end}; };
+  HeadAndPairs body{.head = limb(1), .first_pair = {limb(2), limb(3)}, .second_pair = {limb(4), limb(5)}, .pelvis = 0};
+  ArmsAndLegs limbs = SplitArmsAndLegs(body, metric, poses, {0}, Eigen::Vector3f::UnitY());
+  EXPECT_EQ(limbs.arms[0].end, 4);
+  EXPECT_EQ(limbs.legs[0].end, 2);
+  // Upside down, the legs are higher.
+  limbs = SplitArmsAndLegs(body, metric, poses, {0}, -Eigen::Vector3f::UnitY());
+  EXPECT_EQ(limbs.arms[0].end, 2);
+  EXPECT_EQ(limbs.legs[0].end, 4);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 6: where each limb bends and ends.
+
+TEST(BodyStepFindLimbJointsTest, WristElbowAnkleKneeOfTheSyntheticRig) {
+  const WalkingClip clip;
+  auto limb = [&](const std::string& top, const std::string& end) {
+    return Limb{.branch = clip.skeleton.parent(clip[top]), .top = clip[top], .end = clip[end]};
+  };
+  absl::StatusOr<LimbJoints> arm =
+      FindLimbJoints(clip.skeleton, clip.metric, clip.bone, limb("LeftShoulder", "LeftHand"), clip.poses, clip.frames);
+  ASSERT_TRUE(arm.ok()) << arm.status();
+  EXPECT_EQ(NameOf(clip.skeleton, arm->end), "LeftHand");
+  EXPECT_EQ(NameOf(clip.skeleton, arm->middle), "LeftForeArm");
+  absl::StatusOr<LimbJoints> leg = FindLimbJoints(clip.skeleton, clip.metric, clip.bone,
+                                                  limb("RightUpLeg", "RightToeBase"), clip.poses, clip.frames);
+  ASSERT_TRUE(leg.ok()) << leg.status();
+  EXPECT_EQ(NameOf(clip.skeleton, leg->end), "RightFoot");
+  EXPECT_EQ(NameOf(clip.skeleton, leg->middle), "RightLeg");
+}
+
+// The synthetic clip with its left thigh split in two (a joint that never bends).
+BvhClip WithSplitThigh(int frame_count) {
+  BvhClip clip = testing::MakeWalkingClip({}, frame_count);
+  EXPECT_TRUE(testing::SplitBone(clip, clip.skeleton.Find("LeftLeg"), "LeftThighMid").ok());
+  return clip;
+}
+
+TEST(BodyStepFindLimbJointsTest, ASplitBoneDoesNotEndASegmentGivenEnoughFrames) {
+  const WalkingClip clip(WithSplitThigh(40));
+  const Limb leg{.branch = clip["Hips"], .top = clip["LeftUpLeg"], .end = clip["LeftToeBase"]};
+  absl::StatusOr<LimbJoints> joints =
+      FindLimbJoints(clip.skeleton, clip.metric, clip.bone, leg, clip.poses, clip.frames);
+  ASSERT_TRUE(joints.ok()) << joints.status();
+  EXPECT_EQ(NameOf(clip.skeleton, joints->end), "LeftFoot");
+  EXPECT_EQ(NameOf(clip.skeleton, joints->middle), "LeftLeg");
+}
+
+TEST(BodyStepFindLimbJointsTest, WithFewerThanTenFramesEveryJointEndsASegment) {
+  // Segments 21.5 (half thigh), 21.5, 42 (shin), 13.8 (foot): the longest two are the shin and the
+  // first half thigh.
+  const WalkingClip clip(WithSplitThigh(9));
+  ASSERT_LT(clip.frames.size(), 10u);
+  const Limb leg{.branch = clip["Hips"], .top = clip["LeftUpLeg"], .end = clip["LeftToeBase"]};
+  absl::StatusOr<LimbJoints> joints =
+      FindLimbJoints(clip.skeleton, clip.metric, clip.bone, leg, clip.poses, clip.frames);
+  ASSERT_TRUE(joints.ok()) << joints.status();
+  EXPECT_EQ(NameOf(clip.skeleton, joints->end), "LeftFoot");
+  EXPECT_EQ(NameOf(clip.skeleton, joints->middle), "LeftThighMid");
+}
+
+TEST(BodyStepFindLimbJointsTest, ALimbNeedsTwoBonesThatBend) {
+  const WalkingClip clip;
+  const Limb one_bone{.branch = clip["Neck"], .top = clip["Head"], .end = clip["Head"]};
+  absl::StatusOr<LimbJoints> joints =
+      FindLimbJoints(clip.skeleton, clip.metric, clip.bone, one_bone, clip.poses, clip.frames);
+  ASSERT_FALSE(joints.ok());
+  EXPECT_EQ(joints.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(joints.status().message().find("'Head' has fewer than two bones"), std::string_view::npos)
+      << joints.status();
+
+  // The arm held straight out (the rest T-pose) in every frame of a long clip: one segment.
+  const Limb straight{.branch = clip["Chest"], .top = clip["LeftShoulder"], .end = clip["LeftHand"]};
+  const GlobalPoses rest = ForwardKinematics(clip.skeleton, RestMotion(clip.skeleton));
+  joints = FindLimbJoints(clip.skeleton, clip.metric, clip.bone, straight, rest, std::vector<int>(12, 0));
+  ASSERT_FALSE(joints.ok());
+  EXPECT_NE(joints.status().message().find("does not bend"), std::string_view::npos) << joints.status();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 7: facing, left and right.
+
+// Hand-built legs: 0 Hips; 1 LeftUpLeg, 2 LeftLeg (knee), 3 LeftFoot (ankle), 4 LeftToe; 5..8 the
+// same on the right.
+Skeleton TwoLegs() {
+  std::vector<Joint> joints = {Joint{.name = "Hips", .parent = -1, .offset = {0, 90, 0}}};
+  for (const std::string side : {"Left", "Right"}) {
+    const float x = side == "Left" ? 10.0f : -10.0f;
+    const int top = static_cast<int>(joints.size());
+    joints.push_back(Joint{.name = side + "UpLeg", .parent = 0, .offset = {x, 0, 0}});
+    joints.push_back(Joint{.name = side + "Leg", .parent = top, .offset = {0, -43, 0}});
+    joints.push_back(Joint{.name = side + "Foot", .parent = top + 1, .offset = {0, -42, 0}});
+    joints.push_back(Joint{.name = side + "Toe", .parent = top + 2, .offset = {0, -4.5f, 13}});
+  }
+  return Skeleton(std::move(joints));
+}
+
+const std::array<Limb, 2> kLegs = {Limb{.branch = 0, .top = 1, .end = 4}, Limb{.branch = 0, .top = 5, .end = 8}};
+const std::array<LimbJoints, 2> kLegJoints = {LimbJoints{.end = 3, .middle = 2}, LimbJoints{.end = 7, .middle = 6}};
+
+// Positions of TwoLegs' joints: hips at `pelvis`, knees `knee_forward` ahead (+Z) of the
+// hip-ankle line, toes at `toe` from the ankle.
+std::vector<Eigen::Vector3f> LegPose(const Eigen::Vector3f& pelvis, float knee_forward, const Eigen::Vector3f& toe) {
+  std::vector<Eigen::Vector3f> pose = {pelvis};
+  for (float x : {10.0f, -10.0f}) {
+    const Eigen::Vector3f hip = pelvis + Eigen::Vector3f(x, 0, 0);
+    const Eigen::Vector3f ankle = hip + Eigen::Vector3f(0, -85, 0);
+    pose.insert(pose.end(), {hip, hip + Eigen::Vector3f(0, -43, knee_forward), ankle, ankle + toe});
+  }
+  return pose;
+}
+
+TEST(BodyStepFacingTest, KneeCueIsTheKneesHorizontalOffsetFromTheHipAnkleLine) {
+  const GlobalPoses poses = PosesOf({LegPose({0, 90, 0}, 5, {0, -4.5f, 13}), LegPose({0, 90, 0}, 2, {0, -4.5f, 13})});
+  Eigen::Vector3f sum(1, 0, 0);
+  AddKneeBendCue(kLegs, kLegJoints, poses, {0, 1}, Eigen::Vector3f::UnitY(), &sum);
+  EXPECT_NEAR(sum.x(), 1.0f, 1e-4f);  // added to, not replaced
+  EXPECT_NEAR(sum.y(), 0.0f, 1e-4f);
+  EXPECT_NEAR(sum.z(), 2 * (5.0f + 2.0f), 1e-4f);
+  // Only the part across `up` counts: with Z up, the knees' offset along Z adds nothing.
+  Eigen::Vector3f across_z = Eigen::Vector3f::Zero();
+  AddKneeBendCue(kLegs, kLegJoints, poses, {0, 1}, Eigen::Vector3f::UnitZ(), &across_z);
+  EXPECT_NEAR(across_z.norm(), 0.0f, 1e-4f) << across_z.transpose();
+}
+
+TEST(BodyStepFacingTest, ToeCueCountsOnlyFramesWithTheToeNearItsLowest) {
+  const Skeleton skeleton = TwoLegs();
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const TreeMetric metric(skeleton, bone);
+  // Frame 0: toes forward on the ground; frame 1: the feet kicked back, toes 20 up and behind.
+  const GlobalPoses poses = PosesOf({LegPose({0, 90, 0}, 0, {0, -4.5f, 13}), LegPose({0, 90, 0}, 0, {0, 20, -10})});
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  const float foot_length = AddToeCue(kLegs, kLegJoints, metric, poses, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f, &sum);
+  EXPECT_NEAR(sum.z(), 26.0f, 1e-4f);
+  EXPECT_NEAR(sum.x(), 0.0f, 1e-4f);
+  EXPECT_NEAR(sum.y(), 0.0f, 1e-4f);
+  EXPECT_NEAR(foot_length, Eigen::Vector2f(20, -10).norm(), 1e-4f);
+
+  // Legs whose ankle is their end have no toe: no cue, no foot.
+  const std::array<LimbJoints, 2> ankles_at_ends = {LimbJoints{.end = 4, .middle = 2},
+                                                    LimbJoints{.end = 8, .middle = 6}};
+  sum.setZero();
+  EXPECT_EQ(AddToeCue(kLegs, ankles_at_ends, metric, poses, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f, &sum), 0.0f);
+  EXPECT_EQ(sum, Eigen::Vector3f::Zero());
+}
+
+TEST(BodyStepFacingTest, ForwardFollowsTheKneesAndToesNotTheTravel) {
+  const Skeleton skeleton = TwoLegs();
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const TreeMetric metric(skeleton, bone);
+  // Walking backwards (-Z) with the knees bent and the toes pointing towards +Z.
+  const GlobalPoses poses = PosesOf({LegPose({0, 90, 0}, 4, {0, -4.5f, 13}), LegPose({0, 90, -50}, 4, {0, -4.5f, 13})});
+  const ArmsAndLegs limbs{.legs = kLegs};
+  absl::StatusOr<Eigen::Vector3f> forward =
+      MeasureForward(limbs, kLegJoints, 0, metric, poses, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f);
+  ASSERT_TRUE(forward.ok()) << forward.status();
+  EXPECT_TRUE(forward->isApprox(Eigen::Vector3f::UnitZ(), 1e-5f)) << forward->transpose();
+}
+
+TEST(BodyStepFacingTest, WithoutKneeBendOrToesForwardIsTheTravel) {
+  const Skeleton skeleton = TwoLegs();
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const TreeMetric metric(skeleton, bone);
+  // Legs ending at the ankle.
+  const ArmsAndLegs limbs{.legs = {Limb{.branch = 0, .top = 1, .end = 3}, Limb{.branch = 0, .top = 5, .end = 7}}};
+  // Straight legs moving towards -X (and up: only the horizontal part counts).
+  const GlobalPoses travelling =
+      PosesOf({LegPose({0, 90, 0}, 0, {0, -4.5f, 13}), LegPose({0, 90, 0}, 0, {0, -4.5f, 13}),
+               LegPose({-30, 95, 0}, 0, {0, -4.5f, 13})});
+  absl::StatusOr<Eigen::Vector3f> forward =
+      MeasureForward(limbs, kLegJoints, 0, metric, travelling, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f);
+  ASSERT_TRUE(forward.ok()) << forward.status();
+  EXPECT_TRUE(forward->isApprox(-Eigen::Vector3f::UnitX(), 1e-5f)) << forward->transpose();
+
+  // Travelling 4 (under 5% of the body size of 100): cannot tell.
+  const GlobalPoses standing =
+      PosesOf({LegPose({0, 90, 0}, 0, {0, -4.5f, 13}), LegPose({-4, 90, 0}, 0, {0, -4.5f, 13})});
+  forward = MeasureForward(limbs, kLegJoints, 0, metric, standing, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f);
+  ASSERT_FALSE(forward.ok());
+  EXPECT_EQ(forward.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(forward.status().message().find("left from right"), std::string_view::npos) << forward.status();
+}
+
+TEST(BodyStepFacingTest, HorizontalDropsTheUpComponent) {
+  EXPECT_EQ(Horizontal(Eigen::Vector3f(1, 2, 3), Eigen::Vector3f::UnitY()), Eigen::Vector3f(1, 0, 3));
+  EXPECT_EQ(Horizontal(Eigen::Vector3f(1, 2, 3), -Eigen::Vector3f::UnitZ()), Eigen::Vector3f(1, 2, 0));
+}
+
+TEST(BodyStepSidesTest, TheLimbWhoseFirstJointLiesTowardsLeftIsLeft) {
+  // Branch at the origin; first joints at +X and -X in frames 0 and 1, swapped in frame 2.
+  const GlobalPoses poses = PosesOf({{Eigen::Vector3f::Zero(), Eigen::Vector3f(10, 0, 0), Eigen::Vector3f(-10, 0, 0)},
+                                     {Eigen::Vector3f::Zero(), Eigen::Vector3f(10, 0, 0), Eigen::Vector3f(-10, 0, 0)},
+                                     {Eigen::Vector3f::Zero(), Eigen::Vector3f(-10, 0, 0), Eigen::Vector3f(10, 0, 0)}});
+  const std::array<Limb, 2> pair = {Limb{.branch = 0, .top = 1, .end = 1}, Limb{.branch = 0, .top = 2, .end = 2}};
+  const Eigen::Vector3f left = Eigen::Vector3f::UnitX();
+  EXPECT_FLOAT_EQ(LateralOffset(pair[0], left, poses, {0, 1, 2}), 10.0f);
+  EXPECT_FLOAT_EQ(LateralOffset(pair[1], left, poses, {0, 1, 2}), -10.0f);
+  EXPECT_TRUE(FirstIsLeft(pair, left, poses, {0, 1, 2}));
+  EXPECT_FALSE(FirstIsLeft(pair, -left, poses, {0, 1, 2}));
+  EXPECT_FALSE(FirstIsLeft(pair, left, poses, {2}));
+}
+
+TEST(BodyStepSidesTest, SyntheticRigFacesPlusZWithItsLeftAtPlusX) {
+  const WalkingClip clip;
+  const Limb left_leg{.branch = clip["Hips"], .top = clip["LeftUpLeg"], .end = clip["LeftToeBase"]};
+  const Limb right_leg{.branch = clip["Hips"], .top = clip["RightUpLeg"], .end = clip["RightToeBase"]};
+  const std::array<LimbJoints, 2> joints = {LimbJoints{.end = clip["LeftFoot"], .middle = clip["LeftLeg"]},
+                                            LimbJoints{.end = clip["RightFoot"], .middle = clip["RightLeg"]}};
+  absl::StatusOr<Eigen::Vector3f> forward =
+      MeasureForward(ArmsAndLegs{.legs = {right_leg, left_leg}}, {joints[1], joints[0]}, clip["Hips"], clip.metric,
+                     clip.poses, clip.frames, Eigen::Vector3f::UnitY(), clip.body_size);
+  ASSERT_TRUE(forward.ok()) << forward.status();
+  EXPECT_GT(forward->z(), 0.95f) << forward->transpose();
+  const Eigen::Vector3f left = Eigen::Vector3f::UnitY().cross(*forward);
+  EXPECT_FALSE(FirstIsLeft({right_leg, left_leg}, left, clip.poses, clip.frames));
+  EXPECT_TRUE(FirstIsLeft({left_leg, right_leg}, left, clip.poses, clip.frames));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Step 8: head landmark, groups, sizes.
+
+TEST(BodyStepHeadLandmarkTest, FirstBranchingJointOfTheHeadChainElseItsEnd) {
+  // Neck -> Head -> {Jaw, Crown}, Crown -> CrownEnd -> two zero-length eyes (merged into CrownEnd).
+  const Skeleton skeleton(
+      {Joint{.name = "Chest", .parent = -1}, Joint{.name = "Neck", .parent = 0, .offset = {0, 20, 0}},
+       Joint{.name = "Head", .parent = 1, .offset = {0, 8, 0}}, Joint{.name = "Jaw", .parent = 2, .offset = {0, -2, 8}},
+       Joint{.name = "Crown", .parent = 2, .offset = {0, 15, 0}},
+       Joint{.name = "CrownEnd", .parent = 4, .offset = {0, 5, 0}}, Joint{.name = "LeftEye", .parent = 5},
+       Joint{.name = "RightEye", .parent = 5}});
+  const Eigen::VectorXf bone = OffsetLengths(skeleton);
+  const TreeMetric metric(skeleton, bone);
+  const MergedTree tree = MergeShortBones(skeleton, bone, 30.0f);
+  EXPECT_EQ(HeadLandmark(Limb{.branch = 0, .top = 1, .end = 5}, metric, tree), 2);
+  // Below the face hub: CrownEnd's children are merged, it does not branch: the end.
+  EXPECT_EQ(HeadLandmark(Limb{.branch = 2, .top = 4, .end = 5}, metric, tree), 5);
+}
+
+TEST(BodyStepAssignGroupsTest, SubtreeOfEachLimbsTopTheRestIsSpine) {
+  const WalkingClip clip;
+  auto limb = [&](const std::string& top, const std::string& end) {
+    return Limb{.branch = clip.skeleton.parent(clip[top]), .top = clip[top], .end = clip[end]};
+  };
+  BodyTopology topology;
+  AssignGroups(clip.skeleton,
+               SidedLimbs{.head = limb("Neck", "Head"),
+                          .left_arm = limb("LeftShoulder", "LeftHand"),
+                          .right_arm = limb("RightShoulder", "RightHand"),
+                          .left_leg = limb("LeftUpLeg", "LeftToeBase"),
+                          .right_leg = limb("RightUpLeg", "RightToeBase")},
+               clip["Hips"], &topology);
+  ASSERT_EQ(static_cast<int>(topology.group_of_joint.size()), clip.skeleton.num_joints());
+  auto group = [&](const std::string& name) { return std::string(BodyGroupName(topology.group_of_joint[clip[name]])); };
+  EXPECT_EQ(group("Hips"), "spine");
+  EXPECT_EQ(group("Chest"), "spine");
+  EXPECT_EQ(group("Neck"), "head");
+  EXPECT_EQ(group("Head"), "head");
+  EXPECT_EQ(group("LeftShoulder"), "left_arm");
+  EXPECT_EQ(group("LeftForeArm"), "left_arm");
+  EXPECT_EQ(group("RightHand"), "right_arm");
+  EXPECT_EQ(group("LeftFoot"), "left_leg");
+  EXPECT_EQ(group("RightUpLeg"), "right_leg");
+  EXPECT_EQ(group("RightToeBase"), "right_leg");
+  EXPECT_EQ(topology.group_size(BodyGroup::kSpine), 3);
+  EXPECT_EQ(topology.group_top[static_cast<int>(BodyGroup::kSpine)], 0);
+  EXPECT_EQ(NameOf(clip.skeleton, topology.group_end[static_cast<int>(BodyGroup::kSpine)]), "Hips");
+  EXPECT_EQ(NameOf(clip.skeleton, topology.group_top[static_cast<int>(BodyGroup::kRightArm)]), "RightShoulder");
+  EXPECT_EQ(NameOf(clip.skeleton, topology.group_end[static_cast<int>(BodyGroup::kRightArm)]), "RightHand");
+  EXPECT_EQ(NameOf(clip.skeleton, topology.group_end[static_cast<int>(BodyGroup::kLeftLeg)]), "LeftToeBase");
+}
+
+TEST(BodyStepLegLengthTest, MeanOfTheBonesBelowTheHipJointDownToTheAnkle) {
+  const Skeleton skeleton = TwoLegs();
+  Eigen::VectorXf bone = OffsetLengths(skeleton);
+  bone[skeleton.Find("RightLeg")] = 45.0f;  // thigh 45 on the right, 43 on the left
+  const TreeMetric metric(skeleton, bone);
+  // The hip offset (UpLeg's bone) and the toe do not count.
+  EXPECT_FLOAT_EQ(LegLength(kLegs, kLegJoints, metric, bone), (43.0f + 42.0f + 45.0f + 42.0f) / 2);
+}
+
+TEST(BodyStepMeasureHeightsTest, PelvisAboveTheLowestLegJointAndTheFloorOverAllFrames) {
+  // Joints: 0 a static root far below, 1 pelvis, 2 and 3 leg joints (groups given below).
+  const std::vector<BodyGroup> groups = {BodyGroup::kSpine, BodyGroup::kSpine, BodyGroup::kLeftLeg,
+                                         BodyGroup::kRightLeg};
+  auto frame = [](float pelvis, float left, float right) {
+    return std::vector<Eigen::Vector3f>{{0, -50, 0}, {0, pelvis, 0}, {0, left, 0}, {0, right, 0}};
+  };
+  const GlobalPoses poses = PosesOf({frame(95, 5, 10), frame(90, 2, 20), frame(100, 30, 4)});
+  const Heights heights = MeasureHeights(groups, 1, poses, Eigen::Vector3f::UnitY());
+  EXPECT_FLOAT_EQ(heights.floor, 2.0f);
+  EXPECT_FLOAT_EQ(heights.standing_pelvis, 90.0f);  // median of 90, 88, 96
+  // Along -Y the heights are negated.
+  const Heights down = MeasureHeights(groups, 1, poses, -Eigen::Vector3f::UnitY());
+  EXPECT_FLOAT_EQ(down.floor, -30.0f);
+}
+
+}  // namespace
+}  // namespace mocap::body_topology
