@@ -17,14 +17,14 @@ ImportReactor::ImportReactor(ServiceContext& service, grpc::CallbackServerContex
 }
 
 void ImportReactor::Begin() {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   if (absl::Status status = call_.Begin(); !status.ok()) return Complete(status);
   if (absl::Status status = call_.RequireWritableStore(); !status.ok()) return Complete(status);
   StartRead(&request_);
 }
 
 void ImportReactor::OnReadDone(bool ok) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   if (!ok) {
     // The client half-closed without `end`, went away, or the server is stopping: nothing of the
     // pending batch is stored (the writer's buffered clips are dropped).
@@ -38,7 +38,7 @@ void ImportReactor::OnReadDone(bool ok) {
 }
 
 void ImportReactor::Handle() {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   absl::Status status;
   try {
     status = HandleMessage();

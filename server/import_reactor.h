@@ -7,8 +7,6 @@
 #include <memory>
 #include <string>
 
-#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
 #include "mocap/v1/motion_store.grpc.pb.h"
 #include "storage/import_writer.h"
 #include "server/owned_reactor.h"

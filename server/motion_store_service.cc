@@ -35,14 +35,14 @@ class ExportReactor : public OwnedReactor<grpc::ServerWriteReactor<v1::ExportCli
     service.workers.Post([this] { Load(); });
   }
   void OnWriteDone(bool ok) override {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     if (!ok) return Complete(absl::CancelledError("the client stopped reading"));
     WriteNext();
   }
 
  private:
   void Load() {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     absl::Status status = call_.Begin();
     if (status.ok()) {
       try {

@@ -9,8 +9,8 @@
 // library; the lock states it where ThreadSanitizer and clang's -Wthread-safety can see it.)
 #pragma once
 
-#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
+#include "server/mutex.h"
+
 
 namespace mocap {
 
@@ -19,7 +19,7 @@ class OwnedReactor : public GrpcReactor {
  public:
   void OnDone() final {
     BeforeDelete();
-    { absl::MutexLock barrier(&mutex_); }
+    { MutexLock barrier(&mutex_); }
     delete this;
   }
 
@@ -29,7 +29,7 @@ class OwnedReactor : public GrpcReactor {
   // Last words before the reactor is deleted (e.g. the session-end log line); mutex_ not held.
   virtual void BeforeDelete() {}
 
-  absl::Mutex mutex_;  // the reactor's state: held by every pool step and every reaction
+  Mutex mutex_;  // the reactor's state: held by every pool step and every reaction
 };
 
 }  // namespace mocap

@@ -18,7 +18,7 @@ class FindReactor final : public OwnedReactor<grpc::ServerUnaryReactor>, private
 
  private:
   void Searchable() override {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     if (absl::Status status = SearchSlice(response_); !status.ok()) return Complete(status);
     if (done()) return Complete(absl::OkStatus());
     Post([this] { Searchable(); });
@@ -42,7 +42,7 @@ class StreamReactor final : public OwnedReactor<grpc::ServerWriteReactor<v1::Fin
   }
   void OnCancel() override { Cancel(); }
   void OnWriteDone(bool ok) override {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     if (!ok) return Complete(absl::CancelledError("the client stopped reading"));
     if (done()) return Complete(absl::OkStatus());
     Post([this] { Searchable(); });
@@ -50,7 +50,7 @@ class StreamReactor final : public OwnedReactor<grpc::ServerWriteReactor<v1::Fin
 
  private:
   void Searchable() override {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     part_.Clear();
     if (absl::Status status = SearchSlice(&part_); !status.ok()) return Complete(status);
     StartWrite(&part_);

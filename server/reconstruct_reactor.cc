@@ -12,10 +12,10 @@ namespace mocap {
 ReconstructReactor::ReconstructReactor(ReconstructionState& state, grpc::CallbackServerContext* context)
     : state_(state), call_(state.service, context, "Reconstruct"), session_id_(state.NextSessionId()) {
   {
-    absl::MutexLock live(&state_.live_mutex);
+    MutexLock live(&state_.live_mutex);
     state_.live.insert(this);
   }
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   if (state_.draining) {
     CompleteLocked(absl::UnavailableError("the server is shutting down; connect again"), true);
   } else if (absl::Status key = call_.CheckKeyPresent(); !key.ok()) {
@@ -31,7 +31,7 @@ void ReconstructReactor::Authenticate() {
   absl::Status status = call_.Begin(&state_.sessions, "sessions_per_tenant");
   if (!status.ok()) return Deliver({}, status);
   pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   authenticated_ = true;
 }
 
@@ -47,7 +47,7 @@ void ReconstructReactor::Post(std::function<void()> work) {
     } catch (...) {
       failed = absl::InternalError("reconstruction failed");
     }
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     if (!failed.ok()) CompleteLocked(failed, true);
     --tasks_;
     PumpLocked();
@@ -71,7 +71,7 @@ void ReconstructReactor::PostSliceLocked() {
 
 void ReconstructReactor::OnReadDone(bool ok) {
   const Clock::time_point arrival = Clock::now();
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   reading_ = false;
   last_read_ = arrival;
   if (completing_ || input_done_) return PumpLocked();
@@ -115,14 +115,14 @@ void ReconstructReactor::OnReadDone(bool ok) {
 
 void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     ++tasks_;  // the database wait; AcquireSessionDatabase always answers
   }
   AcquireSessionDatabase(state_, call_, config.database(), [this, config](absl::StatusOr<ReconstructionDatabases::Database> database) {
     Replies replies;
     absl::Status status = database.status();
     if (status.ok()) {
-      absl::MutexLock session(&session_mutex_);
+      MutexLock session(&session_mutex_);
       absl::StatusOr<std::unique_ptr<SessionDriver>> driver = SessionDriver::Create(
           config, *database, session_id_, state_.limits.session, state_.service.metrics, &cancelled_);
       status = driver.status();
@@ -136,7 +136,7 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
       }
     }
     Deliver(std::move(replies), status);
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     --tasks_;
     PumpLocked();
   });
@@ -147,7 +147,7 @@ void ReconstructReactor::HandleSlice(const v1::WristSamples& samples, int begin,
   Replies replies;
   absl::Status status;
   {
-    absl::MutexLock session(&session_mutex_);
+    MutexLock session(&session_mutex_);
     if (!driver_) return;  // the session ended before it started (drain, error)
     status = driver_->Push(samples, begin, end, &replies);
     if (arrival) driver_->RecordReplyLatency(std::chrono::duration<double, std::milli>(Clock::now() - *arrival).count());
@@ -159,14 +159,14 @@ void ReconstructReactor::EndInput(absl::Status final_status) {
   Replies replies;
   absl::Status status = final_status;
   {
-    absl::MutexLock session(&session_mutex_);
+    MutexLock session(&session_mutex_);
     if (driver_) {
       absl::Status finished = driver_->Finish(&replies);
       if (!finished.ok()) status = finished;
       ReleaseDriverLocked();  // frees the session now; the database stays shared with others
     }
   }
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   if (!completing_) {
     for (v1::ReconstructResponse& reply : replies) outbox_.push_back(std::move(reply));
   }
@@ -174,7 +174,7 @@ void ReconstructReactor::EndInput(absl::Status final_status) {
 }
 
 void ReconstructReactor::Deliver(Replies replies, const absl::Status& status) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   if (completing_) return;  // the call's outcome is decided: later replies are not sent
   for (v1::ReconstructResponse& reply : replies) outbox_.push_back(std::move(reply));
   if (!status.ok()) CompleteLocked(status, false);
@@ -223,14 +223,14 @@ void ReconstructReactor::PumpLocked() {
 }
 
 void ReconstructReactor::OnWriteDone(bool ok) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   writing_ = false;
   if (!ok) CompleteLocked(absl::CancelledError("the client stopped reading"), true);
   PumpLocked();
 }
 
 void ReconstructReactor::OnCancel() {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   // gRPC does not say why: the client cancelled or disconnected, its deadline passed, or the
   // transport refused a message over the size limit (the client was told RESOURCE_EXHAUSTED).
   CompleteLocked(absl::CancelledError("call cancelled: by the client, its deadline, a lost connection or a message over "
@@ -240,12 +240,12 @@ void ReconstructReactor::OnCancel() {
 }
 
 bool ReconstructReactor::IdleSince(Clock::time_point cutoff) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   return reading_ && !completing_ && last_read_ < cutoff;
 }
 
 void ReconstructReactor::EndIdle() {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   CompleteLocked(absl::DeadlineExceededError(StrCat("no message from the client for ",
                                                     state_.limits.idle_timeout.count() / 1000.0,
                                                     " s (the server's idle limit): session ended")),
@@ -254,7 +254,7 @@ void ReconstructReactor::EndIdle() {
 }
 
 void ReconstructReactor::EndForShutdown() {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   if (completing_) return;
   const absl::Status status = absl::UnavailableError("the server is shutting down: frames sent so far stand; connect again");
   if (!configured_ || input_done_) {
@@ -275,15 +275,15 @@ void ReconstructReactor::ReleaseDriverLocked() {
 
 void ReconstructReactor::BeforeDelete() {
   {
-    absl::MutexLock session(&session_mutex_);
+    MutexLock session(&session_mutex_);
     ReleaseDriverLocked();
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     if (session_started_) {
       spdlog::info("session={} request={} ended code={}: {} frames, {} samples rejected", session_id_, call_.request_id(),
                    GrpcCodeName(final_status_.error_code()), frames_emitted_, samples_rejected_);
     }
   }
-  absl::MutexLock live(&state_.live_mutex);
+  MutexLock live(&state_.live_mutex);
   state_.live.erase(this);
 }
 

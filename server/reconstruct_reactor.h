@@ -23,10 +23,9 @@
 #include <optional>
 #include <string>
 
-#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
 #include "server/owned_reactor.h"
 #include "server/reconstruction_service.h"
+#include "server/mutex.h"
 
 namespace mocap {
 
@@ -78,7 +77,7 @@ class ReconstructReactor
   CallScope call_;
   const std::string session_id_;
   v1::ReconstructRequest request_;  // read buffer
-  absl::Mutex session_mutex_ ABSL_ACQUIRED_BEFORE(mutex_);  // the session itself (compute tasks)
+  Mutex session_mutex_ ABSL_ACQUIRED_BEFORE(mutex_);  // the session itself (compute tasks)
   std::unique_ptr<SessionDriver> driver_ ABSL_GUARDED_BY(session_mutex_);
   bool session_started_ ABSL_GUARDED_BY(session_mutex_) = false;  // a driver was created: its end is logged
   std::int64_t frames_emitted_ ABSL_GUARDED_BY(session_mutex_) = 0;  // kept when the driver is freed

@@ -59,9 +59,10 @@ ReconstructionService::ReconstructionService(ServiceContext& service, const Reco
 
 ReconstructionService::~ReconstructionService() {
   {
-    absl::MutexLock lock(&watch_mutex_);
+    MutexLock lock(&watch_mutex_);
     stopping_ = true;
   }
+  watch_wake_.notify_all();
   watchdog_.join();
 }
 
@@ -78,17 +79,17 @@ grpc::ServerUnaryReactor* ReconstructionService::ReconstructTrajectory(grpc::Cal
 
 void ReconstructionService::Drain() {
   state_.draining = true;
-  absl::MutexLock live(&state_.live_mutex);
+  MutexLock live(&state_.live_mutex);
   spdlog::info("ending {} reconstruction sessions for shutdown", state_.live.size());
   for (ReconstructReactor* reactor : state_.live) reactor->EndForShutdown();
 }
 
 void ReconstructionService::Watch() {
   const auto period = std::clamp(state_.limits.idle_timeout / 4, std::chrono::milliseconds(50), std::chrono::milliseconds(1000));
-  absl::MutexLock lock(&watch_mutex_);
-  while (!watch_mutex_.AwaitWithTimeout(absl::Condition(&stopping_), absl::FromChrono(period))) {
+  MutexLock lock(&watch_mutex_);
+  while (!watch_mutex_.AwaitFor(watch_wake_, period, [this]() ABSL_NO_THREAD_SAFETY_ANALYSIS { return stopping_; })) {
     const auto cutoff = std::chrono::steady_clock::now() - state_.limits.idle_timeout;
-    absl::MutexLock live(&state_.live_mutex);
+    MutexLock live(&state_.live_mutex);
     for (ReconstructReactor* reactor : state_.live) {
       if (reactor->IdleSince(cutoff)) reactor->EndIdle();
     }

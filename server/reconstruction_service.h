@@ -12,12 +12,11 @@
 #include <set>
 #include <thread>
 
-#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
 #include "mocap/v1/reconstruction.grpc.pb.h"
 #include "server/reconstruction_databases.h"
 #include "server/service_context.h"
 #include "server/session_driver.h"
+#include "server/mutex.h"
 
 namespace mocap {
 
@@ -44,7 +43,7 @@ struct ReconstructionState {
   const std::string instance_tag;
   std::atomic<std::uint64_t> next_session_id{1};
   std::string NextSessionId();
-  absl::Mutex live_mutex;
+  Mutex live_mutex;
   std::set<ReconstructReactor*> live ABSL_GUARDED_BY(live_mutex);  // streams between start and OnDone
   // Last, so it is destroyed first: its destructor runs the queued tasks and joins its threads,
   // and those tasks use every member above (found by ThreadSanitizer: a task releasing a session's
@@ -73,7 +72,8 @@ class ReconstructionService final : public v1::Reconstruction::CallbackService {
  private:
   void Watch();
   ReconstructionState state_;
-  absl::Mutex watch_mutex_;
+  Mutex watch_mutex_;
+  std::condition_variable watch_wake_;
   bool stopping_ ABSL_GUARDED_BY(watch_mutex_) = false;
   std::thread watchdog_;
 };

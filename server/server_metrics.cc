@@ -11,7 +11,7 @@ constexpr std::array<double, 7> kLatencyBounds = {0.005, 0.01, 0.02, 0.05, 0.1, 
 }  // namespace
 
 void ServerMetrics::ReplyLatency(double seconds) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   size_t bucket = 0;
   while (bucket < kLatencyBounds.size() && seconds > kLatencyBounds[bucket]) ++bucket;
   ++latency_buckets_[bucket];
@@ -21,13 +21,13 @@ void ServerMetrics::ReplyLatency(double seconds) {
 
 void ServerMetrics::CallFinished(const std::string& method, const std::string& code, double seconds) {
   in_flight_.fetch_sub(1);
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   ++calls_[{method, code}];
   call_seconds_[method] += seconds;
 }
 
 void ServerMetrics::Rejected(const std::string& reason) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   ++rejected_[reason];
 }
 
@@ -48,7 +48,7 @@ std::string ServerMetrics::PrometheusText() const {
         frames_reconstructed_.load());
   gauge("mocap_samples_rejected_total", "counter", "Wrist samples refused (non-finite, time not increasing, low confidence).",
         samples_rejected_.load());
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   out << "# HELP mocap_reply_latency_seconds Sample message arrival to its frames being ready.\n"
          "# TYPE mocap_reply_latency_seconds histogram\n";
   std::int64_t cumulative = 0;

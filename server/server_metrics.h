@@ -8,6 +8,7 @@
 #include <map>
 #include <string>
 #include <utility>
+#include "server/mutex.h"
 
 namespace mocap {
 
@@ -43,7 +44,7 @@ class ServerMetrics {
   std::atomic<std::int64_t> sessions_total_{0};
   std::atomic<std::int64_t> frames_reconstructed_{0};
   std::atomic<std::int64_t> samples_rejected_{0};
-  mutable absl::Mutex mutex_;
+  mutable Mutex mutex_;
   std::map<std::pair<std::string, std::string>, std::int64_t> calls_ ABSL_GUARDED_BY(mutex_);  // (method, code)
   std::map<std::string, double> call_seconds_ ABSL_GUARDED_BY(mutex_);                         // per method
   std::map<std::string, std::int64_t> rejected_ ABSL_GUARDED_BY(mutex_);                       // per reason
@@ -52,6 +53,4 @@ class ServerMetrics {
   std::int64_t latency_count_ ABSL_GUARDED_BY(mutex_) = 0;
 };
 
-}  // namespace mocap#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
-
+}  // namespace mocap

@@ -9,7 +9,7 @@ absl::StatusOr<std::unique_ptr<StorePool>> StorePool::Open(const std::filesystem
   MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<MotionStore> first,
                          read_only ? MotionStore::Open(path, pool->Options()) : MotionStore::Open(path));
   {
-    absl::MutexLock lock(&pool->mutex_);  // no other thread has the pool yet; the analysis wants it
+    MutexLock lock(&pool->mutex_);  // no other thread has the pool yet; the analysis wants it
     pool->idle_.push_back(std::move(first));
   }
   return pool;
@@ -18,7 +18,7 @@ absl::StatusOr<std::unique_ptr<StorePool>> StorePool::Open(const std::filesystem
 absl::StatusOr<StorePool::Lease> StorePool::Acquire() {
   std::unique_ptr<MotionStore> store;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     if (!idle_.empty()) {
       store = std::move(idle_.back());
       idle_.pop_back();
@@ -28,7 +28,7 @@ absl::StatusOr<StorePool::Lease> StorePool::Acquire() {
     MOCAP_ASSIGN_OR_RETURN(store, MotionStore::Open(path_, Options()));
   }
   return Lease(store.release(), [this](MotionStore* returned) {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     idle_.emplace_back(returned);
   });
 }

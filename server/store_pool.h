@@ -8,10 +8,9 @@
 #include <memory>
 #include <vector>
 
-#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
 #include "absl/status/statusor.h"
 #include "storage/motion_store.h"
+#include "server/mutex.h"
 
 namespace mocap {
 
@@ -35,7 +34,7 @@ class StorePool {
   }
   std::filesystem::path path_;
   bool read_only_ = false;
-  absl::Mutex mutex_;
+  Mutex mutex_;
   std::vector<std::unique_ptr<MotionStore>> idle_ ABSL_GUARDED_BY(mutex_);
 };
 

@@ -6,7 +6,7 @@ namespace mocap {
 
 absl::StatusOr<TenantAdmission::Ticket> TenantAdmission::Admit(TenantId tenant) {
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     int& active = active_[tenant];
     if (active >= max_calls_) {
       return absl::ResourceExhaustedError(StrCat("this tenant has ", active, " ", what_, " in progress, the most allowed (",
@@ -15,7 +15,7 @@ absl::StatusOr<TenantAdmission::Ticket> TenantAdmission::Admit(TenantId tenant) 
     ++active;
   }
   return Ticket(nullptr, [this, tenant](void*) {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     if (--active_[tenant] == 0) active_.erase(tenant);
   });
 }

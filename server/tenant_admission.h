@@ -7,10 +7,9 @@
 #include <string>
 #include <utility>
 
-#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
 #include "absl/status/statusor.h"
 #include "storage/motion_store.h"
+#include "server/mutex.h"
 
 namespace mocap {
 
@@ -28,7 +27,7 @@ class TenantAdmission {
  private:
   const int max_calls_;
   const std::string what_;
-  absl::Mutex mutex_;
+  Mutex mutex_;
   std::map<TenantId, int> active_ ABSL_GUARDED_BY(mutex_);
 };
 

@@ -15,7 +15,7 @@ TrajectoryReactor::TrajectoryReactor(ReconstructionState& state, grpc::CallbackS
 }
 
 void TrajectoryReactor::Begin() {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   absl::Status status = call_.Begin();
   if (status.ok() && state_.draining) status = absl::UnavailableError("the server is shutting down; connect again");
   if (!status.ok()) return Complete(status);
@@ -25,7 +25,7 @@ void TrajectoryReactor::Begin() {
 }
 
 void TrajectoryReactor::Start(absl::StatusOr<ReconstructionDatabases::Database> database) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   if (!database.ok()) return Complete(database.status());
   absl::StatusOr<std::unique_ptr<SessionDriver>> driver =
       SessionDriver::Create(request_->config(), *database, state_.NextSessionId(), state_.limits.session,
@@ -39,7 +39,7 @@ void TrajectoryReactor::Start(absl::StatusOr<ReconstructionDatabases::Database> 
 
 void TrajectoryReactor::PostSlice(int begin) {
   state_.compute.Post(pool_key_, [this, begin] {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     try {
       Slice(begin);
     } catch (const std::exception& error) {

@@ -28,21 +28,21 @@ VersionRegistry::VersionRegistry(StorePool& stores, int max_cached, std::string 
 VersionRegistry::~VersionRegistry() {
   std::list<Builder> builders;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     builders.swap(builders_);
   }
   for (Builder& builder : builders) builder.thread.join();
 }
 
 int VersionRegistry::builds() const {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   return builds_;
 }
 
 void VersionRegistry::Acquire(const DatabaseVersion& version, Ready ready) {
   Value value;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     ReapBuilders();
     Entry& entry = entries_[{version.database_id, version.content_stamp}];
     entry.last_used = ++clock_;
@@ -77,7 +77,7 @@ void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
   }
   std::vector<Ready> waiting;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     const EntryKey entry_key{version.database_id, version.content_stamp};
     Entry& entry = entries_[entry_key];
     waiting.swap(entry.waiting);
@@ -96,7 +96,7 @@ void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
     }
   }
   for (Ready& ready : waiting) ready(built);
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   self->done = true;  // nothing left to run: ReapBuilders (or the destructor) joins the thread
 }
 

@@ -22,10 +22,9 @@
 #include <utility>
 #include <vector>
 
-#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
 #include "absl/status/statusor.h"
 #include "server/store_pool.h"
+#include "server/mutex.h"
 
 namespace mocap {
 
@@ -81,7 +80,7 @@ class VersionRegistry {
   const int max_cached_;
   const std::string what_;
   const Loader loader_;
-  mutable absl::Mutex mutex_;
+  mutable Mutex mutex_;
   std::map<EntryKey, Entry> entries_ ABSL_GUARDED_BY(mutex_);
   std::list<Builder> builders_ ABSL_GUARDED_BY(mutex_);
   std::uint64_t clock_ ABSL_GUARDED_BY(mutex_) = 0;

@@ -37,24 +37,26 @@ WorkPool::WorkPool(int threads) {
 
 WorkPool::~WorkPool() {
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     stopping_ = true;
   }
+  ready_.notify_all();
   for (std::thread& thread : threads_) thread.join();
 }
 
 void WorkPool::Post(Key key, std::function<void()> task) {
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(&mutex_);
     std::deque<std::function<void()>>& queue = queues_[key];
     if (queue.empty()) turn_.push_back(key);
     queue.push_back(std::move(task));
     ++queued_;
   }
+  ready_.notify_one();
 }
 
 size_t WorkPool::queued() const {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(&mutex_);
   return queued_;
 }
 
@@ -62,8 +64,8 @@ void WorkPool::Work() {
   while (true) {
     std::function<void()> task;
     {
-      absl::MutexLock lock(&mutex_);
-      mutex_.Await(absl::Condition(this, &WorkPool::HasWorkOrStopping));
+      MutexLock lock(&mutex_);
+      mutex_.Await(ready_, [this]() ABSL_NO_THREAD_SAFETY_ANALYSIS { return HasWorkOrStopping(); });
       if (turn_.empty()) return;  // stopping and drained
       const Key key = turn_.front();
       turn_.pop_front();

@@ -15,6 +15,7 @@
 #include <map>
 #include <thread>
 #include <vector>
+#include "server/mutex.h"
 
 namespace mocap {
 
@@ -39,7 +40,8 @@ class WorkPool {
  private:
   void Work();
   bool HasWorkOrStopping() const ABSL_SHARED_LOCKS_REQUIRED(mutex_) { return stopping_ || !turn_.empty(); }
-  mutable absl::Mutex mutex_;
+  mutable Mutex mutex_;
+  std::condition_variable ready_;  // a task was queued, or the pool is stopping
   std::map<Key, std::deque<std::function<void()>>> queues_ ABSL_GUARDED_BY(mutex_);  // only non-empty queues
   std::deque<Key> turn_ ABSL_GUARDED_BY(mutex_);  // keys with queued tasks, in the order they are served
   size_t queued_ ABSL_GUARDED_BY(mutex_) = 0;
@@ -47,6 +49,4 @@ class WorkPool {
   std::vector<std::thread> threads_;
 };
 
-}  // namespace mocap#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
-
+}  // namespace mocap
