@@ -18,8 +18,8 @@
 #include "server/grpc_server.h"
 #include "storage/motion_store.h"
 #include "storage/tenant_directory.h"
-#include "tests/support/synthetic_clip.h"
 #include "tests/support/stream_events.h"
+#include "tests/support/synthetic_clip.h"
 #include "tests/support/temp_dir.h"
 
 namespace mocap {
@@ -57,7 +57,7 @@ class InProcessServiceTest : public ::testing::Test {
     options.workers = 2;
     options.reconstruction = reconstruction;
     options.reconstruction.compute_threads = 2;
-    options.drain_timeout = std::chrono::milliseconds(2000);
+    options.drain_timeout = std::chrono::seconds(30);  // Shutdown returns once the calls end, far sooner
     auto server = MocapServer::Start(options);
     ASSERT_TRUE(server.ok()) << server.status();
     server_ = *std::move(server);
@@ -114,7 +114,8 @@ TEST_F(InProcessServiceTest, CallsWithoutAValidKeyAreRefused) {
   auto listed = acme->ListDatabases();
   ASSERT_TRUE(listed.ok()) << listed.status();
   EXPECT_TRUE(listed->empty());
-  EXPECT_TRUE(forger->ListDatabases().status().code() == absl::StatusCode::kUnauthenticated) << "refusals stay refusals";
+  EXPECT_TRUE(forger->ListDatabases().status().code() == absl::StatusCode::kUnauthenticated)
+      << "refusals stay refusals";
 
   // A key revoked while the server runs is refused from its next call on.
   {
@@ -242,9 +243,11 @@ TEST_F(InProcessServiceTest, ShutdownEndsAnOpenStreamAndReturns) {
   auto summary = (*stream)->Finish();
   EXPECT_EQ(summary.status().code(), absl::StatusCode::kUnavailable) << summary.status();
   EXPECT_NE(summary.status().message().find("shutting down"), std::string::npos) << summary.status();
-  auto late = Client::Connect("127.0.0.1:" + std::to_string(server_->port()), {.api_key = keys_["acme"], .max_attempts = 1});
+  auto late =
+      Client::Connect("127.0.0.1:" + std::to_string(server_->port()), {.api_key = keys_["acme"], .max_attempts = 1});
   ASSERT_TRUE(late.ok());
-  EXPECT_EQ((*late)->ListDatabases().status().code(), absl::StatusCode::kUnavailable) << "the server answers after its shutdown";
+  EXPECT_EQ((*late)->ListDatabases().status().code(), absl::StatusCode::kUnavailable)
+      << "the server answers after its shutdown";
 }
 
 }  // namespace

@@ -26,7 +26,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 const testing::SyntheticReconstructionSetup& SyntheticSetup() {
-  static const auto* setup = new testing::SyntheticReconstructionSetup(testing::MakeSyntheticReconstructionSetup({}, 30));
+  static const auto* setup =
+      new testing::SyntheticReconstructionSetup(testing::MakeSyntheticReconstructionSetup({}, 30));
   return *setup;
 }
 
@@ -97,12 +98,15 @@ TEST(OptionsFromConfigTest, EveryOutOfRangeFieldIsRefusedByName) {
       {"unknown method", [](auto& c) { c.set_method(static_cast<v1::ReconstructionMethod>(42)); }},
       {"fixed_lag.lag_frames", [](auto& c) { c.mutable_fixed_lag()->set_lag_frames(601); }},
       {"fixed_lag.lag_frames", [](auto& c) { c.mutable_fixed_lag()->set_lag_frames(-1); }},
-      {"sub_interval.window_frames", [](auto& c) { c.mutable_sub_interval()->set_window_frames(kMaxWindowFrames + 1); }},
+      {"sub_interval.window_frames",
+       [](auto& c) { c.mutable_sub_interval()->set_window_frames(kMaxWindowFrames + 1); }},
       {"sub_interval.window_frames", [](auto& c) { c.mutable_sub_interval()->set_window_frames(-5); }},
       {"overrides.ankle_candidates", [](auto& c) { c.mutable_overrides()->set_ankle_candidates(0); }},
-      {"overrides.ankle_candidates", [](auto& c) { c.mutable_overrides()->set_ankle_candidates(kMaxAnkleCandidates + 1); }},
+      {"overrides.ankle_candidates",
+       [](auto& c) { c.mutable_overrides()->set_ankle_candidates(kMaxAnkleCandidates + 1); }},
       {"overrides.pose_neighbours", [](auto& c) { c.mutable_overrides()->set_pose_neighbours(1); }},
-      {"overrides.pose_neighbours", [](auto& c) { c.mutable_overrides()->set_pose_neighbours(kMaxPoseNeighbours + 1); }},
+      {"overrides.pose_neighbours",
+       [](auto& c) { c.mutable_overrides()->set_pose_neighbours(kMaxPoseNeighbours + 1); }},
       {"overrides.pose_components", [](auto& c) { c.mutable_overrides()->set_pose_components(65); }},
       {"overrides.wrist_smoothing", [](auto& c) { c.mutable_overrides()->set_wrist_smoothing(1.5f); }},
       {"overrides.wrist_smoothing", [](auto& c) { c.mutable_overrides()->set_wrist_smoothing(NAN); }},
@@ -114,7 +118,8 @@ TEST(OptionsFromConfigTest, EveryOutOfRangeFieldIsRefusedByName) {
       {"overrides.wrist_lookahead_frames", [](auto& c) { c.mutable_overrides()->set_wrist_lookahead_frames(31); }},
       {"overrides.hand_target_frames", [](auto& c) { c.mutable_overrides()->set_hand_target_frames(10.5f); }},
       {"overrides.ankle_data_weight", [](auto& c) { c.mutable_overrides()->set_ankle_data_weight(-1); }},
-      {"overrides.foot_contacts", [](auto& c) { c.mutable_overrides()->set_foot_contacts(static_cast<v1::FootContacts>(9)); }},
+      {"overrides.foot_contacts",
+       [](auto& c) { c.mutable_overrides()->set_foot_contacts(static_cast<v1::FootContacts>(9)); }},
       {"min_confidence", [](auto& c) { c.set_min_confidence(1.01f); }},
       {"min_confidence", [](auto& c) { c.set_min_confidence(NAN); }},
   };
@@ -246,7 +251,8 @@ TEST(SampleFromProtoTest, GarbageIsRefusedWithAReasonAndLowConfidenceIsADropout)
       {"confidence", [](auto& s) { s.set_right_confidence(NAN); }},
       {"finite", [](auto& s) { s.mutable_left()->set_y(kNaN); }},
       {"finite", [](auto& s) { s.mutable_right()->set_z(-kInf); }},
-      {"beyond", [](auto& s) {
+      {"beyond",
+       [](auto& s) {
          s.mutable_left()->set_x(20000.0);
          s.mutable_right()->set_x(20000.0);
        }},
@@ -265,8 +271,10 @@ TEST(SampleFromProtoTest, GarbageIsRefusedWithAReasonAndLowConfidenceIsADropout)
   mm.convention.unit = LengthUnit::kMillimetre;
   const InputConversion millimetres{mm, FrameTransform(mm.convention, 0.0)};
   WristSample out;
-  EXPECT_EQ(FromProto(Sample(0, 9e6, 1000, 0, 9e6 - 400, 1000, 0), 0.0f, millimetres, &out).kind, SampleCheck::kAccepted);
-  EXPECT_EQ(FromProto(Sample(0, 2e7, 1000, 0, 2e7 - 400, 1000, 0), 0.0f, millimetres, &out).kind, SampleCheck::kRefused);
+  EXPECT_EQ(FromProto(Sample(0, 9e6, 1000, 0, 9e6 - 400, 1000, 0), 0.0f, millimetres, &out).kind,
+            SampleCheck::kAccepted);
+  EXPECT_EQ(FromProto(Sample(0, 2e7, 1000, 0, 2e7 - 400, 1000, 0), 0.0f, millimetres, &out).kind,
+            SampleCheck::kRefused);
 
   v1::WristSample unsure = good;
   unsure.set_left_confidence(0.3f);
@@ -416,10 +424,13 @@ TEST(TargetRigFromProtoTest, AnalysesABvhOrJointsAndRefusesWhatIsNotARig) {
       {"neither", "neither", [](auto& r) { r.clear_rig(); }},
       {"bad unit", "target_rig.unit", [](auto& r) { r.set_unit("furlong"); }},
       {"oversized bvh", "bytes", [](auto& r) { r.set_bvh(std::string(kMaxTargetRigBvhBytes + 1, 'x')); }},
-      {"non-finite offset", "not finite", [](auto& r) { r.mutable_joints()->mutable_joints(2)->mutable_offset()->set_x(kNaN); }},
-      {"parent after child", "target_rig.joints", [](auto& r) { r.mutable_joints()->mutable_joints(1)->set_parent(5); }},
+      {"non-finite offset", "not finite",
+       [](auto& r) { r.mutable_joints()->mutable_joints(2)->mutable_offset()->set_x(kNaN); }},
+      {"parent after child", "target_rig.joints",
+       [](auto& r) { r.mutable_joints()->mutable_joints(1)->set_parent(5); }},
       {"two roots", "target_rig.joints", [](auto& r) { r.mutable_joints()->mutable_joints(3)->set_parent(-1); }},
-      {"too many joints", "joints", [](auto& r) {
+      {"too many joints", "joints",
+       [](auto& r) {
          auto* list = r.mutable_joints()->mutable_joints();
          while (list->size() <= kMaxTargetJoints) {
            v1::TargetJoint* extra = list->Add();

@@ -38,7 +38,8 @@ v1::WristSamples WireSamples(int count = kTestFrames, double unit_scale = 1.0) {
   for (int i = 0; i < count && i < static_cast<int>(samples.size()); ++i) {
     v1::WristSample* sample = out.add_samples();
     sample->set_time(samples[i].time);
-    for (auto [from, to] : {std::pair{&samples[i].left, sample->mutable_left()}, std::pair{&samples[i].right, sample->mutable_right()}}) {
+    for (auto [from, to] :
+         {std::pair{&samples[i].left, sample->mutable_left()}, std::pair{&samples[i].right, sample->mutable_right()}}) {
       to->set_x(from->x() * unit_scale);
       to->set_y(from->y() * unit_scale);
       to->set_z(from->z() * unit_scale);
@@ -88,10 +89,17 @@ Replies Sort(const std::vector<v1::ReconstructResponse>& replies) {
         out.batch_sizes.push_back(reply.frames().frames_size());
         for (const v1::Frame& frame : reply.frames().frames()) out.frames.push_back(frame);
         break;
-      case v1::ReconstructResponse::kRejected: out.rejected.push_back(reply.rejected()); break;
-      case v1::ReconstructResponse::kInputReport: ++out.input_reports; break;
-      case v1::ReconstructResponse::kSummary: out.summaries.push_back(reply.summary()); break;
-      default: ++out.other;
+      case v1::ReconstructResponse::kRejected:
+        out.rejected.push_back(reply.rejected());
+        break;
+      case v1::ReconstructResponse::kInputReport:
+        ++out.input_reports;
+        break;
+      case v1::ReconstructResponse::kSummary:
+        out.summaries.push_back(reply.summary());
+        break;
+      default:
+        ++out.other;
     }
   }
   return out;
@@ -99,7 +107,8 @@ Replies Sort(const std::vector<v1::ReconstructResponse>& replies) {
 
 class SessionDriverTest : public ::testing::Test {
  protected:
-  absl::StatusOr<std::unique_ptr<SessionDriver>> Create(const v1::SessionConfig& config, const SessionLimits& limits = {},
+  absl::StatusOr<std::unique_ptr<SessionDriver>> Create(const v1::SessionConfig& config,
+                                                        const SessionLimits& limits = {},
                                                         const std::atomic<bool>* cancel = nullptr) {
     return SessionDriver::Create(config, SyntheticSetup().database, "s-1", limits, metrics_, cancel);
   }
@@ -113,11 +122,12 @@ TEST_F(SessionDriverTest, ABadConfigIsRefusedNamingTheField) {
   };
   const std::vector<Case> cases = {
       {"overrides.ankle_candidates", [](auto& c) { c.mutable_overrides()->set_ankle_candidates(0); }},
-      {"overrides.ankle_candidates", [](auto& c) { c.mutable_overrides()->set_ankle_candidates(kMaxAnkleCandidates + 1); }},
+      {"overrides.ankle_candidates",
+       [](auto& c) { c.mutable_overrides()->set_ankle_candidates(kMaxAnkleCandidates + 1); }},
       {"fixed_lag.lag_frames", [](auto& c) { c.mutable_fixed_lag()->set_lag_frames(601); }},
       {"sub_interval.window_frames", [](auto& c) { c.mutable_sub_interval()->set_window_frames(-1); }},
       {"min_confidence", [](auto& c) { c.set_min_confidence(-0.5f); }},
-      {"performer_height", [](auto& c) { c.set_performer_height(40.0f); }},   // 40 m
+      {"performer_height", [](auto& c) { c.set_performer_height(40.0f); }},  // 40 m
       {"performer_height", [](auto& c) { c.set_performer_height(-1.7f); }},
   };
   for (const Case& c : cases) {
@@ -214,7 +224,8 @@ TEST_F(SessionDriverTest, FinishEmitsTheWholeTrajectoryInRepliesOfAtMostTheBatch
   replies.clear();
   ASSERT_TRUE((*driver)->Finish(&replies).ok());
   const Replies sorted = Sort(replies);
-  EXPECT_EQ(sorted.batch_sizes, (std::vector<int>{SessionDriver::kFramesPerReply, kTestFrames - SessionDriver::kFramesPerReply}));
+  EXPECT_EQ(sorted.batch_sizes,
+            (std::vector<int>{SessionDriver::kFramesPerReply, kTestFrames - SessionDriver::kFramesPerReply}));
   ASSERT_EQ(sorted.frames.size(), static_cast<size_t>(kTestFrames));
   for (int i = 0; i < kTestFrames; ++i) ASSERT_EQ(sorted.frames[i].index(), i);
   ASSERT_EQ(sorted.summaries.size(), 1u);
@@ -326,9 +337,10 @@ TEST_F(SessionDriverTest, RepliesComeBackInTheCallersFrameUnlessTheServersIsAske
     EXPECT_NEAR(in_server[i].pelvis_position().y(), native[i].pelvis_position().y(), 0.005) << i;
   }
   const int hips = 0;
-  EXPECT_NEAR(cm_started.skeleton().joints(hips).offset().y(), 100.0 * native_started.skeleton().joints(hips).offset().y(),
-              1e-3);
-  EXPECT_NEAR(server_started.skeleton().joints(hips).offset().y(), native_started.skeleton().joints(hips).offset().y(), 1e-6);
+  EXPECT_NEAR(cm_started.skeleton().joints(hips).offset().y(),
+              100.0 * native_started.skeleton().joints(hips).offset().y(), 1e-3);
+  EXPECT_NEAR(server_started.skeleton().joints(hips).offset().y(), native_started.skeleton().joints(hips).offset().y(),
+              1e-6);
 }
 
 TEST_F(SessionDriverTest, ATallerPerformerGetsAScaledSkeleton) {

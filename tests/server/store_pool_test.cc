@@ -98,8 +98,8 @@ TEST_F(StorePoolTest, ConcurrentBorrowersEachGetTheirOwnConnection) {
           seen.insert(lease->get());
           round_leases[round].insert(lease->get());
         }
-        step.arrive_and_wait();  // every borrower holds its lease now
-      }  // and gives it back
+        step.arrive_and_wait();  // every borrower holds its lease now, and gives it back below
+      }
     });
   }
   for (std::thread& borrower : borrowers) borrower.join();

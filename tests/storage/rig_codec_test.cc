@@ -84,8 +84,11 @@ RigModel AnalysedRig(const testing::SyntheticRigOptions& options) {
 RigModel HandMadeRig() {
   using C = ChannelType;
   std::vector<Joint> joints(7);
-  joints[0] = {"Hips\"quoted\\", -1, {0.0f, 96.5f, -0.0f}, {C::kYrotation, C::kZposition, C::kXrotation, C::kXposition,
-                                                            C::kZrotation, C::kYposition}, std::nullopt};
+  joints[0] = {"Hips\"quoted\\",
+               -1,
+               {0.0f, 96.5f, -0.0f},
+               {C::kYrotation, C::kZposition, C::kXrotation, C::kXposition, C::kZrotation, C::kYposition},
+               std::nullopt};
   joints[1] = {"Rücken/Ω", 0, {1e-8f, 10.0f, 0.1f}, {C::kXrotation, C::kYrotation, C::kZrotation}, std::nullopt};
   joints[2] = {"Kopf", 1, {0, 30, 0}, {}, Eigen::Vector3f(0.0f, 3.4e38f, -1.17549435e-38f)};  // no channels
   joints[3] = {"L.Arm", 1, {20, 0, 0}, {C::kZrotation}, Eigen::Vector3f(25, 0, 0)};
@@ -103,12 +106,20 @@ RigModel HandMadeRig() {
   }
   rig.pelvis_up_local = Eigen::Vector3f(0.1f, 0.9f, -0.3f);
   BodyTopology& t = rig.topology;
-  t.group_of_joint = {BodyGroup::kSpine, BodyGroup::kSpine, BodyGroup::kHead, BodyGroup::kLeftArm,
+  t.group_of_joint = {BodyGroup::kSpine,    BodyGroup::kSpine,   BodyGroup::kHead,    BodyGroup::kLeftArm,
                       BodyGroup::kRightArm, BodyGroup::kLeftLeg, BodyGroup::kRightLeg};
   t.group_top = {0, 2, 3, 4, 5, 6};
   t.group_end = {1, 2, 3, 4, 5, 6};
-  t.landmarks = {.pelvis = 0, .head = 2, .left_wrist = 3, .right_wrist = 4, .left_ankle = 5, .right_ankle = 6,
-                 .left_elbow = 3, .right_elbow = -1, .left_knee = -1, .right_knee = 6};
+  t.landmarks = {.pelvis = 0,
+                 .head = 2,
+                 .left_wrist = 3,
+                 .right_wrist = 4,
+                 .left_ankle = 5,
+                 .right_ankle = 6,
+                 .left_elbow = 3,
+                 .right_elbow = -1,
+                 .left_knee = -1,
+                 .right_knee = 6};
   t.up_axis = 2;
   t.up_sign = -1;
   t.up_alignment = 0.987654321f;
@@ -188,13 +199,25 @@ TEST(RigCodecTest, MalformedRigsAreRefusedWithDataLoss) {
       {"empty name", [](json& j) { j["joints"][1]["name"] = ""; }},
       {"name with a space", [](json& j) { j["joints"][1]["name"] = "left arm"; }},
       {"unknown channel", [](json& j) { j["joints"][1]["channels"][0] = "Wrotation"; }},
-      {"repeated channel", [](json& j) { j["joints"][1]["channels"] = {"Xrotation", "Xrotation"}; }},
+      {"repeated channel",
+       [](json& j) {
+         j["joints"][1]["channels"] = {"Xrotation", "Xrotation"};
+       }},
       {"channel not text", [](json& j) { j["joints"][1]["channels"][0] = 3; }},
-      {"short offset", [](json& j) { j["joints"][1]["offset"] = {1.0, 2.0}; }},
-      {"offset of text", [](json& j) { j["joints"][1]["offset"] = {"1", "2", "3"}; }},
+      {"short offset",
+       [](json& j) {
+         j["joints"][1]["offset"] = {1.0, 2.0};
+       }},
+      {"offset of text",
+       [](json& j) {
+         j["joints"][1]["offset"] = {"1", "2", "3"};
+       }},
       {"null end site", [](json& j) { j["joints"][2]["end_site"] = nullptr; }},
       {"no reference rotation", [](json& j) { j["joints"][5].erase("reference_rotation"); }},
-      {"short reference rotation", [](json& j) { j["joints"][5]["reference_rotation"] = {1.0, 0.0, 0.0}; }},
+      {"short reference rotation",
+       [](json& j) {
+         j["joints"][5]["reference_rotation"] = {1.0, 0.0, 0.0};
+       }},
       {"no group", [](json& j) { j["joints"][0].erase("group"); }},
       {"unknown unit", [](json& j) { j["unit"] = "furlong"; }},
       {"no unit", [](json& j) { j.erase("unit"); }},
@@ -204,7 +227,10 @@ TEST(RigCodecTest, MalformedRigsAreRefusedWithDataLoss) {
       {"knee below -1", [](json& j) { j["landmarks"]["left_knee"] = -2; }},
       {"elbow past the joints", [](json& j) { j["landmarks"]["right_elbow"] = 7; }},
       {"landmark as text", [](json& j) { j["landmarks"]["pelvis"] = "0"; }},
-      {"short group_top", [](json& j) { j["group_top"] = {0, 1, 2}; }},
+      {"short group_top",
+       [](json& j) {
+         j["group_top"] = {0, 1, 2};
+       }},
       {"no group_end", [](json& j) { j.erase("group_end"); }},
       {"no up", [](json& j) { j.erase("up"); }},
       {"up without sign", [](json& j) { j["up"].erase("sign"); }},
