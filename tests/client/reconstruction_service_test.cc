@@ -16,6 +16,7 @@
 #include "tests/support/raw_reconstruct.h"
 #include "tests/support/synthetic_clip.h"
 #include "tests/support/server_fixture.h"
+#include "tests/support/stream_events.h"
 
 namespace mocap {
 namespace {
@@ -174,13 +175,16 @@ TEST_F(ReconstructionServiceTest, LimitsOnSessionsAndIdleTime) {
   StartServer({"--max-sessions-per-tenant", "1", "--idle-seconds", "0.5"});
   auto client = Connect(keys_["acme"]);
   ImportWalks(*client);
+  const auto opened_at = std::chrono::steady_clock::now();
   auto first = client->OpenReconstruction(Config(0));
   ASSERT_TRUE(first.ok()) << first.status();
   auto second = client->OpenReconstruction(Config(0));
   EXPECT_EQ(second.status().code(), absl::StatusCode::kResourceExhausted);
   EXPECT_NE(second.status().message().find("reconstruction sessions"), std::string::npos) << second.status();
-  // The first one says nothing for longer than the idle limit.
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  // The first one says nothing: the server ends it once the idle limit has passed. Wait for that
+  // end itself (not a sleep guessing how long the server takes), and check it was not earlier.
+  EXPECT_EQ(testing::RepliesUntilTheCallEnds(**first), 0) << "a silent session was not ended by the server";
+  EXPECT_GE(std::chrono::steady_clock::now() - opened_at, std::chrono::milliseconds(500));
   auto summary = (*first)->Finish();
   EXPECT_EQ(summary.status().code(), absl::StatusCode::kDeadlineExceeded) << summary.status();
   // Its place is free again.
@@ -224,6 +228,8 @@ TEST_F(ReconstructionServiceTest, AClientThatDoesNotReadHoldsTheSessionBack) {
   });
   long frames_before = -1, frames_held = FramesReconstructed(*client);
   for (int second = 0; second < 30 && frames_held != frames_before; ++second) {  // until it settles
+    // A sleep on purpose: what is checked is that nothing happens (the counter stops moving), and
+    // only time passing can show that; there is no event for "the server has stopped".
     std::this_thread::sleep_for(std::chrono::seconds(1));
     frames_before = frames_held;
     frames_held = FramesReconstructed(*client);
@@ -261,7 +267,9 @@ TEST_F(ReconstructionServiceTest, AClientVanishingMidStreamFreesItsSession) {
     ASSERT_TRUE((*stream)->Write({samples.begin(), samples.begin() + 10}).ok());
     (*stream)->Cancel();
   }  // destroyed without Finish
-  // The server notices and frees the tenant's only session slot.
+  // The server notices and frees the tenant's only session slot. It does so in its own process,
+  // with no event this client can wait on, so the test retries (polling, 100 ms apart, for up to
+  // 5 s: the bound is what is checked).
   absl::Status opened = absl::UnknownError("not tried");
   for (int attempt = 0; attempt < 50 && !opened.ok(); ++attempt) {
     auto stream = client->OpenReconstruction(Config(0));

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <latch>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -18,6 +19,7 @@
 #include "mocap/v1/reconstruction.grpc.pb.h"
 #include "tests/support/raw_reconstruct.h"
 #include "tests/support/server_fixture.h"
+#include "tests/support/stream_events.h"
 
 namespace mocap {
 namespace {
@@ -61,7 +63,8 @@ class ServiceRegressionTest : public testing::ServerFixture {
     ADD_FAILURE() << "no metric " << name;
     return -1;
   }
-  // mocap_sessions_active once it is 0, or after 5 s.
+  // mocap_sessions_active once it is 0, or after 5 s. Polls: the sessions end in the server's
+  // process, with no event this client can wait on; the 5 s bound is what the callers check.
   double ActiveSessionsAfterWaiting(Client& client) {
     double active = -1;
     for (int i = 0; i < 100; ++i) {
@@ -89,7 +92,7 @@ class ServiceRegressionTest : public testing::ServerFixture {
     return std::string(std::istreambuf_iterator<char>(in), {});
   }
   // The log once it holds every one of `lines` (a session's end line is written after its count
-  // drops), or as it is after 10 s.
+  // drops), or as it is after 10 s. Polls the file: the server is another process.
   std::string ServerLogOnceItHas(const std::vector<std::string>& lines) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (true) {
@@ -118,7 +121,10 @@ TEST_F(ServiceRegressionTest, CancelledSessionsStopComputingAtOnce) {
     ASSERT_TRUE((*stream)->Write(flood).ok());
     streams.push_back(std::move(*stream));
   }
-  std::this_thread::sleep_for(std::chrono::seconds(1));
+  // Cancel while the flood is being computed: once the fixed-lag session has answered (its first
+  // replies come from the first task of its 25,000 samples). The whole-trajectory session answers
+  // only at its end, but its tasks share the tenant's queue with the first one's, turn about.
+  ASSERT_TRUE(testing::NextReply(*streams[0]).has_value()) << "the flood was not computed";
   for (auto& stream : streams) stream->Cancel();
   // Both sessions end within a frame's work, not when their 25,000 samples are done.
   EXPECT_EQ(ActiveSessionsAfterWaiting(*acme), 0) << "cancelled sessions still computing 5 s after the cancel";
@@ -140,20 +146,26 @@ TEST_F(ServiceRegressionTest, OneTenantsFloodDoesNotStallAnother) {
   const std::vector<v1::WristSample> flood = Samples(25'000);
   std::vector<std::unique_ptr<client::ReconstructionStream>> streams;
   std::vector<std::thread> readers;
+  std::latch computing(4);  // each flood session has answered once: all four are being computed
   for (int i = 0; i < 4; ++i) {
     auto stream = acme->OpenReconstruction(Config(/*lag=*/0));
     ASSERT_TRUE(stream.ok()) << stream.status();
     ASSERT_TRUE((*stream)->Write(flood).ok());
     client::ReconstructionStream* s = stream->get();
-    readers.emplace_back([s] {
+    readers.emplace_back([s, &computing] {
+      bool counted = false;
       while (true) {
         auto reply = s->Read();
+        if (!counted) {  // also when the call ended without a reply: the test must not hang
+          computing.count_down();
+          counted = true;
+        }
         if (!reply.ok() || !*reply) return;
       }
     });
     streams.push_back(std::move(*stream));
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the flood is computing
+  computing.wait();
   size_t frames = 0;
   const double seconds = TimedSession(*other, Config(0), Samples(60), &frames);
   EXPECT_EQ(frames, 60u);
@@ -332,7 +344,8 @@ TEST_F(ServiceRegressionTest, EverySessionEndIsLoggedWithTheClientsCode) {
   auto stream = acme->OpenReconstruction(Config(0));
   ASSERT_TRUE(stream.ok()) << stream.status();
   ASSERT_TRUE((*stream)->Write(Samples(3'000)).ok());
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // Cancel mid-session: once the server has answered the first samples.
+  ASSERT_TRUE(testing::NextReply(**stream).has_value()) << "the session was not computed";
   (*stream)->Cancel();
   EXPECT_EQ((*stream)->Finish().status().code(), absl::StatusCode::kCancelled);
   size_t frames = 0;

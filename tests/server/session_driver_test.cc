@@ -1,0 +1,365 @@
+// SessionDriver (server/session_driver.h) in-process on a small synthetic database: a bad config is
+// refused naming the field, `started` describes the session, samples become frames as they arrive
+// (fixed lag) or at the end (whole trajectory, in replies of at most kFramesPerReply), refused
+// samples are answered one by one, and the limits, the cancel flag, the caller's frame and the
+// server's counters behave as documented.
+#include "server/session_driver.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/synthetic_database.h"
+
+namespace mocap {
+// Named, so that helpers do not meet other files' in a unity batch.
+namespace session_driver_test {
+namespace {
+
+constexpr int kTestFrames = 300;
+
+const testing::SyntheticReconstructionSetup& SyntheticSetup() {
+  static const auto* setup =
+      new testing::SyntheticReconstructionSetup(testing::MakeSyntheticReconstructionSetup({}, kTestFrames));
+  return *setup;
+}
+
+// The test clip's wrists as wire samples (metres, Y up: the server's own frame), `unit_scale`
+// units per metre.
+v1::WristSamples WireSamples(int count = kTestFrames, double unit_scale = 1.0) {
+  const std::vector<WristSample> samples = testing::WristSamplesOf(SyntheticSetup());
+  v1::WristSamples out;
+  for (int i = 0; i < count && i < static_cast<int>(samples.size()); ++i) {
+    v1::WristSample* sample = out.add_samples();
+    sample->set_time(samples[i].time);
+    for (auto [from, to] :
+         {std::pair{&samples[i].left, sample->mutable_left()}, std::pair{&samples[i].right, sample->mutable_right()}}) {
+      to->set_x(from->x() * unit_scale);
+      to->set_y(from->y() * unit_scale);
+      to->set_z(from->z() * unit_scale);
+    }
+  }
+  return out;
+}
+
+// A cheap session: small K1 and K2 (the fuzz target's), fixed lag `lag` or (lag < 0) the whole
+// trajectory.
+v1::SessionConfig Config(int lag) {
+  v1::SessionConfig config;
+  config.set_database("synthetic");
+  if (lag >= 0) {
+    config.mutable_fixed_lag()->set_lag_frames(lag);
+  } else {
+    config.mutable_sub_interval()->set_window_frames(0);
+  }
+  config.mutable_overrides()->set_ankle_candidates(32);
+  config.mutable_overrides()->set_pose_neighbours(16);
+  return config;
+}
+
+double Metric(const ServerMetrics& metrics, const std::string& name) {
+  std::istringstream lines(metrics.PrometheusText());
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind(name + " ", 0) == 0) return std::stod(line.substr(name.size() + 1));
+  }
+  ADD_FAILURE() << "no metric " << name;
+  return -1;
+}
+
+// What a list of replies holds, by kind.
+struct Replies {
+  std::vector<v1::Frame> frames;
+  std::vector<int> batch_sizes;
+  std::vector<v1::SampleRejected> rejected;
+  int input_reports = 0;
+  std::vector<v1::SessionSummary> summaries;
+  int other = 0;
+};
+Replies Sort(const std::vector<v1::ReconstructResponse>& replies) {
+  Replies out;
+  for (const v1::ReconstructResponse& reply : replies) {
+    switch (reply.kind_case()) {
+      case v1::ReconstructResponse::kFrames:
+        out.batch_sizes.push_back(reply.frames().frames_size());
+        for (const v1::Frame& frame : reply.frames().frames()) out.frames.push_back(frame);
+        break;
+      case v1::ReconstructResponse::kRejected:
+        out.rejected.push_back(reply.rejected());
+        break;
+      case v1::ReconstructResponse::kInputReport:
+        ++out.input_reports;
+        break;
+      case v1::ReconstructResponse::kSummary:
+        out.summaries.push_back(reply.summary());
+        break;
+      default:
+        ++out.other;
+    }
+  }
+  return out;
+}
+
+class SessionDriverTest : public ::testing::Test {
+ protected:
+  absl::StatusOr<std::unique_ptr<SessionDriver>> Create(const v1::SessionConfig& config,
+                                                        const SessionLimits& limits = {},
+                                                        const std::atomic<bool>* cancel = nullptr) {
+    return SessionDriver::Create(config, SyntheticSetup().database, "s-1", limits, metrics_, cancel);
+  }
+  ServerMetrics metrics_;
+};
+
+TEST_F(SessionDriverTest, ABadConfigIsRefusedNamingTheField) {
+  struct Case {
+    std::string named;
+    std::function<void(v1::SessionConfig&)> edit;
+  };
+  const std::vector<Case> cases = {
+      {"overrides.ankle_candidates", [](auto& c) { c.mutable_overrides()->set_ankle_candidates(0); }},
+      {"overrides.ankle_candidates",
+       [](auto& c) { c.mutable_overrides()->set_ankle_candidates(kMaxAnkleCandidates + 1); }},
+      {"fixed_lag.lag_frames", [](auto& c) { c.mutable_fixed_lag()->set_lag_frames(601); }},
+      {"sub_interval.window_frames", [](auto& c) { c.mutable_sub_interval()->set_window_frames(-1); }},
+      {"min_confidence", [](auto& c) { c.set_min_confidence(-0.5f); }},
+      {"performer_height", [](auto& c) { c.set_performer_height(40.0f); }},  // 40 m
+      {"performer_height", [](auto& c) { c.set_performer_height(-1.7f); }},
+  };
+  for (const Case& c : cases) {
+    v1::SessionConfig config = Config(0);
+    c.edit(config);
+    auto driver = Create(config);
+    ASSERT_FALSE(driver.ok()) << c.named;
+    EXPECT_EQ(driver.status().code(), absl::StatusCode::kInvalidArgument) << c.named << ": " << driver.status();
+    EXPECT_NE(driver.status().message().find(c.named), std::string::npos) << driver.status();
+  }
+  v1::SessionConfig bad_frame = Config(0);
+  bad_frame.mutable_input_frame()->set_unit(static_cast<v1::LengthUnit>(77));
+  EXPECT_EQ(Create(bad_frame).status().code(), absl::StatusCode::kInvalidArgument);
+  // A refused session was never counted as one.
+  EXPECT_EQ(Metric(metrics_, "mocap_sessions_total"), 0);
+  EXPECT_EQ(Metric(metrics_, "mocap_sessions_active"), 0);
+}
+
+// BUG (SessionDriver::Create): the target rig is analysed after metrics.SessionStarted(), so a
+// session refused for its target_rig (INVALID_ARGUMENT, never started) still counts in
+// mocap_sessions_total ("Reconstruction sessions started"). Enable once the counting happens
+// after the last check.
+TEST_F(SessionDriverTest, DISABLED_ASessionRefusedForItsTargetRigIsNotCounted) {
+  v1::SessionConfig config = Config(0);
+  config.mutable_target_rig()->set_unit("cm");  // neither bvh nor joints
+  auto driver = Create(config);
+  ASSERT_FALSE(driver.ok());
+  EXPECT_EQ(driver.status().code(), absl::StatusCode::kInvalidArgument) << driver.status();
+  EXPECT_NE(driver.status().message().find("target_rig"), std::string::npos) << driver.status();
+  EXPECT_EQ(Metric(metrics_, "mocap_sessions_active"), 0);
+  EXPECT_EQ(Metric(metrics_, "mocap_sessions_total"), 0);
+}
+
+TEST_F(SessionDriverTest, StartedDescribesTheSessionAndTheCountersFollowIt) {
+  v1::SessionConfig config = Config(3);
+  {
+    auto driver = Create(config);
+    ASSERT_TRUE(driver.ok()) << driver.status();
+    const v1::SessionStarted& started = (*driver)->started();
+    const ReconstructionDatabase& database = *SyntheticSetup().database;
+    EXPECT_EQ(started.session_id(), "s-1");
+    EXPECT_EQ(started.latency_frames(), 3);
+    EXPECT_NEAR(started.frame_rate(), 30.0, 1e-9);
+    EXPECT_EQ(started.database_frames(), database.num_frames());
+    EXPECT_GT(started.database_height(), 1.0f);
+    EXPECT_EQ(started.skeleton().joints_size(), database.body().skeleton().num_joints());
+    EXPECT_EQ(started.config().overrides().ankle_candidates(), 32);
+    EXPECT_TRUE(started.config().overrides().has_joint_smoothing_frames());  // filled in
+    EXPECT_EQ(Metric(metrics_, "mocap_sessions_active"), 1);
+  }
+  EXPECT_EQ(Metric(metrics_, "mocap_sessions_active"), 0);
+  EXPECT_EQ(Metric(metrics_, "mocap_sessions_total"), 1);
+}
+
+TEST_F(SessionDriverTest, FixedLagSessionsAnswerEachSampleAfterTheLag) {
+  constexpr int kLag = 2, kSamples = 40;
+  auto driver = Create(Config(kLag));
+  ASSERT_TRUE(driver.ok()) << driver.status();
+  const v1::WristSamples samples = WireSamples(kSamples);
+  std::vector<v1::ReconstructResponse> replies;
+  for (int i = 0; i < kSamples; ++i) {
+    ASSERT_TRUE((*driver)->Push(samples, i, i + 1, &replies).ok()) << "sample " << i;
+    // Frame t - lag is decided when sample t arrives.
+    EXPECT_EQ((*driver)->frames_emitted(), std::max(0, i + 1 - kLag)) << "after sample " << i;
+  }
+  ASSERT_TRUE((*driver)->Finish(&replies).ok());
+  const Replies sorted = Sort(replies);
+  ASSERT_EQ(sorted.frames.size(), static_cast<size_t>(kSamples));
+  for (int i = 0; i < kSamples; ++i) {
+    EXPECT_EQ(sorted.frames[i].index(), i);
+    EXPECT_NEAR(sorted.frames[i].time(), samples.samples(i).time(), 1e-9);
+    EXPECT_EQ(sorted.frames[i].rotations_size(), SyntheticSetup().database->body().skeleton().num_joints());
+  }
+  ASSERT_EQ(sorted.summaries.size(), 1u);
+  EXPECT_EQ(replies.back().kind_case(), v1::ReconstructResponse::kSummary);  // the summary is last
+  EXPECT_EQ(sorted.summaries[0].frames(), kSamples);
+  EXPECT_EQ(sorted.summaries[0].samples(), kSamples);
+  EXPECT_EQ(sorted.summaries[0].rejected_samples(), 0);
+  EXPECT_EQ(sorted.input_reports, 1);  // after the first second of input, once
+  EXPECT_EQ(sorted.other, 0);
+  EXPECT_EQ(Metric(metrics_, "mocap_frames_reconstructed_total"), kSamples);
+}
+
+TEST_F(SessionDriverTest, FinishEmitsTheWholeTrajectoryInRepliesOfAtMostTheBatchSize) {
+  auto driver = Create(Config(-1));
+  ASSERT_TRUE(driver.ok()) << driver.status();
+  const v1::WristSamples samples = WireSamples(kTestFrames);
+  std::vector<v1::ReconstructResponse> replies;
+  ASSERT_TRUE((*driver)->Push(samples, &replies).ok());
+  EXPECT_EQ((*driver)->frames_emitted(), 0) << "a whole-trajectory session answered before its end";
+  EXPECT_TRUE(Sort(replies).frames.empty());
+  (*driver)->RecordReplyLatency(2.0);
+  (*driver)->RecordReplyLatency(4.0);
+  replies.clear();
+  ASSERT_TRUE((*driver)->Finish(&replies).ok());
+  const Replies sorted = Sort(replies);
+  EXPECT_EQ(sorted.batch_sizes,
+            (std::vector<int>{SessionDriver::kFramesPerReply, kTestFrames - SessionDriver::kFramesPerReply}));
+  ASSERT_EQ(sorted.frames.size(), static_cast<size_t>(kTestFrames));
+  for (int i = 0; i < kTestFrames; ++i) ASSERT_EQ(sorted.frames[i].index(), i);
+  ASSERT_EQ(sorted.summaries.size(), 1u);
+  EXPECT_EQ(replies.back().kind_case(), v1::ReconstructResponse::kSummary);
+  EXPECT_EQ(sorted.summaries[0].frames(), kTestFrames);
+  EXPECT_DOUBLE_EQ(sorted.summaries[0].mean_reply_ms(), 3.0);
+  EXPECT_DOUBLE_EQ(sorted.summaries[0].max_reply_ms(), 4.0);
+  // The frames follow the walk: the solved wrists land near the tracked ones.
+  const std::vector<WristSample> truth = testing::WristSamplesOf(SyntheticSetup());
+  for (int i = 0; i < kTestFrames; i += 25) {
+    const v1::Vec3& wrist = sorted.frames[i].left_wrist();
+    EXPECT_LT((Eigen::Vector3f(wrist.x(), wrist.y(), wrist.z()) - truth[i].left).norm(), 0.1f) << "frame " << i;
+  }
+}
+
+TEST_F(SessionDriverTest, NonFiniteSamplesAreRefusedOneByOneAndTheSessionGoesOn) {
+  auto driver = Create(Config(0));
+  ASSERT_TRUE(driver.ok()) << driver.status();
+  v1::WristSamples samples = WireSamples(60);
+  samples.mutable_samples(5)->mutable_left()->set_x(std::numeric_limits<double>::quiet_NaN());
+  samples.mutable_samples(9)->set_time(std::numeric_limits<double>::infinity());
+  samples.mutable_samples(20)->set_time(samples.samples(19).time() - 0.01);  // backwards: the session refuses it
+  std::vector<v1::ReconstructResponse> replies;
+  ASSERT_TRUE((*driver)->Push(samples, &replies).ok());
+  ASSERT_TRUE((*driver)->Finish(&replies).ok());
+  const Replies sorted = Sort(replies);
+  ASSERT_EQ(sorted.rejected.size(), 3u);
+  EXPECT_EQ(sorted.rejected[0].sample_index(), 5);
+  EXPECT_NE(sorted.rejected[0].reason().find("finite"), std::string::npos) << sorted.rejected[0].reason();
+  EXPECT_EQ(sorted.rejected[1].sample_index(), 9);
+  EXPECT_EQ(sorted.rejected[2].sample_index(), 20);
+  EXPECT_FALSE(sorted.rejected[2].reason().empty());
+  EXPECT_EQ((*driver)->samples_rejected(), 3);
+  ASSERT_EQ(sorted.summaries.size(), 1u);
+  EXPECT_EQ(sorted.summaries[0].samples(), 60);
+  EXPECT_EQ(sorted.summaries[0].rejected_samples(), 3);
+  EXPECT_EQ(sorted.frames.size(), 60u);  // the gaps are bridged on the 30 Hz grid
+  for (const v1::Frame& frame : sorted.frames) {
+    EXPECT_TRUE(std::isfinite(frame.root_position().x()) && std::isfinite(frame.root_position().y())) << frame.index();
+  }
+  EXPECT_EQ(Metric(metrics_, "mocap_samples_rejected_total"), 3);
+}
+
+TEST_F(SessionDriverTest, StrictSessionsEndAtTheFirstRefusedSample) {
+  v1::SessionConfig config = Config(0);
+  config.set_strict(true);
+  auto driver = Create(config);
+  ASSERT_TRUE(driver.ok()) << driver.status();
+  v1::WristSamples samples = WireSamples(20);
+  samples.mutable_samples(7)->mutable_right()->set_y(std::numeric_limits<double>::infinity());
+  std::vector<v1::ReconstructResponse> replies;
+  const absl::Status status = (*driver)->Push(samples, &replies);
+  EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument) << status;
+  EXPECT_NE(status.message().find("sample 7"), std::string::npos) << status;
+  EXPECT_TRUE(Sort(replies).rejected.empty());
+}
+
+TEST_F(SessionDriverTest, SamplesSpanningMoreThanTheSessionLimitEndIt) {
+  SessionLimits limits;
+  limits.max_session_seconds = 1.0;
+  auto driver = Create(Config(0), limits);
+  ASSERT_TRUE(driver.ok()) << driver.status();
+  const v1::WristSamples samples = WireSamples(60);  // 2 s at 30 Hz
+  std::vector<v1::ReconstructResponse> replies;
+  ASSERT_TRUE((*driver)->Push(samples, 0, 30, &replies).ok());  // 0–0.97 s: within the limit
+  const absl::Status status = (*driver)->Push(samples, 30, 60, &replies);
+  EXPECT_EQ(status.code(), absl::StatusCode::kResourceExhausted) << status;
+  EXPECT_NE(status.message().find("session length limit"), std::string::npos) << status;
+}
+
+TEST_F(SessionDriverTest, ACancelledSessionStopsWithCancelled) {
+  std::atomic<bool> cancel{false};
+  auto driver = Create(Config(0), {}, &cancel);
+  ASSERT_TRUE(driver.ok()) << driver.status();
+  const v1::WristSamples samples = WireSamples(60);
+  std::vector<v1::ReconstructResponse> replies;
+  ASSERT_TRUE((*driver)->Push(samples, 0, 10, &replies).ok());
+  const long before = (*driver)->frames_emitted();
+  EXPECT_GT(before, 0);
+  cancel.store(true);
+  absl::Status status = (*driver)->Push(samples, 10, 60, &replies);
+  if (status.ok()) status = (*driver)->Finish(&replies);
+  EXPECT_EQ(status.code(), absl::StatusCode::kCancelled) << status;
+  EXPECT_LE((*driver)->frames_emitted(), before + 1) << "the session went on computing after the cancel";
+}
+
+TEST_F(SessionDriverTest, RepliesComeBackInTheCallersFrameUnlessTheServersIsAsked) {
+  const v1::WristSamples metres = WireSamples(45);
+  const v1::WristSamples centimetres = WireSamples(45, 100.0);
+  auto run = [&](const v1::WristSamples& samples, bool centimetre_input, v1::OutputFrame output) {
+    v1::SessionConfig config = Config(0);
+    if (centimetre_input) config.mutable_input_frame()->set_unit(v1::LENGTH_UNIT_CENTIMETRE);
+    config.set_output_frame(output);
+    auto driver = Create(config);
+    EXPECT_TRUE(driver.ok()) << driver.status();
+    std::vector<v1::ReconstructResponse> replies;
+    EXPECT_TRUE((*driver)->Push(samples, &replies).ok());
+    EXPECT_TRUE((*driver)->Finish(&replies).ok());
+    return std::pair{(*driver)->started(), Sort(replies).frames};
+  };
+  const auto [native_started, native] = run(metres, false, v1::OUTPUT_FRAME_INPUT);
+  const auto [cm_started, in_cm] = run(centimetres, true, v1::OUTPUT_FRAME_INPUT);
+  const auto [server_started, in_server] = run(centimetres, true, v1::OUTPUT_FRAME_SERVER);
+  ASSERT_EQ(native.size(), 45u);
+  ASSERT_EQ(in_cm.size(), 45u);
+  ASSERT_EQ(in_server.size(), 45u);
+  for (size_t i = 0; i < native.size(); i += 11) {
+    EXPECT_NEAR(in_cm[i].pelvis_position().y(), 100.0 * native[i].pelvis_position().y(), 0.5) << i;
+    EXPECT_NEAR(in_server[i].pelvis_position().y(), native[i].pelvis_position().y(), 0.005) << i;
+  }
+  const int hips = 0;
+  EXPECT_NEAR(cm_started.skeleton().joints(hips).offset().y(),
+              100.0 * native_started.skeleton().joints(hips).offset().y(), 1e-3);
+  EXPECT_NEAR(server_started.skeleton().joints(hips).offset().y(), native_started.skeleton().joints(hips).offset().y(),
+              1e-6);
+}
+
+TEST_F(SessionDriverTest, ATallerPerformerGetsAScaledSkeleton) {
+  auto plain = Create(Config(0));
+  ASSERT_TRUE(plain.ok()) << plain.status();
+  v1::SessionConfig config = Config(0);
+  config.set_performer_height(1.5f * (*plain)->started().database_height());
+  auto tall = Create(config);
+  ASSERT_TRUE(tall.ok()) << tall.status();
+  const v1::Skeleton& a = (*plain)->started().skeleton();
+  const v1::Skeleton& b = (*tall)->started().skeleton();
+  ASSERT_EQ(a.joints_size(), b.joints_size());
+  for (int j = 0; j < a.joints_size(); ++j) {
+    EXPECT_NEAR(b.joints(j).offset().x(), 1.5f * a.joints(j).offset().x(), 1e-5f) << j;
+    EXPECT_NEAR(b.joints(j).offset().y(), 1.5f * a.joints(j).offset().y(), 1e-5f) << j;
+  }
+  EXPECT_EQ((*tall)->started().database_height(), (*plain)->started().database_height());
+}
+
+}  // namespace
+}  // namespace session_driver_test
+}  // namespace mocap
