@@ -2,11 +2,6 @@
 // a long queue delays another key's task by at most one turn; a throwing task is dropped and the
 // pool goes on; the destructor runs what is still queued. Waits are on events (futures, latches),
 // never on the clock.
-// server/work_pool.h uses absl::Mutex and the thread-safety macros without including them first
-// (its includes sit after the namespace's closing comment, one of them inside it): included here
-// until the header is self-contained again.
-#include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
 #include "server/work_pool.h"
 
 #include <gtest/gtest.h>
