@@ -6,8 +6,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "motion/bvh/bvh_reader.h"
 #include "eval/standard_split.h"
+#include "motion/bvh/bvh_reader.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/ankle_path.h"
 #include "motion/skeleton/forward_kinematics.h"
@@ -29,8 +29,9 @@ const Clouds& GetClouds() {
     if (!standard.ok()) return c;
     const RigModel* rig = &standard->rig;
     std::vector<std::vector<FrameFeatures>> per_file(standard->database_files.size());
-    if (!eval::PrepareAll(standard->database_files, *rig,
-                                [&](size_t i, PreparedClip&& clip) { per_file[i] = std::move(clip.features); }).ok()) {
+    if (!eval::PrepareAll(standard->database_files, *rig, [&](size_t i, PreparedClip&& clip) {
+           per_file[i] = std::move(clip.features);
+         }).ok()) {
       return c;
     }
     std::vector<FrameFeatures> database;
@@ -49,8 +50,10 @@ const Clouds& GetClouds() {
       WristSmoother smoother({}, c.frame_time);
       float heading = 0.0f;
       for (int f = 0; f < std::min(60, poses.num_frames()); ++f) {
-        const Eigen::Vector3f n1(noise(random), noise(random), noise(random)), n2(noise(random), noise(random), noise(random));
-        const SmoothedWrists wrists = smoother.Push(poses.position(f, l.left_wrist) + n1, poses.position(f, l.right_wrist) + n2);
+        const Eigen::Vector3f n1(noise(random), noise(random), noise(random)),
+            n2(noise(random), noise(random), noise(random));
+        const SmoothedWrists wrists =
+            smoother.Push(poses.position(f, l.left_wrist) + n1, poses.position(f, l.right_wrist) + n2);
         std::vector<AnkleCandidate> cloud;
         if (!FindAnkleCloud(index, database, {}, wrists, ks[i], &heading, &cloud).ok()) return c;
         c.by_k[i].push_back(std::move(cloud));
@@ -62,8 +65,9 @@ const Clouds& GetClouds() {
   return clouds;
 }
 
-using StepFunction = void (*)(const std::vector<AnkleCandidate>&, const std::vector<float>&, const std::vector<AnkleCandidate>&,
-                             float, const AnklePathOptions&, std::vector<float>*, std::vector<int>*);
+using StepFunction = void (*)(const std::vector<AnkleCandidate>&, const std::vector<float>&,
+                              const std::vector<AnkleCandidate>&, float, const AnklePathOptions&, std::vector<float>*,
+                              std::vector<int>*);
 
 // The DP over the 60 clouds (59 steps), each step fed the path costs of the previous one.
 // Arguments: K1, slide rule (0 = contact, 1 = patent).
@@ -85,8 +89,9 @@ void RunSteps(benchmark::State& state, StepFunction step) {
     benchmark::DoNotOptimize(cost.data());
   }
   // Milliseconds per step: the inverse of (steps / 1000) per second.
-  state.counters["ms_per_step"] = benchmark::Counter(1e-3 * static_cast<double>(frames.size() - 1),
-                                                     benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ms_per_step"] =
+      benchmark::Counter(1e-3 * static_cast<double>(frames.size() - 1),
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 void BM_AnkleDagStep(benchmark::State& state) { RunSteps(state, &AnkleDagStep); }

@@ -6,10 +6,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include "eval/datasets/shared_data.h"
 #include "motion/bvh/bvh_reader.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/skeleton/forward_kinematics.h"
-#include "eval/datasets/shared_data.h"
 
 namespace mocap {
 namespace {
@@ -49,7 +49,8 @@ const Sample& GetSample() {
 }
 
 void Report(benchmark::State& state, long frames) {
-  state.counters["frames/s"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["frames/s"] =
+      benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_ParseBvh(benchmark::State& state) {
@@ -66,7 +67,8 @@ void BM_MotionFromChannels(benchmark::State& state) {
   const Sample& s = GetSample();
   if (!s.ok) return state.SkipWithError("shared data unavailable");
   for (auto _ : state) {
-    for (const BvhClip& clip : s.clips) benchmark::DoNotOptimize(MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
+    for (const BvhClip& clip : s.clips)
+      benchmark::DoNotOptimize(MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
   }
   Report(state, s.frames);
 }
@@ -76,9 +78,11 @@ void BM_ForwardKinematics(benchmark::State& state) {
   const Sample& s = GetSample();
   if (!s.ok) return state.SkipWithError("shared data unavailable");
   std::vector<LocalMotion> motions;
-  for (const BvhClip& clip : s.clips) motions.push_back(MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
+  for (const BvhClip& clip : s.clips)
+    motions.push_back(MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
   for (auto _ : state) {
-    for (size_t i = 0; i < motions.size(); ++i) benchmark::DoNotOptimize(ForwardKinematics(s.clips[i].skeleton, motions[i]));
+    for (size_t i = 0; i < motions.size(); ++i)
+      benchmark::DoNotOptimize(ForwardKinematics(s.clips[i].skeleton, motions[i]));
   }
   Report(state, s.frames);
 }

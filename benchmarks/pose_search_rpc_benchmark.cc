@@ -104,10 +104,11 @@ int main(int argc, char** argv) {
   for (int i = 0; i < std::min<int>(stream_clips, static_cast<int>(queries.size())); ++i) {
     int frames = 0;
     const auto start = std::chrono::steady_clock::now();
-    absl::Status status = (*client)->StreamSimilarPoses(request_for(queries[i]), [&](const mocap::v1::FindSimilarPosesResponse& part) {
-      frames += part.results_size();
-      return true;
-    });
+    absl::Status status =
+        (*client)->StreamSimilarPoses(request_for(queries[i]), [&](const mocap::v1::FindSimilarPosesResponse& part) {
+          frames += part.results_size();
+          return true;
+        });
     if (!status.ok()) {
       std::fprintf(stderr, "StreamSimilarPoses: %s\n", status.ToString().c_str());
       return 1;
@@ -117,8 +118,9 @@ int main(int argc, char** argv) {
   }
   std::printf("FindSimilarPoses, one query frame per call (%zu calls): p50 %.2f ms, p99 %.2f ms, max %.2f ms\n",
               unary_ms.size(), Percentile(unary_ms, 50), Percentile(unary_ms, 99), Percentile(unary_ms, 100));
-  std::printf("StreamSimilarPoses, whole clips (%zu calls, %ld query frames): per query frame p50 %.2f ms, p99 %.2f ms\n",
-              stream_ms_per_frame.size(), stream_frames, Percentile(stream_ms_per_frame, 50),
-              Percentile(stream_ms_per_frame, 99));
+  std::printf(
+      "StreamSimilarPoses, whole clips (%zu calls, %ld query frames): per query frame p50 %.2f ms, p99 %.2f ms\n",
+      stream_ms_per_frame.size(), stream_frames, Percentile(stream_ms_per_frame, 50),
+      Percentile(stream_ms_per_frame, 99));
   return 0;
 }

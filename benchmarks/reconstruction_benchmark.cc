@@ -2,8 +2,8 @@
 // K1 = 1000, K2 = 200: frames per second and time per stage per frame, plus the resident memory
 // of the loaded database and indices per database frame.
 //   build/benchmarks/mocap_reconstruction_benchmark --benchmark_counters_tabular=true
-#include <fstream>
 #include <unistd.h>
+#include <fstream>
 
 #include <benchmark/benchmark.h>
 
@@ -73,7 +73,9 @@ void BM_ReconstructionPipeline(benchmark::State& state) {
       auto session = ReconstructionSession::Create(f.database, options);
       std::vector<ReconstructedFrame> out;
       for (int t = 0; t < test.truth.num_frames(); ++t) {
-        (void)(*session)->Push({t * f.database->frame_time(), test.truth.position(t, l.left_wrist), test.truth.position(t, l.right_wrist)}, &out);
+        (void)(*session)->Push(
+            {t * f.database->frame_time(), test.truth.position(t, l.left_wrist), test.truth.position(t, l.right_wrist)},
+            &out);
       }
       (void)(*session)->Finish(&out);
       const SessionStatistics& s = (*session)->statistics();

@@ -111,7 +111,8 @@ int main(int argc, char** argv) {
   // Warm-up: the database's indices are built and the allocator has seen a session.
   if (!RunSession(**client, config, *clip, 2'000, [](long) {})) return 1;
   const double start = ResidentMegabytes(pid);
-  std::cout << "long session: " << samples << " samples, fixed lag " << lag << "; server RSS " << start << " MB before\n";
+  std::cout << "long session: " << samples << " samples, fixed lag " << lag << "; server RSS " << start
+            << " MB before\n";
   long next_report = every;
   double first = -1;
   const bool long_ok = RunSession(**client, config, *clip, samples, [&](long frames) {

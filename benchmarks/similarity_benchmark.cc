@@ -17,13 +17,13 @@
 #include <thread>
 #include <vector>
 
+#include "eval/datasets/shared_data.h"
 #include "eval/standard_split.h"
 #include "motion/bvh/bvh_reader.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/similarity/pose_index.h"
 #include "motion/skeleton/forward_kinematics.h"
-#include "eval/datasets/shared_data.h"
 
 namespace mocap {
 namespace {

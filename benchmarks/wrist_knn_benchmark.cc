@@ -28,9 +28,11 @@ const Split& GetSplit() {
     std::vector<std::vector<FrameFeatures>> database_features(standard->database_files.size());
     std::vector<std::vector<FrameFeatures>> test_features(standard->test_files.size());
     if (!eval::PrepareAll(standard->database_files, standard->rig,
-                                [&](size_t i, PreparedClip&& clip) { database_features[i] = std::move(clip.features); }).ok() ||
-        !eval::PrepareAll(standard->test_files, standard->rig,
-                                [&](size_t i, PreparedClip&& clip) { test_features[i] = std::move(clip.features); }).ok()) {
+                          [&](size_t i, PreparedClip&& clip) { database_features[i] = std::move(clip.features); })
+             .ok() ||
+        !eval::PrepareAll(standard->test_files, standard->rig, [&](size_t i, PreparedClip&& clip) {
+           test_features[i] = std::move(clip.features);
+         }).ok()) {
       return s;
     }
     std::vector<FrameFeatures> database, test_frames;
@@ -72,8 +74,9 @@ void BM_WristKnn(benchmark::State& state, bool brute_force) {
       auto fast = split.index.Search(query.data(), k);
       auto exact = split.index.SearchBruteForce(query.data(), k);
       const float kth = exact->back().distance * (1 + 1e-5f) + 1e-9f;
-      recall += static_cast<double>(std::count_if(fast->begin(), fast->end(),
-                                                  [&](const Neighbour& n) { return n.distance <= kth; })) / k;
+      recall += static_cast<double>(
+                    std::count_if(fast->begin(), fast->end(), [&](const Neighbour& n) { return n.distance <= kth; })) /
+                k;
     }
     state.counters["recall"] = recall / split.queries.size();
   }

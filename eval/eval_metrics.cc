@@ -73,16 +73,19 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
     m.joint_error_m += all / measured_count;
     m.lower_body_error_m += leg_count ? legs / leg_count : 0.0;
     m.upper_body_error_m += upper_count ? upper / upper_count : 0.0;
-    m.wrist_error_m += 0.5 * ((p[wrists[0]] - truth.position(f, wrists[0])).norm() + (p[wrists[1]] - truth.position(f, wrists[1])).norm());
+    m.wrist_error_m += 0.5 * ((p[wrists[0]] - truth.position(f, wrists[0])).norm() +
+                              (p[wrists[1]] - truth.position(f, wrists[1])).norm());
     m.pelvis_error_m += (p[l.pelvis] - truth.position(f, l.pelvis)).norm();
-    m.ankle_error_m += 0.5 * ((p[ankles[0]] - truth.position(f, ankles[0])).norm() + (p[ankles[1]] - truth.position(f, ankles[1])).norm());
+    m.ankle_error_m += 0.5 * ((p[ankles[0]] - truth.position(f, ankles[0])).norm() +
+                              (p[ankles[1]] - truth.position(f, ankles[1])).norm());
     m.angle_error_deg += angle / (measured_count - 1);
     m.angle_error_sq_deg += angle_sq / (measured_count - 1);
     if (i >= 1 && frames[i - 1].frame_in_segment == f - 1) {
       for (int a : ankles) {
         const Eigen::Vector3f step = truth.position(f, a) - truth.position(f - 1, a);
         const double ground_speed = std::hypot(step.x(), step.z()) * rate;
-        if (ground_speed < kTruthContactSpeed && truth.position(f, a).y() < database.planted_ankle_height() + kTruthContactHeight) {
+        if (ground_speed < kTruthContactSpeed &&
+            truth.position(f, a).y() < database.planted_ankle_height() + kTruthContactHeight) {
           const Eigen::Vector3f moved = p[a] - positions[i - 1][a];
           m.planted_frames += 1;
           m.skate_m += std::hypot(moved.x(), moved.z());
@@ -95,7 +98,9 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
       for (int j = 0; j < joints; ++j) {
         if (!measured[j]) continue;
         jitter += (p[j] - 3 * positions[i - 1][j] + 3 * positions[i - 2][j] - positions[i - 3][j]).norm();
-        truth_jitter += (truth.position(f, j) - 3 * truth.position(f - 1, j) + 3 * truth.position(f - 2, j) - truth.position(f - 3, j)).norm();
+        truth_jitter += (truth.position(f, j) - 3 * truth.position(f - 1, j) + 3 * truth.position(f - 2, j) -
+                         truth.position(f - 3, j))
+                            .norm();
       }
       m.jitter_frames += 1;
       m.jitter += jitter / measured_count * rate * rate * rate;

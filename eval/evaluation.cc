@@ -17,7 +17,8 @@
 
 namespace mocap::eval {
 
-absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(const std::vector<std::filesystem::path>& files) {
+absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
+    const std::vector<std::filesystem::path>& files) {
   if (files.empty()) return absl::InvalidArgumentError("no database files");
   MOCAP_ASSIGN_OR_RETURN(BvhClip first, ReadBvhFile(files.front()));
   MOCAP_ASSIGN_OR_RETURN(RigModel rig, BuildRigModel(first, {}));
@@ -28,8 +29,9 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(const
   return ReconstructionDatabase::Build(rig, clips);
 }
 
-absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files, const RigModel& rig,
-                                                    int max_frames, const std::string& content_prefix) {
+absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files,
+                                                    const RigModel& rig, int max_frames,
+                                                    const std::string& content_prefix) {
   std::vector<TestClip> tests(files.size());
   MOCAP_RETURN_IF_ERROR(PrepareAll(files, rig, [&](size_t i, PreparedClip&& prepared) {
     TestClip& t = tests[i];
@@ -38,7 +40,8 @@ absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::files
     t.content = content_prefix + (content.empty() ? "other" : content);
     if (max_frames > 0 && prepared.num_frames() > max_frames) {
       LocalMotion& m = prepared.motion;
-      for (Eigen::ArrayXXf* a : {&m.qw, &m.qx, &m.qy, &m.qz, &m.tx, &m.ty, &m.tz}) a->conservativeResize(max_frames, Eigen::NoChange);
+      for (Eigen::ArrayXXf* a : {&m.qw, &m.qx, &m.qy, &m.qz, &m.tx, &m.ty, &m.tz})
+        a->conservativeResize(max_frames, Eigen::NoChange);
       prepared.features.resize(max_frames);
     }
     t.truth = ForwardKinematics(prepared.skeleton, prepared.motion);
@@ -93,13 +96,16 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<cons
     auto work = [&] {
       for (size_t i = next++; i < tests.size(); i = next++) {
         // One seed per clip: the same noise whatever the thread count or experiment order.
-        const std::vector<WristSample> wrists = NoisyWrists(tests[i], database->rig(), experiment.noise_cm, config.seed + static_cast<unsigned>(i));
+        const std::vector<WristSample> wrists =
+            NoisyWrists(tests[i], database->rig(), experiment.noise_cm, config.seed + static_cast<unsigned>(i));
         const auto start = std::chrono::steady_clock::now();
-        absl::StatusOr<std::vector<ReconstructedFrame>> frames = ReconstructOffline(database, experiment.options, wrists);
+        absl::StatusOr<std::vector<ReconstructedFrame>> frames =
+            ReconstructOffline(database, experiment.options, wrists);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!frames.ok()) {
           std::lock_guard<std::mutex> lock(mutex);
-          if (error.ok()) error = absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
+          if (error.ok())
+            error = absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
           continue;
         }
         per_clip[i] = Measure(*database, tests[i].clip, tests[i].truth, *frames);
@@ -126,7 +132,8 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<cons
     }
     if (progress) {
       progress(StrCat(experiment.name, ": MPJPE ", 100 * result.overall.Mean(result.overall.joint_error_m), " cm over ",
-                      result.overall.frames, " frames, ", result.overall.frames / std::max(1e-9, result.overall.seconds), " frames/s"));
+                      result.overall.frames, " frames, ",
+                      result.overall.frames / std::max(1e-9, result.overall.seconds), " frames/s"));
     }
     results.push_back(std::move(result));
   }

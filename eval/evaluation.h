@@ -36,15 +36,18 @@ struct ExperimentResult {
 };
 
 // Database from BVH files (all cores). The rig comes from the first file.
-absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(const std::vector<std::filesystem::path>& files);
+absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
+    const std::vector<std::filesystem::path>& files);
 // Test clips on `rig`, cut to `max_frames` (0 = whole). Clips on another rig are an error.
-absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files, const RigModel& rig,
-                                                    int max_frames, const std::string& content_prefix);
+absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files,
+                                                    const RigModel& rig, int max_frames,
+                                                    const std::string& content_prefix);
 
 struct EvaluationConfig {
   unsigned seed = 1;
   int threads = 2;
-  std::filesystem::path bvh_dir;  // where the "full" run's reconstructions go (the captured clips in truth/); empty = nowhere
+  std::filesystem::path
+      bvh_dir;  // where the "full" run's reconstructions go (the captured clips in truth/); empty = nowhere
 };
 
 absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<const ReconstructionDatabase> database,

@@ -11,8 +11,8 @@ namespace mocap::eval {
 
 struct Experiment {
   std::string name;
-  std::string group;      // "main", "window", "noise", "lag"
-  double x = 0;           // the ablated value (L, σ in cm, D)
+  std::string group;  // "main", "window", "noise", "lag"
+  double x = 0;       // the ablated value (L, σ in cm, D)
   ReconstructionOptions options;
   double noise_cm = 0.5;
 };

@@ -23,13 +23,25 @@ constexpr std::string_view kReportCss =
     "th,td{border:1px solid #d4d9e0;padding:4px 8px;text-align:right}th:first-child,td:first-child{text-align:left}"
     "thead th{background:#e9edf2}caption{text-align:left;font-weight:600;padding:4px 0}"
     ".plots{display:flex;flex-wrap:wrap;gap:16px}figure{margin:0;background:#fff;border:1px solid #d4d9e0;padding:8px}"
-    "figcaption{color:#5a6472;font-size:13px}dt{font-weight:600;float:left;clear:left;margin-right:8px}dd{margin:0 0 2px}";
+    "figcaption{color:#5a6472;font-size:13px}dt{font-weight:600;float:left;clear:left;margin-right:8px}dd{margin:0 0 "
+    "2px}";
 
 // The usual metrics first, in reading order; others (new ones) after them by name.
-constexpr std::string_view kMetricOrder[] = {
-    "mpjpe_cm", "lower_body_mpjpe_cm", "upper_body_mpjpe_cm", "pelvis_error_cm", "ankle_error_cm", "wrist_error_cm",
-    "joint_angle_error_deg", "joint_angle_rms_deg", "foot_skate_cm_per_frame", "truth_foot_skate_cm_per_frame",
-    "jitter_m_per_s3", "truth_jitter_m_per_s3", "frames_per_second", "frames", "planted_foot_frames"};
+constexpr std::string_view kMetricOrder[] = {"mpjpe_cm",
+                                             "lower_body_mpjpe_cm",
+                                             "upper_body_mpjpe_cm",
+                                             "pelvis_error_cm",
+                                             "ankle_error_cm",
+                                             "wrist_error_cm",
+                                             "joint_angle_error_deg",
+                                             "joint_angle_rms_deg",
+                                             "foot_skate_cm_per_frame",
+                                             "truth_foot_skate_cm_per_frame",
+                                             "jitter_m_per_s3",
+                                             "truth_jitter_m_per_s3",
+                                             "frames_per_second",
+                                             "frames",
+                                             "planted_foot_frames"};
 
 // "lower_body_mpjpe_cm" → "lower body MPJPE (cm)".
 std::string Label(std::string name) {
@@ -44,7 +56,8 @@ std::string Label(std::string name) {
     }
   }
   std::replace(name.begin(), name.end(), '_', ' ');
-  for (size_t at = name.find("mpjpe"); at != std::string::npos; at = name.find("mpjpe", at)) name.replace(at, 5, "MPJPE");
+  for (size_t at = name.find("mpjpe"); at != std::string::npos; at = name.find("mpjpe", at))
+    name.replace(at, 5, "MPJPE");
   return name + unit;
 }
 
@@ -52,8 +65,10 @@ std::string Cell(const Json& value) {
   if (value.is_number()) {
     const double v = value.get<double>();
     char text[48];
-    if (v == std::floor(v) && std::abs(v) < 1e15) std::snprintf(text, sizeof text, "%.0f", v);
-    else std::snprintf(text, sizeof text, std::abs(v) >= 100 ? "%.1f" : "%.3g", v);
+    if (v == std::floor(v) && std::abs(v) < 1e15)
+      std::snprintf(text, sizeof text, "%.0f", v);
+    else
+      std::snprintf(text, sizeof text, std::abs(v) >= 100 ? "%.1f" : "%.3g", v);
     return text;
   }
   if (value.is_string()) return HtmlEscape(value.get<std::string>());
@@ -63,7 +78,8 @@ std::string Cell(const Json& value) {
 
 bool IsScalar(const Json& v) { return v.is_primitive(); }
 
-std::string Table(const std::string& caption, const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+std::string Table(const std::string& caption, const std::vector<std::string>& header,
+                  const std::vector<std::vector<std::string>>& rows) {
   std::string html = StrCat("<table><caption>", HtmlEscape(caption), "</caption><thead><tr>");
   for (const std::string& h : header) html += StrCat("<th>", HtmlEscape(h), "</th>");
   html += "</tr></thead><tbody>";
@@ -184,7 +200,8 @@ std::string OtherSections(const Json& report) {
 std::string BodyPartChart(const Json& experiments) {
   std::vector<std::string> metrics;
   for (const std::string& m : MetricColumns(experiments)) {
-    if (m.rfind("truth_", 0) != 0 && (m == "mpjpe_cm" || m.ends_with("_mpjpe_cm") || m.ends_with("_error_cm"))) metrics.push_back(m);
+    if (m.rfind("truth_", 0) != 0 && (m == "mpjpe_cm" || m.ends_with("_mpjpe_cm") || m.ends_with("_error_cm")))
+      metrics.push_back(m);
   }
   std::vector<Series> series;
   for (const std::string& name : RunOrder(experiments)) {
@@ -240,12 +257,15 @@ absl::Status WriteHtmlReport(const Json& report, const std::filesystem::path& ou
   page.html_before = StrCat("<h1>mocap-eval report</h1>\n", OtherSections(report), "<h2>Summary</h2>\n",
                             SummaryTable(experiments), PerContentTable(experiments), "<h2>Clips</h2>\n");
   if (scenes.empty()) {
-    page.html_before += "<p>No clips to play: the reconstructions and captured clips are written to bvh/ unless "
-                        "mocap-eval runs with --no-bvh.</p>\n";
+    page.html_before +=
+        "<p>No clips to play: the reconstructions and captured clips are written to bvh/ unless "
+        "mocap-eval runs with --no-bvh.</p>\n";
   } else {
-    page.html_before += StrCat("<p>The full method's reconstruction over the captured motion (colours in the player's legend), for the ",
-                               kPlayerClipsPerContent, " clips of each content type it reconstructed worst (highest "
-                               "MPJPE first). Choose a clip below the player; drag to orbit, scroll to zoom.</p>\n");
+    page.html_before += StrCat(
+        "<p>The full method's reconstruction over the captured motion (colours in the player's legend), for the ",
+        kPlayerClipsPerContent,
+        " clips of each content type it reconstructed worst (highest "
+        "MPJPE first). Choose a clip below the player; drag to orbit, scroll to zoom.</p>\n");
     page.data = {{"layout", "overlay"}, {"scenes", scenes}};
   }
   page.html_after = Plots(out_dir / "plots", experiments);

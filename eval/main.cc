@@ -4,20 +4,20 @@
 // report.md, SVG plots and every reconstruction as BVH.
 #include <algorithm>
 #include <fstream>
-#include <set>
 #include <iostream>
 #include <iterator>
+#include <set>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "eval/datasets/shared_data.h"
 #include "eval/evaluation.h"
+#include "eval/quick_thresholds.h"
 #include "eval/report.h"
 #include "eval/standard_split.h"
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
-#include "eval/datasets/shared_data.h"
-#include "eval/quick_thresholds.h"
 
 namespace {
 
@@ -67,7 +67,8 @@ int main(int argc, char** argv) {
                "report on the standard split");
   app.add_flag("--quick", quick, "one held-out clip per content type, 120 frames each; fails on regression");
   app.add_flag("--ablations", ablations, "also run window L ∈ {10,50,100}, noise σ ∈ {0,1,2} cm, lag D ∈ {0,5,15,30}");
-  app.add_flag("--generalisation", generalisation, "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
+  app.add_flag("--generalisation", generalisation,
+               "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
   app.add_option("--noise-cm", noise_cm, "wrist noise σ in cm (METHOD.md A8: 0.5)");
   app.add_option("--seed", seed, "noise seed");
   app.add_option("--max-frames", max_frames, "cut test clips to this many frames (0 = whole)");
@@ -78,11 +79,14 @@ int main(int argc, char** argv) {
   app.add_option("--window", base.window, "A4 window L for the full run (0 = whole clip)");
   std::string contacts = "estimated";
   app.add_option("--contacts", contacts, "A7 foot contacts from the chosen database frame or the estimated ankles")
-      ->check(CLI::IsMember({"database", "estimated", "both"}))->capture_default_str();
+      ->check(CLI::IsMember({"database", "estimated", "both"}))
+      ->capture_default_str();
   app.add_option("--contact-speed", base.footskate.contact_speed, "A7 planted below this ground speed, m/s")
       ->capture_default_str();
-  app.add_option("--joint-smoothing", base.joint_smoothing_sigma, "A7 joint-space Gaussian σ, frames")->capture_default_str();
-  app.add_option("--hand-sigma", base.hand_target_sigma, "hand IK target: input smoothed by a centred Gaussian of this σ (frames); < 0: no hand IK")
+  app.add_option("--joint-smoothing", base.joint_smoothing_sigma, "A7 joint-space Gaussian σ, frames")
+      ->capture_default_str();
+  app.add_option("--hand-sigma", base.hand_target_sigma,
+                 "hand IK target: input smoothed by a centred Gaussian of this σ (frames); < 0: no hand IK")
       ->capture_default_str();
   app.add_option("--ankle-data-weight", base.ankle_path.data_weight, "A4 node cost weight on the eq. 2 wrist distance")
       ->capture_default_str();
@@ -93,19 +97,21 @@ int main(int argc, char** argv) {
   app.add_option("--wrist-sigma", base.smoothing.local_linear_sigma,
                  "A2 as a local linear fit over a Gaussian window of this σ (frames); 0: the patent's exponential")
       ->capture_default_str();
-  app.add_option("--lookahead", base.smoothing.lookahead, "A2 local linear fit: frames of look-ahead")->capture_default_str();
-  app.add_option("--smoothing", base.smoothing.smoothing, "A2 exponential smoothing s (1 = none)")->capture_default_str();
+  app.add_option("--lookahead", base.smoothing.lookahead, "A2 local linear fit: frames of look-ahead")
+      ->capture_default_str();
+  app.add_option("--smoothing", base.smoothing.smoothing, "A2 exponential smoothing s (1 = none)")
+      ->capture_default_str();
   std::vector<std::string> only_runs;
   app.add_option("--runs", only_runs, "only these runs (full, nearest_neighbour, nearest_average, wrists_only, ...)");
   app.add_flag("--no-bvh", no_bvh, "do not write the reconstructions as BVH");
-  app.add_option("--thresholds", thresholds_file, "regression thresholds for --quick (JSON; default: the built-in ones)");
+  app.add_option("--thresholds", thresholds_file,
+                 "regression thresholds for --quick (JSON; default: the built-in ones)");
   app.add_option("--shared-data", shared_data,
                  "the shared data folder (its unpack.sh; default: $MOCAP_SHARED_DATA_DIR, else ../shared/data)");
   CLI11_PARSE(app, argc, argv);
-  base.footskate.contact_source =
-      contacts == "database"    ? mocap::ContactSource::kDatabaseFrame
-      : contacts == "estimated" ? mocap::ContactSource::kEstimatedAnkles
-                                : mocap::ContactSource::kBoth;
+  base.footskate.contact_source = contacts == "database"    ? mocap::ContactSource::kDatabaseFrame
+                                  : contacts == "estimated" ? mocap::ContactSource::kEstimatedAnkles
+                                                            : mocap::ContactSource::kBoth;
 
   mocap::datasets::DataLocation data = mocap::datasets::DataLocationFromEnvironment();
   if (!shared_data.empty()) data.shared_dir = shared_data;
@@ -166,7 +172,8 @@ int main(int argc, char** argv) {
     std::vector<std::filesystem::path> extra;
     for (const auto& f : mocap::datasets::BvhFilesIn(*folder)) {
       const std::string c = mocap::LabelValue(mocap::ParseClipLabels(f.filename().string()), "content");
-      if (c == "walk" || c == "walk-back" || c == "walk-left" || c == "walk-right" || c == "run" || c == "dash") extra.push_back(f);
+      if (c == "walk" || c == "walk-back" || c == "walk-left" || c == "walk-right" || c == "run" || c == "dash")
+        extra.push_back(f);
     }
     auto more = mocap::eval::LoadTestClips(extra, (*database)->rig(), max_frames, "bn1:");
     if (!more.ok()) {
@@ -188,9 +195,11 @@ int main(int argc, char** argv) {
       return std::find(only_runs.begin(), only_runs.end(), e.name) == only_runs.end();
     });
   }
-  mocap::eval::EvaluationConfig config{.seed = seed, .threads = threads, .bvh_dir = no_bvh ? "" : std::filesystem::path(out_dir) / "bvh"};
+  mocap::eval::EvaluationConfig config{
+      .seed = seed, .threads = threads, .bvh_dir = no_bvh ? "" : std::filesystem::path(out_dir) / "bvh"};
   std::cerr << "reconstructing " << tests->size() << " clips with " << experiments.size() << " runs...\n";
-  auto results = mocap::eval::RunEvaluation(*database, *tests, experiments, config, [](const std::string& line) { std::cerr << "  " << line << "\n"; });
+  auto results = mocap::eval::RunEvaluation(*database, *tests, experiments, config,
+                                            [](const std::string& line) { std::cerr << "  " << line << "\n"; });
   if (!results.ok()) {
     std::cerr << "mocap-eval: " << results.status().message() << "\n";
     return kExitError;
@@ -199,7 +208,8 @@ int main(int argc, char** argv) {
     std::cerr << "mocap-eval: " << status.message() << "\n";
     return kExitError;
   }
-  std::cout << "wrote " << out_dir << "/report.html, report.md, report.json, plots/" << (no_bvh ? "" : ", bvh/") << "\n";
+  std::cout << "wrote " << out_dir << "/report.html, report.md, report.json, plots/" << (no_bvh ? "" : ", bvh/")
+            << "\n";
   if (!quick) return 0;
   // Regression check against stored thresholds.
   std::string thresholds(mocap::eval::kQuickThresholdsJson);
@@ -225,7 +235,10 @@ int main(int argc, char** argv) {
     ok = ok && pass;
   };
   check("full MPJPE cm", full["mpjpe_cm"], limits.value("full_mpjpe_cm_max", 1e9));
-  check("full / nearest-neighbour MPJPE", full["mpjpe_cm"].get<double>() / nn["mpjpe_cm"].get<double>(), limits.value("full_over_nn_mpjpe_max", 1e9));
-  check("full jitter / truth jitter", full["jitter_m_per_s3"].get<double>() / full["truth_jitter_m_per_s3"].get<double>(), limits.value("jitter_over_truth_max", 1e9));
+  check("full / nearest-neighbour MPJPE", full["mpjpe_cm"].get<double>() / nn["mpjpe_cm"].get<double>(),
+        limits.value("full_over_nn_mpjpe_max", 1e9));
+  check("full jitter / truth jitter",
+        full["jitter_m_per_s3"].get<double>() / full["truth_jitter_m_per_s3"].get<double>(),
+        limits.value("jitter_over_truth_max", 1e9));
   return ok ? 0 : kExitRegression;
 }

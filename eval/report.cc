@@ -55,7 +55,9 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
   std::filesystem::create_directories(out_dir / "plots");
   nlohmann::json report = context;
   for (const ExperimentResult& r : results) {
-    nlohmann::json entry = {{"group", r.experiment.group}, {"x", r.experiment.x}, {"noise_cm", r.experiment.noise_cm},
+    nlohmann::json entry = {{"group", r.experiment.group},
+                            {"x", r.experiment.x},
+                            {"noise_cm", r.experiment.noise_cm},
                             {"overall", MetricsJson(r.overall)}};
     for (const auto& [content, metrics] : r.by_content) entry["by_content"][content] = MetricsJson(metrics);
     for (const ClipResult& c : r.clips) (entry["clips"][c.name] = MetricsJson(c.metrics))["content"] = c.content;
@@ -73,7 +75,8 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
   }
   nlohmann::json headline = nlohmann::json::array();
   if (full && !baselines.empty()) {
-    auto row = [&](const std::string& content, const Metrics& f, const std::function<const Metrics*(const ExperimentResult&)>& of) {
+    auto row = [&](const std::string& content, const Metrics& f,
+                   const std::function<const Metrics*(const ExperimentResult&)>& of) {
       const ExperimentResult* best = nullptr;
       double best_error = 0;
       for (const ExperimentResult* b : baselines) {
@@ -84,8 +87,11 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
         }
       }
       if (!best) return;
-      headline.push_back({{"content", content}, {"full_mpjpe_cm", 100 * mpjpe(f)}, {"best_baseline", best->experiment.name},
-                          {"best_baseline_mpjpe_cm", 100 * best_error}, {"ratio", best_error > 0 ? mpjpe(f) / best_error : 0.0}});
+      headline.push_back({{"content", content},
+                          {"full_mpjpe_cm", 100 * mpjpe(f)},
+                          {"best_baseline", best->experiment.name},
+                          {"best_baseline_mpjpe_cm", 100 * best_error},
+                          {"ratio", best_error > 0 ? mpjpe(f) / best_error : 0.0}});
     };
     row("all", full->overall, [](const ExperimentResult& r) { return &r.overall; });
     for (const auto& [content, metrics] : full->by_content) {
@@ -123,23 +129,28 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
 
   // Markdown summary.
   std::string md = "# mocap-eval report\n\n";
-  md += StrCat("Database: ", context.value("database", std::string("?")), " (", context.value("database_frames", 0), " frames). ",
-               "Test clips: ", context.value("test_clips", 0), ", wrists by forward kinematics plus Gaussian noise (seed ",
-               context.value("seed", 0), "). Foot contact of the captured motion: ankle slower than 0.2 m/s on the ground plane ",
+  md += StrCat("Database: ", context.value("database", std::string("?")), " (", context.value("database_frames", 0),
+               " frames). ", "Test clips: ", context.value("test_clips", 0),
+               ", wrists by forward kinematics plus Gaussian noise (seed ", context.value("seed", 0),
+               "). Foot contact of the captured motion: ankle slower than 0.2 m/s on the ground plane ",
                "and within 5 cm of the database's planted ankle height.\n\n");
-  md += "| run | MPJPE cm | wrists (input fidelity) cm | pelvis cm | ankles cm | lower body cm | upper body cm | angle RMS ° | skate cm/frame (truth) | jitter m/s³ (truth) | frames/s |\n";
+  md +=
+      "| run | MPJPE cm | wrists (input fidelity) cm | pelvis cm | ankles cm | lower body cm | upper body cm | angle "
+      "RMS ° | skate cm/frame (truth) | jitter m/s³ (truth) | frames/s |\n";
   md += "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ExperimentResult& r : results) {
     const nlohmann::json m = MetricsJson(r.overall);
     md += StrCat("| ", r.experiment.name, " | ", Fixed(m["mpjpe_cm"]), " | ", Fixed(m["wrist_error_cm"]), " | ",
-                 Fixed(m["pelvis_error_cm"]), " | ", Fixed(m["ankle_error_cm"]), " | ", Fixed(m["lower_body_mpjpe_cm"]), " | ",
-                 Fixed(m["upper_body_mpjpe_cm"]), " | ", Fixed(m["joint_angle_rms_deg"]), " | ",
+                 Fixed(m["pelvis_error_cm"]), " | ", Fixed(m["ankle_error_cm"]), " | ", Fixed(m["lower_body_mpjpe_cm"]),
+                 " | ", Fixed(m["upper_body_mpjpe_cm"]), " | ", Fixed(m["joint_angle_rms_deg"]), " | ",
                  Fixed(m["foot_skate_cm_per_frame"]), " (", Fixed(m["truth_foot_skate_cm_per_frame"]), ") | ",
                  Fixed(m["jitter_m_per_s3"], 1), " (", Fixed(m["truth_jitter_m_per_s3"], 1), ") | ",
                  Fixed(m["frames_per_second"], 0), " |\n");
   }
   if (!headline.empty()) {
-    md += "\n## The full method against the best baseline (MPJPE cm)\n\n| content | full | best baseline | its MPJPE | full / best |\n|---|---|---|---|---|\n";
+    md +=
+        "\n## The full method against the best baseline (MPJPE cm)\n\n| content | full | best baseline | its MPJPE | "
+        "full / best |\n|---|---|---|---|---|\n";
     for (const nlohmann::json& h : headline) {
       md += StrCat("| ", h["content"].get<std::string>(), " | ", Fixed(h["full_mpjpe_cm"]), " | ",
                    h["best_baseline"].get<std::string>(), " | ", Fixed(h["best_baseline_mpjpe_cm"]), " | ",
@@ -148,10 +159,12 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
   }
   if (report.contains("targets")) {
     const nlohmann::json& t = report["targets"];
-    md += StrCat("\nTargets: MPJPE / nearest neighbour ", Fixed(t["mpjpe_over_nearest_neighbour"]), " (≤ 0.75); / average of 10 nearest ",
-                 Fixed(t["mpjpe_over_nearest_average"]), " (≤ 0.85); content types worse than the nearest neighbour: ",
-                 t["content_types_worse_than_nearest_neighbour"].get<int>(), " (0); wrist error ", Fixed(t["wrist_error_cm"]),
-                 " cm (≤ 1.0); foot skate ", Fixed(t["skate_over_truth"]), "× and jitter ", Fixed(t["jitter_over_truth"]),
+    md += StrCat("\nTargets: MPJPE / nearest neighbour ", Fixed(t["mpjpe_over_nearest_neighbour"]),
+                 " (≤ 0.75); / average of 10 nearest ", Fixed(t["mpjpe_over_nearest_average"]),
+                 " (≤ 0.85); content types worse than the nearest neighbour: ",
+                 t["content_types_worse_than_nearest_neighbour"].get<int>(), " (0); wrist error ",
+                 Fixed(t["wrist_error_cm"]), " cm (≤ 1.0); foot skate ", Fixed(t["skate_over_truth"]), "× and jitter ",
+                 Fixed(t["jitter_over_truth"]),
                  "× the capture's (≤ 2×). Joint-angle RMS reduction against the wrists-only pose model: ",
                  Fixed(100 * t["joint_angle_rms_reduction_vs_wrists_only"].get<double>(), 1), "% (patent: 32%).\n");
   }
@@ -186,10 +199,12 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
            {"noise", "wrist noise σ (cm)"}, {"lag", "fixed lag D (frames)"}, {"window", "window L (frames)"}}) {
     std::vector<std::pair<double, double>> points;
     for (const ExperimentResult& r : results) {
-      if (r.experiment.group == group) points.push_back({r.experiment.x, 100 * r.overall.Mean(r.overall.joint_error_m)});
+      if (r.experiment.group == group)
+        points.push_back({r.experiment.x, 100 * r.overall.Mean(r.overall.joint_error_m)});
     }
     if (points.empty()) continue;
-    if (full && group == "noise") points.push_back({full->experiment.noise_cm, 100 * full->overall.Mean(full->overall.joint_error_m)});
+    if (full && group == "noise")
+      points.push_back({full->experiment.noise_cm, 100 * full->overall.Mean(full->overall.joint_error_m)});
     std::sort(points.begin(), points.end());
     std::vector<double> x;
     Series s{"full method", {}};
@@ -198,7 +213,8 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
       s.values.push_back(py);
     }
     const std::string file = StrCat("error_vs_", group, ".svg");
-    if (absl::Status st = WriteText(out_dir / "plots" / file, LineChartSvg(StrCat("MPJPE vs ", x_label), x_label, "MPJPE (cm)", x, {s}));
+    if (absl::Status st = WriteText(out_dir / "plots" / file,
+                                    LineChartSvg(StrCat("MPJPE vs ", x_label), x_label, "MPJPE (cm)", x, {s}));
         !st.ok()) {
       return st;
     }

@@ -23,7 +23,8 @@ struct ClipError {
 const nlohmann::json* ClipFigures(const nlohmann::json& report) {
   const nlohmann::json* experiments = report.contains("experiments") ? &report["experiments"] : nullptr;
   if (!experiments || !experiments->is_object()) return nullptr;
-  if (experiments->contains("full") && (*experiments)["full"].contains("clips")) return &(*experiments)["full"]["clips"];
+  if (experiments->contains("full") && (*experiments)["full"].contains("clips"))
+    return &(*experiments)["full"]["clips"];
   for (const auto& [name, run] : experiments->items()) {
     if (run.is_object() && run.contains("clips")) return &run["clips"];
   }
@@ -32,7 +33,8 @@ const nlohmann::json* ClipFigures(const nlohmann::json& report) {
 
 }  // namespace
 
-nlohmann::json ReportPlayerScenes(const nlohmann::json& report, const std::filesystem::path& out_dir, int clips_per_content) {
+nlohmann::json ReportPlayerScenes(const nlohmann::json& report, const std::filesystem::path& out_dir,
+                                  int clips_per_content) {
   nlohmann::json scenes = nlohmann::json::array();
   const nlohmann::json* figures = ClipFigures(report);
   if (!figures || !figures->is_object()) return scenes;
@@ -40,11 +42,13 @@ nlohmann::json ReportPlayerScenes(const nlohmann::json& report, const std::files
   for (const auto& [name, clip] : figures->items()) {
     if (!clip.is_object()) continue;
     const nlohmann::json& mpjpe = clip.contains("mpjpe_cm") ? clip["mpjpe_cm"] : nlohmann::json();
-    by_content[clip.value("content", std::string("other"))].push_back({name, mpjpe.is_number() ? mpjpe.get<double>() : 0.0});
+    by_content[clip.value("content", std::string("other"))].push_back(
+        {name, mpjpe.is_number() ? mpjpe.get<double>() : 0.0});
   }
   const std::filesystem::path bvh_dir = out_dir / "bvh";
   for (auto& [content, clips] : by_content) {
-    std::sort(clips.begin(), clips.end(), [](const ClipError& a, const ClipError& b) { return a.mpjpe_cm > b.mpjpe_cm; });
+    std::sort(clips.begin(), clips.end(),
+              [](const ClipError& a, const ClipError& b) { return a.mpjpe_cm > b.mpjpe_cm; });
     int taken = 0;
     for (const ClipError& clip : clips) {
       if (taken == clips_per_content) break;
@@ -52,8 +56,9 @@ nlohmann::json ReportPlayerScenes(const nlohmann::json& report, const std::files
       absl::StatusOr<std::string> truth = html_view::ReadTextFile(bvh_dir / "truth" / clip.name);
       if (!reconstruction.ok() || !truth.ok()) continue;
       scenes.push_back({{"label", StrCat(content, " · ", clip.name, " · MPJPE ", Fixed(clip.mpjpe_cm), " cm")},
-                        {"clips", {html_view::ClipJson("reconstruction (full method)", *reconstruction),
-                                   html_view::ClipJson("captured motion", *truth)}}});
+                        {"clips",
+                         {html_view::ClipJson("reconstruction (full method)", *reconstruction),
+                          html_view::ClipJson("captured motion", *truth)}}});
       ++taken;
     }
   }

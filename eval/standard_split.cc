@@ -46,7 +46,8 @@ absl::Status PrepareAll(const std::vector<std::filesystem::path>& files, const R
   auto work = [&] {
     for (size_t i = next++; i < files.size(); i = next++) {
       absl::StatusOr<BvhClip> clip = ReadBvhFile(files[i]);
-      absl::StatusOr<PreparedClip> prepared = clip.ok() ? PrepareClip(*clip, rig, {}) : absl::StatusOr<PreparedClip>(clip.status());
+      absl::StatusOr<PreparedClip> prepared =
+          clip.ok() ? PrepareClip(*clip, rig, {}) : absl::StatusOr<PreparedClip>(clip.status());
       if (!prepared.ok()) {
         std::lock_guard<std::mutex> lock(mutex);
         if (first_error.ok()) first_error = prepared.status();

@@ -14,10 +14,14 @@ constexpr double kWidth = 760, kHeight = 420, kLeft = 70, kRight = 170, kTop = 4
 std::string Escape(const std::string& text) {
   std::string out;
   for (char c : text) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else out += c;
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else
+      out += c;
   }
   return out;
 }
@@ -37,29 +41,34 @@ double NiceMax(const std::vector<Series>& series) {
 }
 
 // Frame, title, y axis with 5 ticks, legend.
-std::string Frame(const std::string& title, const std::string& y_label, double y_max, const std::vector<Series>& series) {
-  std::string svg = StrCat("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"", kWidth, "\" height=\"", kHeight,
-                           "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
-                           "<text x=\"", kWidth / 2, "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">", Escape(title), "</text>\n");
+std::string Frame(const std::string& title, const std::string& y_label, double y_max,
+                  const std::vector<Series>& series) {
+  std::string svg = StrCat(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"", kWidth, "\" height=\"", kHeight,
+      "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
+      "<text x=\"", kWidth / 2, "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">", Escape(title), "</text>\n");
   const double plot_h = kHeight - kTop - kBottom;
   for (int i = 0; i <= 5; ++i) {
     const double v = y_max * i / 5, y = kTop + plot_h * (1 - i / 5.0);
-    svg += StrCat("<line x1=\"", kLeft, "\" x2=\"", kWidth - kRight, "\" y1=\"", y, "\" y2=\"", y, "\" stroke=\"#ddd\"/>\n",
-                  "<text x=\"", kLeft - 6, "\" y=\"", y + 4, "\" text-anchor=\"end\">", Number(v), "</text>\n");
+    svg += StrCat("<line x1=\"", kLeft, "\" x2=\"", kWidth - kRight, "\" y1=\"", y, "\" y2=\"", y,
+                  "\" stroke=\"#ddd\"/>\n", "<text x=\"", kLeft - 6, "\" y=\"", y + 4, "\" text-anchor=\"end\">",
+                  Number(v), "</text>\n");
   }
-  svg += StrCat("<text transform=\"translate(16,", kTop + plot_h / 2, ") rotate(-90)\" text-anchor=\"middle\">", Escape(y_label), "</text>\n");
+  svg += StrCat("<text transform=\"translate(16,", kTop + plot_h / 2, ") rotate(-90)\" text-anchor=\"middle\">",
+                Escape(y_label), "</text>\n");
   for (size_t s = 0; s < series.size(); ++s) {
     const double y = kTop + 10 + 20.0 * static_cast<double>(s);
-    svg += StrCat("<rect x=\"", kWidth - kRight + 15, "\" y=\"", y - 9, "\" width=\"12\" height=\"12\" fill=\"", kColours[s % 6], "\"/>",
-                  "<text x=\"", kWidth - kRight + 32, "\" y=\"", y + 1, "\">", Escape(series[s].name), "</text>\n");
+    svg += StrCat("<rect x=\"", kWidth - kRight + 15, "\" y=\"", y - 9, "\" width=\"12\" height=\"12\" fill=\"",
+                  kColours[s % 6], "\"/>", "<text x=\"", kWidth - kRight + 32, "\" y=\"", y + 1, "\">",
+                  Escape(series[s].name), "</text>\n");
   }
   return svg;
 }
 
 }  // namespace
 
-std::string BarChartSvg(const std::string& title, const std::string& y_label, const std::vector<std::string>& categories,
-                        const std::vector<Series>& series) {
+std::string BarChartSvg(const std::string& title, const std::string& y_label,
+                        const std::vector<std::string>& categories, const std::vector<Series>& series) {
   const double y_max = NiceMax(series);
   std::string svg = Frame(title, y_label, y_max, series);
   const double plot_w = kWidth - kLeft - kRight, plot_h = kHeight - kTop - kBottom;
@@ -70,9 +79,9 @@ std::string BarChartSvg(const std::string& title, const std::string& y_label, co
     for (size_t s = 0; s < series.size(); ++s) {
       const double v = c < series[s].values.size() ? series[s].values[c] : 0.0;
       const double h = plot_h * v / y_max;
-      svg += StrCat("<rect x=\"", x0 + bar * static_cast<double>(s), "\" y=\"", kTop + plot_h - h, "\" width=\"", bar * 0.95,
-                    "\" height=\"", h, "\" fill=\"", kColours[s % 6], "\"><title>", Escape(series[s].name), ": ", Number(v),
-                    "</title></rect>\n");
+      svg += StrCat("<rect x=\"", x0 + bar * static_cast<double>(s), "\" y=\"", kTop + plot_h - h, "\" width=\"",
+                    bar * 0.95, "\" height=\"", h, "\" fill=\"", kColours[s % 6], "\"><title>", Escape(series[s].name),
+                    ": ", Number(v), "</title></rect>\n");
     }
     svg += StrCat("<text transform=\"translate(", x0 + group * 0.4, ",", kTop + plot_h + 12, ") rotate(30)\">",
                   Escape(categories[c]), "</text>\n");
@@ -90,17 +99,20 @@ std::string LineChartSvg(const std::string& title, const std::string& x_label, c
   auto px = [&](double v) { return kLeft + plot_w * (v - x_min) / (x_max - x_min); };
   auto py = [&](double v) { return kTop + plot_h * (1 - v / y_max); };
   for (double v : x) {
-    svg += StrCat("<text x=\"", px(v), "\" y=\"", kTop + plot_h + 16, "\" text-anchor=\"middle\">", Number(v), "</text>\n");
+    svg += StrCat("<text x=\"", px(v), "\" y=\"", kTop + plot_h + 16, "\" text-anchor=\"middle\">", Number(v),
+                  "</text>\n");
   }
-  svg += StrCat("<text x=\"", kLeft + plot_w / 2, "\" y=\"", kTop + plot_h + 36, "\" text-anchor=\"middle\">", Escape(x_label), "</text>\n");
+  svg += StrCat("<text x=\"", kLeft + plot_w / 2, "\" y=\"", kTop + plot_h + 36, "\" text-anchor=\"middle\">",
+                Escape(x_label), "</text>\n");
   for (size_t s = 0; s < series.size(); ++s) {
     std::string points;
     for (size_t i = 0; i < x.size() && i < series[s].values.size(); ++i) {
       points += StrCat(px(x[i]), ",", py(series[s].values[i]), " ");
-      svg += StrCat("<circle cx=\"", px(x[i]), "\" cy=\"", py(series[s].values[i]), "\" r=\"3\" fill=\"", kColours[s % 6],
-                    "\"><title>", Number(series[s].values[i]), "</title></circle>\n");
+      svg += StrCat("<circle cx=\"", px(x[i]), "\" cy=\"", py(series[s].values[i]), "\" r=\"3\" fill=\"",
+                    kColours[s % 6], "\"><title>", Number(series[s].values[i]), "</title></circle>\n");
     }
-    svg += StrCat("<polyline fill=\"none\" stroke-width=\"2\" stroke=\"", kColours[s % 6], "\" points=\"", points, "\"/>\n");
+    svg += StrCat("<polyline fill=\"none\" stroke-width=\"2\" stroke=\"", kColours[s % 6], "\" points=\"", points,
+                  "\"/>\n");
   }
   return svg + "</svg>\n";
 }

@@ -12,8 +12,8 @@ struct Series {
 };
 
 // Grouped bar chart: one group per category, one bar per series.
-std::string BarChartSvg(const std::string& title, const std::string& y_label, const std::vector<std::string>& categories,
-                        const std::vector<Series>& series);
+std::string BarChartSvg(const std::string& title, const std::string& y_label,
+                        const std::vector<std::string>& categories, const std::vector<Series>& series);
 
 // Line chart over numeric x values (shared by all series).
 std::string LineChartSvg(const std::string& title, const std::string& x_label, const std::string& y_label,

@@ -4,8 +4,8 @@
 #include <iomanip>
 #include <sstream>
 
-#include <Eigen/Geometry>
 #include <spdlog/spdlog.h>
+#include <Eigen/Geometry>
 
 #include "motion/bvh/bvh_reader.h"
 #include "motion/core/units.h"
@@ -50,8 +50,10 @@ nlohmann::json ClipJson(std::string_view name, std::string_view bvh_text) {
 }
 
 absl::StatusOr<nlohmann::json> ReconstructionTraces(const nlohmann::json& reconstruction) {
-  const nlohmann::json* frames = reconstruction.is_object() && reconstruction.contains("frames") ? &reconstruction["frames"] : nullptr;
-  if (!frames || !frames->is_array() || frames->empty()) return absl::InvalidArgumentError("no \"frames\" to draw traces from");
+  const nlohmann::json* frames =
+      reconstruction.is_object() && reconstruction.contains("frames") ? &reconstruction["frames"] : nullptr;
+  if (!frames || !frames->is_array() || frames->empty())
+    return absl::InvalidArgumentError("no \"frames\" to draw traces from");
   struct Field {
     const char* key;
     const char* label;
@@ -63,20 +65,20 @@ absl::StatusOr<nlohmann::json> ReconstructionTraces(const nlohmann::json& recons
                                       {"right_ankle", "right ankle (estimated)", "ankle"}};
   nlohmann::json traces = nlohmann::json::array();
   try {
-  for (const Field& field : kFields) {
-    nlohmann::json points = nlohmann::json::array();
-    double last[3] = {0, 0, 0};
-    bool seen = false;
-    for (const nlohmann::json& frame : *frames) {
-      const nlohmann::json* p = frame.is_object() && frame.contains(field.key) ? &frame[field.key] : nullptr;
-      if (p && p->is_object()) {  // proto JSON leaves out a point never set: repeat the last one
-        last[0] = p->value("x", 0.0), last[1] = p->value("y", 0.0), last[2] = p->value("z", 0.0);
-        seen = true;
+    for (const Field& field : kFields) {
+      nlohmann::json points = nlohmann::json::array();
+      double last[3] = {0, 0, 0};
+      bool seen = false;
+      for (const nlohmann::json& frame : *frames) {
+        const nlohmann::json* p = frame.is_object() && frame.contains(field.key) ? &frame[field.key] : nullptr;
+        if (p && p->is_object()) {  // proto JSON leaves out a point never set: repeat the last one
+          last[0] = p->value("x", 0.0), last[1] = p->value("y", 0.0), last[2] = p->value("z", 0.0);
+          seen = true;
+        }
+        for (double v : last) points.push_back(Rounded(v));
       }
-      for (double v : last) points.push_back(Rounded(v));
+      if (seen) traces.push_back({{"label", field.label}, {"kind", field.kind}, {"points", std::move(points)}});
     }
-    if (seen) traces.push_back({{"label", field.label}, {"kind", field.kind}, {"points", std::move(points)}});
-  }
   } catch (const nlohmann::json::exception& error) {
     return absl::InvalidArgumentError(std::string("a frame's point is not {x, y, z} numbers: ") + error.what());
   }

@@ -32,9 +32,14 @@ void RegisterDatabasesCommand(CLI::App& app, CommandRegistry& registry) {
     if (options->json) {
       nlohmann::json out = nlohmann::json::array();
       for (const DatabaseSummary& d : *databases) {
-        out.push_back({{"name", d.name}, {"clips", d.num_clips}, {"frames", d.num_frames}, {"seconds", d.seconds()},
-                       {"frame_rate", d.frame_rate}, {"unit", std::string(UnitName(d.unit))},
-                       {"joints", d.num_joints}, {"root_joint", d.root_joint}});
+        out.push_back({{"name", d.name},
+                       {"clips", d.num_clips},
+                       {"frames", d.num_frames},
+                       {"seconds", d.seconds()},
+                       {"frame_rate", d.frame_rate},
+                       {"unit", std::string(UnitName(d.unit))},
+                       {"joints", d.num_joints},
+                       {"root_joint", d.root_joint}});
       }
       std::cout << out.dump(2) << "\n";
       return 0;

@@ -24,8 +24,9 @@ void RegisterImportCommand(CLI::App& app, CommandRegistry& registry) {
     bool quiet = false;
   };
   auto options = std::make_shared<Options>();
-  CLI::App* command = app.add_subcommand("import", "Import BVH files into a motion database (created from the first "
-                                                   "file's rig when missing); atomic per batch");
+  CLI::App* command = app.add_subcommand("import",
+                                         "Import BVH files into a motion database (created from the first "
+                                         "file's rig when missing); atomic per batch");
   command->add_option("--store", options->store, "Motion store file (created when missing)")->required();
   command->add_option("--database", options->import.database, "Motion database name")->required();
   command->add_option("--tenant", options->import.tenant, "Tenant owning the database (default: 'default')");
@@ -37,7 +38,8 @@ void RegisterImportCommand(CLI::App& app, CommandRegistry& registry) {
   command->add_option("--batch-size", options->import.batch_size, "Files per atomic batch (0: all in one)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--keep-going", options->import.keep_going, "Skip bad files (listed) instead of rolling back");
-  command->add_option("--threads", options->import.threads, "Worker threads (0: one per core)")->check(CLI::NonNegativeNumber);
+  command->add_option("--threads", options->import.threads, "Worker threads (0: one per core)")
+      ->check(CLI::NonNegativeNumber);
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->add_flag("--quiet", options->quiet, "No progress bar");
   registry.Add(command, [options] {
@@ -53,11 +55,16 @@ void RegisterImportCommand(CLI::App& app, CommandRegistry& registry) {
     if (bar) bar->Finish();
     if (!summary.ok()) return ReportError(summary.status());
     if (options->json) {
-      nlohmann::json out = {{"database", summary->database}, {"created_database", summary->created_database},
-                            {"files", summary->files}, {"imported", summary->imported},
-                            {"duplicates", summary->duplicates}, {"failed", summary->failed},
-                            {"frames", summary->frames}, {"source_frames", summary->source_frames},
-                            {"motion_seconds", summary->motion_seconds}, {"wall_seconds", summary->wall_seconds},
+      nlohmann::json out = {{"database", summary->database},
+                            {"created_database", summary->created_database},
+                            {"files", summary->files},
+                            {"imported", summary->imported},
+                            {"duplicates", summary->duplicates},
+                            {"failed", summary->failed},
+                            {"frames", summary->frames},
+                            {"source_frames", summary->source_frames},
+                            {"motion_seconds", summary->motion_seconds},
+                            {"wall_seconds", summary->wall_seconds},
                             {"source_frames_per_second", summary->frames_per_second()},
                             {"problems", summary->problems}};
       std::cout << out.dump(2) << "\n";

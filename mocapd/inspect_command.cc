@@ -53,7 +53,8 @@ nlohmann::json InspectionJson(const BvhInspection& inspection) {
 std::string InspectionText(const nlohmann::json& r) {
   std::ostringstream out;
   out << r["file"].get<std::string>() << "\n"
-      << "  joints " << r["joints"] << ", channels " << r["channels"] << ", root " << r["root"].get<std::string>() << "\n"
+      << "  joints " << r["joints"] << ", channels " << r["channels"] << ", root " << r["root"].get<std::string>()
+      << "\n"
       << "  frames " << r["frames"] << " at " << r["frame_rate"].get<double>() << " fps ("
       << r["duration_s"].get<double>() << " s)\n"
       << "  up axis " << r["up_axis"].get<std::string>() << " (alignment " << r["up_alignment"].get<double>()
@@ -82,11 +83,13 @@ void RegisterInspectCommand(CLI::App& app, CommandRegistry& registry) {
     std::string unit;
   };
   auto options = std::make_shared<Options>();
-  CLI::App* command = app.add_subcommand("inspect", "Show what the importer finds in BVH files: body groups, "
-                                                    "landmarks, up axis, units, frame rate, frame count");
+  CLI::App* command = app.add_subcommand("inspect",
+                                         "Show what the importer finds in BVH files: body groups, "
+                                         "landmarks, up axis, units, frame rate, frame count");
   command->add_option("files", options->files, "BVH files")->required()->check(CLI::ExistingFile);
   command->add_flag("--json", options->json, "Print JSON (one array of reports)");
-  command->add_option("--units", options->unit, "Override unit detection")->check(CLI::IsMember({"m", "cm", "mm", "in"}));
+  command->add_option("--units", options->unit, "Override unit detection")
+      ->check(CLI::IsMember({"m", "cm", "mm", "in"}));
   registry.Add(command, [options] {
     nlohmann::json all = nlohmann::json::array();
     int failures = 0;

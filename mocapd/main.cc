@@ -1,9 +1,9 @@
 // mocapd: the mocap server and its local admin commands.
 #include <iostream>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "mocapd/commands.h"
 

@@ -57,44 +57,61 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
   auto options = std::make_shared<ServeOptions>();
   auto drain_seconds = std::make_shared<double>(10.0);
   auto idle_seconds = std::make_shared<double>(30.0);
-  CLI::App* command = app.add_subcommand("serve", "Run the gRPC server (MotionStore, Reconstruction, ServerStatus, health, reflection)");
+  CLI::App* command = app.add_subcommand(
+      "serve", "Run the gRPC server (MotionStore, Reconstruction, ServerStatus, health, reflection)");
   command->add_option("--store", options->store, "Motion store file (created on first start)")->capture_default_str();
   command->add_flag("--read-only", options->read_only,
                     "Serve an existing store without writing to it (a file rolled out to replicas, a read-only "
                     "mount): imports and deletions answer FAILED_PRECONDITION");
   command->add_option("--listen", options->listen, "Address to listen on; port 0 picks a free port (printed)")
       ->capture_default_str();
-  auto* cert = command->add_option("--tls-cert", options->tls_cert, "TLS certificate chain (PEM)")->check(CLI::ExistingFile);
+  auto* cert =
+      command->add_option("--tls-cert", options->tls_cert, "TLS certificate chain (PEM)")->check(CLI::ExistingFile);
   auto* key = command->add_option("--tls-key", options->tls_key, "TLS private key (PEM)")->check(CLI::ExistingFile);
   cert->needs(key);
   key->needs(cert);
   command->add_option("--workers", options->workers, "Worker threads for store and parsing work (0: 2 per core, min 4)")
       ->check(CLI::NonNegativeNumber);
   command->add_option("--max-message-bytes", options->limits.max_message_bytes, "Largest message either way")
-      ->capture_default_str()->check(CLI::Range(64 << 10, 1 << 30));
+      ->capture_default_str()
+      ->check(CLI::Range(64 << 10, 1 << 30));
   command->add_option("--max-calls-per-tenant", options->limits.max_calls_per_tenant, "Calls in progress per tenant")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   command->add_option("--max-file-bytes", options->limits.max_file_bytes, "Largest imported BVH file")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  command->add_option("--max-batch-frames", options->limits.max_batch_frames,
-                      "Frames an import may hold before its batch commits")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--max-batch-frames", options->limits.max_batch_frames,
+                   "Frames an import may hold before its batch commits")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   ReconstructionLimits& reconstruction = options->reconstruction;
-  command->add_option("--max-sessions-per-tenant", reconstruction.max_sessions_per_tenant,
-                      "Reconstruction streams in progress per tenant")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  command->add_option("--idle-seconds", *idle_seconds, "A reconstruction stream silent this long is ended (DEADLINE_EXCEEDED)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  command->add_option("--max-session-seconds", reconstruction.session.max_session_seconds,
-                      "Longest span of sample timestamps in one session")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+  command
+      ->add_option("--max-sessions-per-tenant", reconstruction.max_sessions_per_tenant,
+                   "Reconstruction streams in progress per tenant")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--idle-seconds", *idle_seconds,
+                   "A reconstruction stream silent this long is ended (DEADLINE_EXCEEDED)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--max-session-seconds", reconstruction.session.max_session_seconds,
+                   "Longest span of sample timestamps in one session")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   command->add_option("--compute-threads", reconstruction.compute_threads, "Reconstruction threads (0: one per core)")
       ->check(CLI::NonNegativeNumber);
-  command->add_option("--cached-databases", reconstruction.max_cached_databases,
-                      "Reconstruction indices kept in memory (least recently used dropped)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+  command
+      ->add_option("--cached-databases", reconstruction.max_cached_databases,
+                   "Reconstruction indices kept in memory (least recently used dropped)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   command->add_option("--drain-seconds", *drain_seconds, "On SIGTERM/SIGINT, how long running calls may finish")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   registry.Add(command, [options, drain_seconds, idle_seconds] {
     options->drain_timeout = std::chrono::milliseconds(static_cast<long>(*drain_seconds * 1000));
     options->reconstruction.idle_timeout = std::chrono::milliseconds(static_cast<long>(*idle_seconds * 1000));

@@ -19,14 +19,18 @@ void RegisterSimilarCommand(CLI::App& app, CommandRegistry& registry) {
     bool json = false;
   };
   auto options = std::make_shared<Options>();
-  CLI::App* command = app.add_subcommand("similar", "Find the poses most similar to a BVH frame's, across skeletons "
-                                                    "(any rig: no joint mapping needed)");
+  CLI::App* command = app.add_subcommand("similar",
+                                         "Find the poses most similar to a BVH frame's, across skeletons "
+                                         "(any rig: no joint mapping needed)");
   command->add_option("--store", options->store, "Motion store file")->required();
-  command->add_option("--database", options->similar.databases, "Database(s) to search (repeat for several)")->required();
+  command->add_option("--database", options->similar.databases, "Database(s) to search (repeat for several)")
+      ->required();
   command->add_option("--tenant", options->similar.tenant, "Tenant owning the databases (default: 'default')");
-  auto* query = command->add_option("--query", options->query, "BVH file with the query pose(s)")->check(CLI::ExistingFile);
-  auto* pose = command->add_option("--query-pose", options->pose_file,
-                                   "JSON file with one pose as named joint positions and landmarks (see README)")
+  auto* query =
+      command->add_option("--query", options->query, "BVH file with the query pose(s)")->check(CLI::ExistingFile);
+  auto* pose = command
+                   ->add_option("--query-pose", options->pose_file,
+                                "JSON file with one pose as named joint positions and landmarks (see README)")
                    ->check(CLI::ExistingFile);
   query->excludes(pose);
   command->add_option("--frames", options->frames, "Query frames A:B (inclusive, the file's numbering); default all");
@@ -38,8 +42,9 @@ void RegisterSimilarCommand(CLI::App& app, CommandRegistry& registry) {
       ->check(CLI::IsMember({"uniform", "locomotion", "upper-body"}));
   command->add_option("--sampling", options->sampling, "Body points: resample chains or drop joints (the seed's rule)")
       ->check(CLI::IsMember({"resample", "drop"}));
-  command->add_option("--scaling", options->scaling,
-                      "Body points: each chain by its own length (posture only) or all by the leg length (the seed's)")
+  command
+      ->add_option("--scaling", options->scaling,
+                   "Body points: each chain by its own length (posture only) or all by the leg length (the seed's)")
       ->check(CLI::IsMember({"per-chain", "body-scale"}));
   command->add_option("--suppress", options->similar.search.suppress_within_frames,
                       "Drop matches within N frames of a better match in the same clip");

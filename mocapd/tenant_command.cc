@@ -29,11 +29,15 @@ int WithDirectory(const TenantOptions& options, bool create_store,
 nlohmann::json TenantJson(const Tenant& tenant, const std::vector<ApiKeyInfo>& keys) {
   nlohmann::json key_list = nlohmann::json::array();
   for (const ApiKeyInfo& key : keys) {
-    key_list.push_back({{"key_id", key.key_id}, {"created_at", key.created_at},
+    key_list.push_back({{"key_id", key.key_id},
+                        {"created_at", key.created_at},
                         {"revoked_at", key.revoked_at ? nlohmann::json(*key.revoked_at) : nlohmann::json(nullptr)}});
   }
-  return {{"name", tenant.name}, {"created_at", tenant.created_at}, {"databases", tenant.databases},
-          {"active_keys", tenant.active_keys}, {"keys", key_list}};
+  return {{"name", tenant.name},
+          {"created_at", tenant.created_at},
+          {"databases", tenant.databases},
+          {"active_keys", tenant.active_keys},
+          {"keys", key_list}};
 }
 
 }  // namespace
@@ -99,7 +103,8 @@ void RegisterTenantCommands(CLI::App& app, CommandRegistry& registry) {
       auto key = directory.AddKey(tenant->id);
       if (!key.ok()) return ReportError(key.status());
       if (options->json) {
-        std::cout << nlohmann::json{{"tenant", key->tenant}, {"key_id", key->key_id}, {"key", key->key}}.dump(2) << "\n";
+        std::cout << nlohmann::json{{"tenant", key->tenant}, {"key_id", key->key_id}, {"key", key->key}}.dump(2)
+                  << "\n";
       } else {
         std::cerr << "API key " << key->key_id << " for tenant '" << key->tenant
                   << "' (shown once; only its hash is stored):\n";
@@ -109,7 +114,8 @@ void RegisterTenantCommands(CLI::App& app, CommandRegistry& registry) {
     });
   });
 
-  CLI::App* revoke = tenant->add_subcommand("revoke-key", "Revoke a tenant's API key by its id (the mk_xxxxxxxx prefix)");
+  CLI::App* revoke =
+      tenant->add_subcommand("revoke-key", "Revoke a tenant's API key by its id (the mk_xxxxxxxx prefix)");
   revoke->add_option("name", options->name, "Tenant name")->required();
   revoke->add_option("key_id", options->key_id, "Key id, as `tenant list` shows it")->required();
   add_common(revoke);
@@ -117,7 +123,8 @@ void RegisterTenantCommands(CLI::App& app, CommandRegistry& registry) {
     return WithDirectory(*options, false, [&](MotionStore&, TenantDirectory& directory) {
       auto tenant = directory.FindTenant(options->name);
       if (!tenant.ok()) return ReportError(tenant.status());
-      if (absl::Status status = directory.RevokeKey(tenant->id, options->key_id); !status.ok()) return ReportError(status);
+      if (absl::Status status = directory.RevokeKey(tenant->id, options->key_id); !status.ok())
+        return ReportError(status);
       if (!options->json) std::cout << "key " << options->key_id << " of tenant '" << options->name << "' revoked\n";
       return 0;
     });

@@ -1,5 +1,5 @@
-// MocapServer: the gRPC server of `mocapd serve` — MotionStore, Reconstruction, PoseSearch and ServerStatus services, health
-// checking, reflection, TLS, limits — over one store file.
+// MocapServer: the gRPC server of `mocapd serve` — MotionStore, Reconstruction, PoseSearch and ServerStatus services,
+// health checking, reflection, TLS, limits — over one store file.
 #pragma once
 
 #include <chrono>
@@ -15,11 +15,11 @@ namespace mocap {
 
 struct ServeOptions {
   std::filesystem::path store = "var/mocap.db";  // created on first start
-  bool read_only = false;                         // serve an existing store without writing
-  std::string listen = "127.0.0.1:50051";         // host:port; port 0 picks a free one
-  std::filesystem::path tls_cert;                 // PEM; with tls_key, serve TLS only
+  bool read_only = false;                        // serve an existing store without writing
+  std::string listen = "127.0.0.1:50051";        // host:port; port 0 picks a free one
+  std::filesystem::path tls_cert;                // PEM; with tls_key, serve TLS only
   std::filesystem::path tls_key;
-  int workers = 0;                                // store/parse threads; 0: 2 per core (min 4)
+  int workers = 0;  // store/parse threads; 0: 2 per core (min 4)
   ServerLimits limits;
   ReconstructionLimits reconstruction;
   std::chrono::milliseconds drain_timeout{10000};  // on shutdown, calls get this long to finish

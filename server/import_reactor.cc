@@ -85,16 +85,16 @@ absl::Status ImportReactor::HandleStart(const v1::ImportStart& start) {
     if (!unit) return absl::InvalidArgumentError(StrCat("unknown unit '", start.source_unit(), "' (m, cm, mm or in)"));
   }
   database_ = start.database();
-  MOCAP_ASSIGN_OR_RETURN(writer_,
-                         ImportWriter::Start(call_.store(),
-                                             ImportTarget{.tenant = call_.tenant().id,
-                                                          .database = start.database(),
-                                                          .frame_rate = start.frame_rate() == 0 ? 30.0 : start.frame_rate(),
-                                                          .unit = unit,
-                                                          .batch_size = start.batch_size(),
-                                                          .keep_going = start.keep_going(),
-                                                          .buffer_batch = true,
-                                                          .max_pending_frames = call_.service().limits.max_batch_frames}));
+  MOCAP_ASSIGN_OR_RETURN(
+      writer_,
+      ImportWriter::Start(call_.store(), ImportTarget{.tenant = call_.tenant().id,
+                                                      .database = start.database(),
+                                                      .frame_rate = start.frame_rate() == 0 ? 30.0 : start.frame_rate(),
+                                                      .unit = unit,
+                                                      .batch_size = start.batch_size(),
+                                                      .keep_going = start.keep_going(),
+                                                      .buffer_batch = true,
+                                                      .max_pending_frames = call_.service().limits.max_batch_frames}));
   return absl::OkStatus();
 }
 
@@ -102,7 +102,8 @@ absl::Status ImportReactor::HandleChunk(const v1::FileChunk& chunk) {
   if (!writer_) return absl::InvalidArgumentError("the import stream must begin with a start message");
   const std::string& name = chunk.file_name();
   if (name.empty() || name.size() > kMaxFileNameBytes) {
-    return absl::InvalidArgumentError(StrCat("chunk.file_name must have 1 to ", kMaxFileNameBytes, " bytes, not ", name.size()));
+    return absl::InvalidArgumentError(
+        StrCat("chunk.file_name must have 1 to ", kMaxFileNameBytes, " bytes, not ", name.size()));
   }
   if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos ||
       std::any_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; })) {
@@ -114,14 +115,14 @@ absl::Status ImportReactor::HandleChunk(const v1::FileChunk& chunk) {
     return absl::InvalidArgumentError(StrCat(name, ": chunk arrived before the last chunk of ", file_name_));
   }
   if (chunk.data().size() > kMaxChunkBytes) {
-    return absl::InvalidArgumentError(StrCat("chunk.data has ", chunk.data().size(), " bytes; a chunk carries at most ",
-                                             kMaxChunkBytes, " (1 MiB)"));
+    return absl::InvalidArgumentError(
+        StrCat("chunk.data has ", chunk.data().size(), " bytes; a chunk carries at most ", kMaxChunkBytes, " (1 MiB)"));
   }
   const ServerLimits& limits = call_.service().limits;
   if (static_cast<std::int64_t>(file_bytes_.size() + chunk.data().size()) > limits.max_file_bytes) {
     call_.service().metrics.Rejected("file_bytes");
-    return absl::ResourceExhaustedError(StrCat(name, ": file is larger than the server's limit of ",
-                                               limits.max_file_bytes, " bytes"));
+    return absl::ResourceExhaustedError(
+        StrCat(name, ": file is larger than the server's limit of ", limits.max_file_bytes, " bytes"));
   }
   file_bytes_ += chunk.data();
   call_.service().metrics.BytesReceived(static_cast<std::int64_t>(chunk.data().size()));

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "mocap/v1/motion_store.grpc.pb.h"
-#include "storage/import_writer.h"
 #include "server/owned_reactor.h"
 #include "server/service_context.h"
+#include "storage/import_writer.h"
 
 namespace mocap {
 
@@ -38,7 +38,7 @@ class ImportReactor : public OwnedReactor<grpc::ServerReadReactor<v1::ImportBvhR
   std::string database_;
   std::string file_name_;  // file being received; empty between files
   std::string file_bytes_;
-  bool ended_ = false;     // `end` received and committed
+  bool ended_ = false;  // `end` received and committed
 };
 
 }  // namespace mocap

@@ -13,7 +13,9 @@ void ToProto(const Eigen::Vector3f& v, v1::Vec3* out) {
 void PositionToCaller(const FrameTransform& transform, v1::Vec3* v) {
   ToProto(transform.PositionFromNative(FromProto(*v)), v);
 }
-void VectorToCaller(const FrameTransform& transform, v1::Vec3* v) { ToProto(transform.VectorFromNative(FromProto(*v)), v); }
+void VectorToCaller(const FrameTransform& transform, v1::Vec3* v) {
+  ToProto(transform.VectorFromNative(FromProto(*v)), v);
+}
 void RotationToCaller(const FrameTransform& transform, v1::Quaternion* q) {
   const Eigen::Quaternionf r = transform.RotationFromNative(Eigen::Quaternionf(q->w(), q->x(), q->y(), q->z()));
   q->set_w(r.w());
@@ -51,10 +53,18 @@ void ToCallerFrame(const FrameTransform& transform, v1::Frame* frame) {
 v1::InputWarning ToProto(const InputWarning& warning) {
   v1::InputWarning out;
   switch (warning.kind) {
-    case InputWarning::Kind::kUnits: out.set_kind(v1::INPUT_WARNING_KIND_UNITS); break;
-    case InputWarning::Kind::kBelowFloor: out.set_kind(v1::INPUT_WARNING_KIND_BELOW_FLOOR); break;
-    case InputWarning::Kind::kAboveFloor: out.set_kind(v1::INPUT_WARNING_KIND_ABOVE_FLOOR); break;
-    case InputWarning::Kind::kSwapped: out.set_kind(v1::INPUT_WARNING_KIND_SWAPPED); break;
+    case InputWarning::Kind::kUnits:
+      out.set_kind(v1::INPUT_WARNING_KIND_UNITS);
+      break;
+    case InputWarning::Kind::kBelowFloor:
+      out.set_kind(v1::INPUT_WARNING_KIND_BELOW_FLOOR);
+      break;
+    case InputWarning::Kind::kAboveFloor:
+      out.set_kind(v1::INPUT_WARNING_KIND_ABOVE_FLOOR);
+      break;
+    case InputWarning::Kind::kSwapped:
+      out.set_kind(v1::INPUT_WARNING_KIND_SWAPPED);
+      break;
   }
   out.set_message(warning.message);
   return out;

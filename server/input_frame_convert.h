@@ -3,11 +3,11 @@
 // to whatever skeleton and frames a session answers with (the database's rig or another).
 #pragma once
 
-#include "proto/convert/input_frame_proto.h"
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/frames/frame_transform.h"
 #include "motion/frames/input_frame.h"
 #include "motion/frames/input_monitor.h"
+#include "proto/convert/input_frame_proto.h"
 
 namespace mocap {
 

@@ -12,14 +12,16 @@ class MotionStoreService final : public v1::MotionStore::CallbackService {
  public:
   explicit MotionStoreService(ServiceContext& service) : service_(service) {}
 
-  grpc::ServerUnaryReactor* CreateDatabase(grpc::CallbackServerContext* context, const v1::CreateDatabaseRequest* request,
+  grpc::ServerUnaryReactor* CreateDatabase(grpc::CallbackServerContext* context,
+                                           const v1::CreateDatabaseRequest* request,
                                            v1::CreateDatabaseResponse* response) override;
   grpc::ServerUnaryReactor* ListDatabases(grpc::CallbackServerContext* context, const v1::ListDatabasesRequest* request,
                                           v1::ListDatabasesResponse* response) override;
   grpc::ServerUnaryReactor* DescribeDatabase(grpc::CallbackServerContext* context,
                                              const v1::DescribeDatabaseRequest* request,
                                              v1::DescribeDatabaseResponse* response) override;
-  grpc::ServerUnaryReactor* DeleteDatabase(grpc::CallbackServerContext* context, const v1::DeleteDatabaseRequest* request,
+  grpc::ServerUnaryReactor* DeleteDatabase(grpc::CallbackServerContext* context,
+                                           const v1::DeleteDatabaseRequest* request,
                                            v1::DeleteDatabaseResponse* response) override;
   grpc::ServerReadReactor<v1::ImportBvhRequest>* ImportBvh(grpc::CallbackServerContext* context,
                                                            v1::ImportBvhResponse* response) override;

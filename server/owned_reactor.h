@@ -11,7 +11,6 @@
 
 #include "server/mutex.h"
 
-
 namespace mocap {
 
 template <typename GrpcReactor>

@@ -42,7 +42,8 @@ void PoseSearchCall::Begin() {
     MOCAP_RETURN_IF_ERROR(call_.Begin());
     pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
     MOCAP_ASSIGN_OR_RETURN(options_, SearchOptionsFromProto(request_, state_.limits));
-    MOCAP_ASSIGN_OR_RETURN(SimilarQuery query, QueryFromProto(request_, options_, state_.limits, streaming_, state_.points));
+    MOCAP_ASSIGN_OR_RETURN(SimilarQuery query,
+                           QueryFromProto(request_, options_, state_.limits, streaming_, state_.points));
     query_ = std::move(query);
     for (const std::string& name : request_.databases()) {
       // Another tenant's database answers NotFound exactly like a missing one.

@@ -10,7 +10,8 @@ namespace mocap {
 namespace {
 
 GroupWeights WeightsFromProto(const v1::GroupValues& values) {
-  return {{{values.spine(), values.head(), values.left_arm(), values.right_arm(), values.left_leg(), values.right_leg()}}};
+  return {
+      {{values.spine(), values.head(), values.left_arm(), values.right_arm(), values.left_leg(), values.right_leg()}}};
 }
 
 void GroupValuesToProto(const std::array<float, kNumBodyGroups>& values, v1::GroupValues* out) {
@@ -28,7 +29,8 @@ absl::StatusOr<PoseSearchOptions> SearchOptionsFromProto(const v1::FindSimilarPo
                                                          const PoseSearchLimits& limits) {
   if (request.databases().empty()) return absl::InvalidArgumentError("databases: name at least one database");
   if (request.databases_size() > limits.max_databases) {
-    return absl::InvalidArgumentError(StrCat("databases: at most ", limits.max_databases, " per call, not ", request.databases_size()));
+    return absl::InvalidArgumentError(
+        StrCat("databases: at most ", limits.max_databases, " per call, not ", request.databases_size()));
   }
   for (int i = 0; i < request.databases_size(); ++i) {
     if (request.databases(i).empty()) return absl::InvalidArgumentError("databases: a database name is empty");
@@ -48,7 +50,8 @@ absl::StatusOr<PoseSearchOptions> SearchOptionsFromProto(const v1::FindSimilarPo
   }
   options.window = request.window() == 0 ? 1 : request.window();
   if (options.window < 1 || options.window > 61 || options.window % 2 == 0) {
-    return absl::InvalidArgumentError(StrCat("window must be an odd number of frames from 1 to 61, not ", request.window()));
+    return absl::InvalidArgumentError(
+        StrCat("window must be an odd number of frames from 1 to 61, not ", request.window()));
   }
   if (request.has_poses() && options.window != 1) {
     return absl::InvalidArgumentError("window: a pose is a single frame: use window 1");
@@ -63,15 +66,23 @@ absl::StatusOr<PoseSearchOptions> SearchOptionsFromProto(const v1::FindSimilarPo
     if (sum <= 0) return absl::InvalidArgumentError("weights: at least one group must weigh more than 0");
   } else {
     switch (request.weights_preset()) {
-      case v1::GROUP_WEIGHTS_PRESET_LOCOMOTION: options.weights = GroupWeights::Locomotion(); break;
-      case v1::GROUP_WEIGHTS_PRESET_UPPER_BODY: options.weights = GroupWeights::UpperBody(); break;
+      case v1::GROUP_WEIGHTS_PRESET_LOCOMOTION:
+        options.weights = GroupWeights::Locomotion();
+        break;
+      case v1::GROUP_WEIGHTS_PRESET_UPPER_BODY:
+        options.weights = GroupWeights::UpperBody();
+        break;
       case v1::GROUP_WEIGHTS_PRESET_UNSPECIFIED:
-      case v1::GROUP_WEIGHTS_PRESET_UNIFORM: options.weights = GroupWeights::Uniform(); break;
-      default: return absl::InvalidArgumentError(StrCat("weights_preset: unknown value ", request.weights_preset()));
+      case v1::GROUP_WEIGHTS_PRESET_UNIFORM:
+        options.weights = GroupWeights::Uniform();
+        break;
+      default:
+        return absl::InvalidArgumentError(StrCat("weights_preset: unknown value ", request.weights_preset()));
     }
   }
   if (request.suppress_within_frames() < 0 || request.suppress_within_frames() > 10'000) {
-    return absl::InvalidArgumentError(StrCat("suppress_within_frames must be 0 to 10000, not ", request.suppress_within_frames()));
+    return absl::InvalidArgumentError(
+        StrCat("suppress_within_frames must be 0 to 10000, not ", request.suppress_within_frames()));
   }
   options.suppress_within_frames = request.suppress_within_frames();
   options.exact = request.exact();
@@ -84,20 +95,23 @@ absl::StatusOr<PoseSearchOptions> SearchOptionsFromProto(const v1::FindSimilarPo
     for (int i = 0; i < poses; ++i) {
       const int joints = request.poses().poses(i).joints_size();
       if (joints > MaxNamedPoseJoints()) {
-        return absl::InvalidArgumentError(StrCat("poses[", i, "]: at most ", MaxNamedPoseJoints(), " joints, not ", joints));
+        return absl::InvalidArgumentError(
+            StrCat("poses[", i, "]: at most ", MaxNamedPoseJoints(), " joints, not ", joints));
       }
     }
   }
   return options;
 }
 
-absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& request, const PoseSearchOptions& options,
-                                            const PoseSearchLimits& limits, bool streaming,
-                                            const BodyPointOptions& points) {
+absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& request,
+                                            const PoseSearchOptions& options, const PoseSearchLimits& limits,
+                                            bool streaming, const BodyPointOptions& points) {
   const int max_frames = options.exact ? limits.max_exact_query_frames
                          : streaming   ? limits.max_stream_query_frames
                                        : limits.max_query_frames;
-  const char* limit_name = options.exact ? "with exact" : streaming ? "per StreamSimilarPoses call" : "per FindSimilarPoses call";
+  const char* limit_name = options.exact ? "with exact"
+                           : streaming   ? "per StreamSimilarPoses call"
+                                         : "per FindSimilarPoses call";
   auto check_count = [&](std::int64_t frames) -> absl::Status {
     if (!streaming && frames * options.top_k > limits.max_matches) {
       return absl::InvalidArgumentError(StrCat("the query has ", frames, " query frames x top_k ", options.top_k, " = ",
@@ -105,9 +119,10 @@ absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& r
                                                " per FindSimilarPoses call (use StreamSimilarPoses for long clips)"));
     }
     if (frames <= max_frames) return absl::OkStatus();
-    return absl::InvalidArgumentError(StrCat("the query has ", frames, " query frames; at most ", max_frames, " ",
-                                             limit_name, streaming || options.exact ? "" : " (use StreamSimilarPoses for long clips)",
-                                             ": narrow the frame range or raise frame_step"));
+    return absl::InvalidArgumentError(
+        StrCat("the query has ", frames, " query frames; at most ", max_frames, " ", limit_name,
+               streaming || options.exact ? "" : " (use StreamSimilarPoses for long clips)",
+               ": narrow the frame range or raise frame_step"));
   };
   if (request.has_poses()) {
     MOCAP_RETURN_IF_ERROR(check_count(request.poses().poses_size()));
@@ -116,7 +131,8 @@ absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& r
     return SimilarQuery::FromPoses(poses, points);
   }
   const v1::BvhQuery& bvh = request.bvh();
-  if (bvh.frame_step() < 0) return absl::InvalidArgumentError(StrCat("bvh.frame_step must be 0 or more, not ", bvh.frame_step()));
+  if (bvh.frame_step() < 0)
+    return absl::InvalidArgumentError(StrCat("bvh.frame_step must be 0 or more, not ", bvh.frame_step()));
   const int step = std::max(1, bvh.frame_step());
   // The frame count before the clip is analysed: from the requested range, or the header.
   if (bvh.has_first_frame() && bvh.has_last_frame() && bvh.last_frame() >= bvh.first_frame()) {

@@ -16,11 +16,11 @@ namespace mocap {
 struct PoseSearchLimits {
   int max_databases = 8;
   int max_top_k = 100;
-  int max_query_frames = 2'000;          // FindSimilarPoses
-  int max_stream_query_frames = 100'000; // StreamSimilarPoses
-  int max_exact_query_frames = 200;      // with `exact`, either form
+  int max_query_frames = 2'000;           // FindSimilarPoses
+  int max_stream_query_frames = 100'000;  // StreamSimilarPoses
+  int max_exact_query_frames = 200;       // with `exact`, either form
   int max_poses = 1'000;
-  int max_matches = 20'000;              // query frames x top_k of FindSimilarPoses (its reply's size)
+  int max_matches = 20'000;  // query frames x top_k of FindSimilarPoses (its reply's size)
 };
 
 // The search options of a request (defaults filled in), after checking every field that needs
@@ -30,9 +30,9 @@ absl::StatusOr<PoseSearchOptions> SearchOptionsFromProto(const v1::FindSimilarPo
 
 // Parses the query (BVH text or poses) and checks the number of query frames against the limit
 // of the call's form (`streaming`).
-absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& request, const PoseSearchOptions& options,
-                                            const PoseSearchLimits& limits, bool streaming,
-                                            const BodyPointOptions& points);
+absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& request,
+                                            const PoseSearchOptions& options, const PoseSearchLimits& limits,
+                                            bool streaming, const BodyPointOptions& points);
 
 // One query frame's matches.
 void ToProto(int query_frame, const std::vector<FoundPose>& matches, v1::QueryFrameMatches* out);

@@ -2,7 +2,6 @@
 
 #include "server/owned_reactor.h"
 
-
 namespace mocap {
 namespace {
 
@@ -36,7 +35,8 @@ class FindReactor final : public OwnedReactor<grpc::ServerUnaryReactor>, private
 class StreamReactor final : public OwnedReactor<grpc::ServerWriteReactor<v1::FindSimilarPosesResponse>>,
                             private PoseSearchCall {
  public:
-  StreamReactor(PoseSearchState& state, grpc::CallbackServerContext* context, const v1::FindSimilarPosesRequest& request)
+  StreamReactor(PoseSearchState& state, grpc::CallbackServerContext* context,
+                const v1::FindSimilarPosesRequest& request)
       : PoseSearchCall(state, context, "StreamSimilarPoses", request, /*streaming=*/true) {
     Start();
   }

@@ -65,9 +65,15 @@ void ToProto(const std::string& database, const ImportTotals& totals, v1::Import
     v1::FileResult* result = out->add_files();
     result->set_file_name(file.file_name);
     switch (file.outcome) {
-      case ImportFileResult::Outcome::kImported: result->set_outcome(v1::FileResult::OUTCOME_IMPORTED); break;
-      case ImportFileResult::Outcome::kDuplicate: result->set_outcome(v1::FileResult::OUTCOME_DUPLICATE); break;
-      case ImportFileResult::Outcome::kFailed: result->set_outcome(v1::FileResult::OUTCOME_FAILED); break;
+      case ImportFileResult::Outcome::kImported:
+        result->set_outcome(v1::FileResult::OUTCOME_IMPORTED);
+        break;
+      case ImportFileResult::Outcome::kDuplicate:
+        result->set_outcome(v1::FileResult::OUTCOME_DUPLICATE);
+        break;
+      case ImportFileResult::Outcome::kFailed:
+        result->set_outcome(v1::FileResult::OUTCOME_FAILED);
+        break;
     }
     result->set_clip_id(file.clip_id);
     result->set_frame_count(file.frames);

@@ -118,28 +118,31 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
     MutexLock lock(&mutex_);
     ++tasks_;  // the database wait; AcquireSessionDatabase always answers
   }
-  AcquireSessionDatabase(state_, call_, config.database(), [this, config](absl::StatusOr<ReconstructionDatabases::Database> database) {
-    Replies replies;
-    absl::Status status = database.status();
-    if (status.ok()) {
-      MutexLock session(&session_mutex_);
-      absl::StatusOr<std::unique_ptr<SessionDriver>> driver = SessionDriver::Create(
-          config, *database, session_id_, state_.limits.session, state_.service.metrics, &cancelled_);
-      status = driver.status();
-      if (driver.ok()) {
-        driver_ = std::move(*driver);
-        session_started_ = true;
-        replies.emplace_back().mutable_started()->CopyFrom(driver_->started());
-        spdlog::info("session={} request={} tenant={} database={} label=\"{}\" started: {} frames in database, latency {} frames",
-                     session_id_, call_.request_id(), call_.tenant().name, LogText(config.database()), LogText(config.client_label()),
-                     (*database)->num_frames(), driver_->started().latency_frames());
-      }
-    }
-    Deliver(std::move(replies), status);
-    MutexLock lock(&mutex_);
-    --tasks_;
-    PumpLocked();
-  });
+  AcquireSessionDatabase(
+      state_, call_, config.database(), [this, config](absl::StatusOr<ReconstructionDatabases::Database> database) {
+        Replies replies;
+        absl::Status status = database.status();
+        if (status.ok()) {
+          MutexLock session(&session_mutex_);
+          absl::StatusOr<std::unique_ptr<SessionDriver>> driver = SessionDriver::Create(
+              config, *database, session_id_, state_.limits.session, state_.service.metrics, &cancelled_);
+          status = driver.status();
+          if (driver.ok()) {
+            driver_ = std::move(*driver);
+            session_started_ = true;
+            replies.emplace_back().mutable_started()->CopyFrom(driver_->started());
+            spdlog::info(
+                "session={} request={} tenant={} database={} label=\"{}\" started: {} frames in database, latency {} "
+                "frames",
+                session_id_, call_.request_id(), call_.tenant().name, LogText(config.database()),
+                LogText(config.client_label()), (*database)->num_frames(), driver_->started().latency_frames());
+          }
+        }
+        Deliver(std::move(replies), status);
+        MutexLock lock(&mutex_);
+        --tasks_;
+        PumpLocked();
+      });
 }
 
 void ReconstructReactor::HandleSlice(const v1::WristSamples& samples, int begin, int end,
@@ -150,7 +153,8 @@ void ReconstructReactor::HandleSlice(const v1::WristSamples& samples, int begin,
     MutexLock session(&session_mutex_);
     if (!driver_) return;  // the session ended before it started (drain, error)
     status = driver_->Push(samples, begin, end, &replies);
-    if (arrival) driver_->RecordReplyLatency(std::chrono::duration<double, std::milli>(Clock::now() - *arrival).count());
+    if (arrival)
+      driver_->RecordReplyLatency(std::chrono::duration<double, std::milli>(Clock::now() - *arrival).count());
   }
   Deliver(std::move(replies), status);
 }
@@ -233,9 +237,10 @@ void ReconstructReactor::OnCancel() {
   MutexLock lock(&mutex_);
   // gRPC does not say why: the client cancelled or disconnected, its deadline passed, or the
   // transport refused a message over the size limit (the client was told RESOURCE_EXHAUSTED).
-  CompleteLocked(absl::CancelledError("call cancelled: by the client, its deadline, a lost connection or a message over "
-                                      "the server's size limit"),
-                 true);
+  CompleteLocked(
+      absl::CancelledError("call cancelled: by the client, its deadline, a lost connection or a message over "
+                           "the server's size limit"),
+      true);
   PumpLocked();
 }
 
@@ -246,17 +251,18 @@ bool ReconstructReactor::IdleSince(Clock::time_point cutoff) {
 
 void ReconstructReactor::EndIdle() {
   MutexLock lock(&mutex_);
-  CompleteLocked(absl::DeadlineExceededError(StrCat("no message from the client for ",
-                                                    state_.limits.idle_timeout.count() / 1000.0,
-                                                    " s (the server's idle limit): session ended")),
-                 true);
+  CompleteLocked(
+      absl::DeadlineExceededError(StrCat("no message from the client for ", state_.limits.idle_timeout.count() / 1000.0,
+                                         " s (the server's idle limit): session ended")),
+      true);
   PumpLocked();
 }
 
 void ReconstructReactor::EndForShutdown() {
   MutexLock lock(&mutex_);
   if (completing_) return;
-  const absl::Status status = absl::UnavailableError("the server is shutting down: frames sent so far stand; connect again");
+  const absl::Status status =
+      absl::UnavailableError("the server is shutting down: frames sent so far stand; connect again");
   if (!configured_ || input_done_) {
     if (!input_done_) CompleteLocked(status, false);
     return PumpLocked();
@@ -279,8 +285,8 @@ void ReconstructReactor::BeforeDelete() {
     ReleaseDriverLocked();
     MutexLock lock(&mutex_);
     if (session_started_) {
-      spdlog::info("session={} request={} ended code={}: {} frames, {} samples rejected", session_id_, call_.request_id(),
-                   GrpcCodeName(final_status_.error_code()), frames_emitted_, samples_rejected_);
+      spdlog::info("session={} request={} ended code={}: {} frames, {} samples rejected", session_id_,
+                   call_.request_id(), GrpcCodeName(final_status_.error_code()), frames_emitted_, samples_rejected_);
     }
   }
   MutexLock live(&state_.live_mutex);

@@ -23,9 +23,9 @@
 #include <optional>
 #include <string>
 
+#include "server/mutex.h"
 #include "server/owned_reactor.h"
 #include "server/reconstruction_service.h"
-#include "server/mutex.h"
 
 namespace mocap {
 
@@ -76,10 +76,10 @@ class ReconstructReactor
   ReconstructionState& state_;
   CallScope call_;
   const std::string session_id_;
-  v1::ReconstructRequest request_;  // read buffer
+  v1::ReconstructRequest request_;                    // read buffer
   Mutex session_mutex_ ABSL_ACQUIRED_BEFORE(mutex_);  // the session itself (compute tasks)
   std::unique_ptr<SessionDriver> driver_ ABSL_GUARDED_BY(session_mutex_);
-  bool session_started_ ABSL_GUARDED_BY(session_mutex_) = false;  // a driver was created: its end is logged
+  bool session_started_ ABSL_GUARDED_BY(session_mutex_) = false;     // a driver was created: its end is logged
   std::int64_t frames_emitted_ ABSL_GUARDED_BY(session_mutex_) = 0;  // kept when the driver is freed
   std::int64_t samples_rejected_ ABSL_GUARDED_BY(session_mutex_) = 0;
   std::atomic<bool> cancelled_{false};  // set once the outcome is decided: stops the session's compute
@@ -89,11 +89,11 @@ class ReconstructReactor
   bool reading_ ABSL_GUARDED_BY(mutex_) = false;
   bool writing_ ABSL_GUARDED_BY(mutex_) = false;
   bool authenticated_ ABSL_GUARDED_BY(mutex_) = false;  // key checked, session admitted: reads may start
-  int tasks_ ABSL_GUARDED_BY(mutex_) = 0;            // compute tasks queued or running, and a database wait
-  bool configured_ ABSL_GUARDED_BY(mutex_) = false;  // config received
-  bool input_done_ ABSL_GUARDED_BY(mutex_) = false;  // half-close, `finish`, or drain: no more reads
-  bool completing_ ABSL_GUARDED_BY(mutex_) = false;  // the final status is decided
-  bool finished_ ABSL_GUARDED_BY(mutex_) = false;    // Finish called
+  int tasks_ ABSL_GUARDED_BY(mutex_) = 0;               // compute tasks queued or running, and a database wait
+  bool configured_ ABSL_GUARDED_BY(mutex_) = false;     // config received
+  bool input_done_ ABSL_GUARDED_BY(mutex_) = false;     // half-close, `finish`, or drain: no more reads
+  bool completing_ ABSL_GUARDED_BY(mutex_) = false;     // the final status is decided
+  bool finished_ ABSL_GUARDED_BY(mutex_) = false;       // Finish called
   grpc::Status final_status_ ABSL_GUARDED_BY(mutex_);
   std::deque<v1::ReconstructResponse> outbox_ ABSL_GUARDED_BY(mutex_);
   v1::ReconstructResponse writing_message_ ABSL_GUARDED_BY(mutex_);

@@ -36,10 +36,17 @@ absl::Status CheckRange(const char* field, double value, double low, double high
 absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig& config) {
   ReconstructionOptions options;
   switch (config.method()) {
-    case v1::RECONSTRUCTION_METHOD_FULL: options.method = ReconstructionMethod::kFull; break;
-    case v1::RECONSTRUCTION_METHOD_WRISTS_ONLY: options.method = ReconstructionMethod::kWristsOnly; break;
-    case v1::RECONSTRUCTION_METHOD_NEAREST_NEIGHBOUR: options.method = ReconstructionMethod::kNearestNeighbour; break;
-    default: return absl::InvalidArgumentError(StrCat("unknown method ", static_cast<int>(config.method())));
+    case v1::RECONSTRUCTION_METHOD_FULL:
+      options.method = ReconstructionMethod::kFull;
+      break;
+    case v1::RECONSTRUCTION_METHOD_WRISTS_ONLY:
+      options.method = ReconstructionMethod::kWristsOnly;
+      break;
+    case v1::RECONSTRUCTION_METHOD_NEAREST_NEIGHBOUR:
+      options.method = ReconstructionMethod::kNearestNeighbour;
+      break;
+    default:
+      return absl::InvalidArgumentError(StrCat("unknown method ", static_cast<int>(config.method())));
   }
   if (config.has_fixed_lag()) {
     options.mode = StreamMode::kFixedLag;
@@ -64,10 +71,18 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
   if (o.has_hand_target_frames()) options.hand_target_sigma = o.hand_target_frames();
   if (o.has_ankle_data_weight()) options.ankle_path.data_weight = o.ankle_data_weight();
   switch (o.foot_contacts()) {
-    case v1::FOOT_CONTACTS_ESTIMATED_ANKLES: options.footskate.contact_source = ContactSource::kEstimatedAnkles; break;
-    case v1::FOOT_CONTACTS_DATABASE_FRAME: options.footskate.contact_source = ContactSource::kDatabaseFrame; break;
-    case v1::FOOT_CONTACTS_BOTH: options.footskate.contact_source = ContactSource::kBoth; break;
-    default: return absl::InvalidArgumentError(StrCat("overrides.foot_contacts: unknown value ", static_cast<int>(o.foot_contacts())));
+    case v1::FOOT_CONTACTS_ESTIMATED_ANKLES:
+      options.footskate.contact_source = ContactSource::kEstimatedAnkles;
+      break;
+    case v1::FOOT_CONTACTS_DATABASE_FRAME:
+      options.footskate.contact_source = ContactSource::kDatabaseFrame;
+      break;
+    case v1::FOOT_CONTACTS_BOTH:
+      options.footskate.contact_source = ContactSource::kBoth;
+      break;
+    default:
+      return absl::InvalidArgumentError(
+          StrCat("overrides.foot_contacts: unknown value ", static_cast<int>(o.foot_contacts())));
   }
   for (const absl::Status& s : {
            CheckRange("overrides.ankle_candidates", options.ankle_candidates, 1, kMaxAnkleCandidates),
@@ -116,14 +131,16 @@ absl::StatusOr<PerformerScale> ScaleForPerformer(const ReconstructionDatabase& d
   scale.database_height = RestPoseHeight(database.body());
   if (performer_height == 0.0f || scale.database_height <= 0.0f) return scale;
   if (!(performer_height >= 0.3f * scale.database_height && performer_height <= 3.0f * scale.database_height)) {
-    return absl::InvalidArgumentError(StrCat("performer_height ", performer_height, " m is not plausible for a database ",
-                                             "performer of ", scale.database_height, " m (0 keeps the database's)"));
+    return absl::InvalidArgumentError(StrCat("performer_height ", performer_height,
+                                             " m is not plausible for a database ", "performer of ",
+                                             scale.database_height, " m (0 keeps the database's)"));
   }
   scale.scale = performer_height / scale.database_height;
   return scale;
 }
 
-SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const InputConversion& input, WristSample* out) {
+SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const InputConversion& input,
+                      WristSample* out) {
   auto refused = [](std::string reason) { return SampleCheck{SampleCheck::kRefused, std::move(reason)}; };
   if (!std::isfinite(sample.time())) return refused("time is not a finite number");
   const float confidences[2] = {sample.has_left_confidence() ? sample.left_confidence() : 1.0f,
@@ -137,8 +154,8 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
     for (double x : {v->x(), v->y(), v->z()}) {
       if (!std::isfinite(x)) return refused("a wrist position is not a finite number");
       if (std::abs(x * metres_per_unit) > kMaxWristCoordinateMetres) {
-        return refused(StrCat("a wrist coordinate of ", x, " ", UnitName(unit), " is beyond ", kMaxWristCoordinateMetres,
-                              " m from the origin"));
+        return refused(StrCat("a wrist coordinate of ", x, " ", UnitName(unit), " is beyond ",
+                              kMaxWristCoordinateMetres, " m from the origin"));
       }
     }
   }
@@ -229,7 +246,8 @@ absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig) {
   std::optional<LengthUnit> unit;
   if (!rig.unit().empty()) {
     unit = ParseUnit(rig.unit());
-    if (!unit) return absl::InvalidArgumentError("target_rig.unit must be \"m\", \"cm\", \"mm\" or \"in\" (or empty: detected)");
+    if (!unit)
+      return absl::InvalidArgumentError("target_rig.unit must be \"m\", \"cm\", \"mm\" or \"in\" (or empty: detected)");
   }
   switch (rig.rig_case()) {
     case v1::TargetRig::kBvh:
@@ -241,7 +259,8 @@ absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig) {
     case v1::TargetRig::kJoints: {
       const auto& given = rig.joints().joints();
       if (given.size() > kMaxTargetJoints) {
-        return absl::InvalidArgumentError(StrCat("target_rig.joints has ", given.size(), " joints (at most ", kMaxTargetJoints, ")"));
+        return absl::InvalidArgumentError(
+            StrCat("target_rig.joints has ", given.size(), " joints (at most ", kMaxTargetJoints, ")"));
       }
       std::vector<Joint> joints;
       for (const v1::TargetJoint& entry : given) {
@@ -249,11 +268,13 @@ absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig) {
         joint.name = entry.name();
         joint.parent = entry.parent();
         joint.offset = FromProto(entry.offset(), 1.0f);
-        if (!joint.offset.allFinite()) return absl::InvalidArgumentError(StrCat("target_rig joint '", entry.name(), "': offset is not finite"));
+        if (!joint.offset.allFinite())
+          return absl::InvalidArgumentError(StrCat("target_rig joint '", entry.name(), "': offset is not finite"));
         if (entry.has_end_site()) joint.end_site = FromProto(entry.end_site(), 1.0f);
         using C = ChannelType;
         joint.channels = {C::kZrotation, C::kXrotation, C::kYrotation};
-        if (joint.parent < 0) joint.channels.insert(joint.channels.begin(), {C::kXposition, C::kYposition, C::kZposition});
+        if (joint.parent < 0)
+          joint.channels.insert(joint.channels.begin(), {C::kXposition, C::kYposition, C::kZposition});
         joints.push_back(std::move(joint));
       }
       const Skeleton skeleton(std::move(joints));
@@ -262,7 +283,8 @@ absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig) {
       }
       return TargetRigFromSkeleton(skeleton, unit);
     }
-    case v1::TargetRig::RIG_NOT_SET: break;
+    case v1::TargetRig::RIG_NOT_SET:
+      break;
   }
   return absl::InvalidArgumentError("target_rig has neither bvh nor joints");
 }
@@ -275,8 +297,8 @@ void ToProto(const RetargetRig& rig, v1::Skeleton* out) {
   ToProto(model, out);
 }
 
-void SetTargetPose(const BodyPose& pose, const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position,
-                   v1::Frame* out) {
+void SetTargetPose(const BodyPose& pose, const Eigen::Quaternionf& pelvis_rotation,
+                   const Eigen::Vector3f& pelvis_position, v1::Frame* out) {
   ToProto(pose.root_position, 1.0f, out->mutable_root_position());
   out->clear_rotations();
   out->mutable_rotations()->Reserve(static_cast<int>(pose.rotations.size()));

@@ -7,8 +7,8 @@
 #include "absl/status/statusor.h"
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/reconstruct/reconstruction_session.h"
-#include "server/input_frame_convert.h"
 #include "motion/retarget/retarget_rig.h"
+#include "server/input_frame_convert.h"
 
 namespace mocap {
 
@@ -43,7 +43,8 @@ struct SampleCheck {
 };
 // Positions beyond this many metres from the origin, in any axis, are refused.
 inline constexpr double kMaxWristCoordinateMetres = 10000.0;
-SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const InputConversion& input, WristSample* out);
+SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const InputConversion& input,
+                      WristSample* out);
 
 void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out);
 void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out);
@@ -58,7 +59,7 @@ absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig);
 void ToProto(const RetargetRig& rig, v1::Skeleton* out);
 // Puts a retargeted pose into a frame already converted by ToProto: root, rotations and pelvis
 // on the target rig (metres; the rig sets the size, no performer scaling).
-void SetTargetPose(const BodyPose& pose, const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position,
-                   v1::Frame* out);
+void SetTargetPose(const BodyPose& pose, const Eigen::Quaternionf& pelvis_rotation,
+                   const Eigen::Vector3f& pelvis_position, v1::Frame* out);
 
 }  // namespace mocap

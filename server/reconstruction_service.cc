@@ -85,7 +85,8 @@ void ReconstructionService::Drain() {
 }
 
 void ReconstructionService::Watch() {
-  const auto period = std::clamp(state_.limits.idle_timeout / 4, std::chrono::milliseconds(50), std::chrono::milliseconds(1000));
+  const auto period =
+      std::clamp(state_.limits.idle_timeout / 4, std::chrono::milliseconds(50), std::chrono::milliseconds(1000));
   MutexLock lock(&watch_mutex_);
   while (!watch_mutex_.AwaitFor(watch_wake_, period, [this]() ABSL_NO_THREAD_SAFETY_ANALYSIS { return stopping_; })) {
     const auto cutoff = std::chrono::steady_clock::now() - state_.limits.idle_timeout;

@@ -13,10 +13,10 @@
 #include <thread>
 
 #include "mocap/v1/reconstruction.grpc.pb.h"
+#include "server/mutex.h"
 #include "server/reconstruction_databases.h"
 #include "server/service_context.h"
 #include "server/session_driver.h"
-#include "server/mutex.h"
 
 namespace mocap {
 

@@ -34,7 +34,8 @@ void ServerMetrics::Rejected(const std::string& reason) {
 std::string ServerMetrics::PrometheusText() const {
   std::ostringstream out;
   auto gauge = [&](const char* name, const char* type, const char* help, std::int64_t value) {
-    out << "# HELP " << name << " " << help << "\n# TYPE " << name << " " << type << "\n" << name << " " << value << "\n";
+    out << "# HELP " << name << " " << help << "\n# TYPE " << name << " " << type << "\n"
+        << name << " " << value << "\n";
   };
   gauge("mocap_calls_in_flight", "gauge", "Calls being served.", in_flight_.load());
   gauge("mocap_imported_files_total", "counter", "BVH files stored by ImportBvh.", imported_files_.load());
@@ -46,8 +47,8 @@ std::string ServerMetrics::PrometheusText() const {
   gauge("mocap_sessions_total", "counter", "Reconstruction sessions started.", sessions_total_.load());
   gauge("mocap_frames_reconstructed_total", "counter", "Frames emitted by reconstruction sessions.",
         frames_reconstructed_.load());
-  gauge("mocap_samples_rejected_total", "counter", "Wrist samples refused (non-finite, time not increasing, low confidence).",
-        samples_rejected_.load());
+  gauge("mocap_samples_rejected_total", "counter",
+        "Wrist samples refused (non-finite, time not increasing, low confidence).", samples_rejected_.load());
   MutexLock lock(&mutex_);
   out << "# HELP mocap_reply_latency_seconds Sample message arrival to its frames being ready.\n"
          "# TYPE mocap_reply_latency_seconds histogram\n";
@@ -55,7 +56,10 @@ std::string ServerMetrics::PrometheusText() const {
   for (size_t i = 0; i < latency_buckets_.size(); ++i) {
     cumulative += latency_buckets_[i];
     out << "mocap_reply_latency_seconds_bucket{le=\"";
-    if (i < kLatencyBounds.size()) out << kLatencyBounds[i]; else out << "+Inf";
+    if (i < kLatencyBounds.size())
+      out << kLatencyBounds[i];
+    else
+      out << "+Inf";
     out << "\"} " << cumulative << "\n";
   }
   out << "mocap_reply_latency_seconds_sum " << latency_sum_ << "\nmocap_reply_latency_seconds_count " << latency_count_
@@ -70,7 +74,8 @@ std::string ServerMetrics::PrometheusText() const {
     out << "mocap_call_seconds_total{method=\"" << method << "\"} " << seconds << "\n";
   }
   out << "# HELP mocap_rejected_total Calls refused by a limit, by limit.\n# TYPE mocap_rejected_total counter\n";
-  for (const auto& [reason, count] : rejected_) out << "mocap_rejected_total{limit=\"" << reason << "\"} " << count << "\n";
+  for (const auto& [reason, count] : rejected_)
+    out << "mocap_rejected_total{limit=\"" << reason << "\"} " << count << "\n";
   return out.str();
 }
 

@@ -26,7 +26,10 @@ class ServerMetrics {
   void Rejected(const std::string& reason);
   // Reconstruction sessions: one started / ended, frames emitted, samples refused, and the
   // server-side time from a sample message's arrival to its frames being ready.
-  void SessionStarted() { sessions_active_.fetch_add(1); sessions_total_.fetch_add(1); }
+  void SessionStarted() {
+    sessions_active_.fetch_add(1);
+    sessions_total_.fetch_add(1);
+  }
   void SessionEnded() { sessions_active_.fetch_sub(1); }
   void FramesReconstructed(std::int64_t frames) { frames_reconstructed_.fetch_add(frames); }
   void SamplesRejected(std::int64_t samples) { samples_rejected_.fetch_add(samples); }

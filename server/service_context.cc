@@ -23,10 +23,11 @@ std::string BearerKey(const grpc::CallbackServerContext& context) {
 }  // namespace
 
 const char* GrpcCodeName(grpc::StatusCode code) {
-  static const char* const kNames[] = {"OK", "CANCELLED", "UNKNOWN", "INVALID_ARGUMENT", "DEADLINE_EXCEEDED",
-                                       "NOT_FOUND", "ALREADY_EXISTS", "PERMISSION_DENIED", "RESOURCE_EXHAUSTED",
-                                       "FAILED_PRECONDITION", "ABORTED", "OUT_OF_RANGE", "UNIMPLEMENTED", "INTERNAL",
-                                       "UNAVAILABLE", "DATA_LOSS", "UNAUTHENTICATED"};
+  static const char* const kNames[] = {
+      "OK",        "CANCELLED",      "UNKNOWN",           "INVALID_ARGUMENT",   "DEADLINE_EXCEEDED",
+      "NOT_FOUND", "ALREADY_EXISTS", "PERMISSION_DENIED", "RESOURCE_EXHAUSTED", "FAILED_PRECONDITION",
+      "ABORTED",   "OUT_OF_RANGE",   "UNIMPLEMENTED",     "INTERNAL",           "UNAVAILABLE",
+      "DATA_LOSS", "UNAUTHENTICATED"};
   const int index = static_cast<int>(code);
   return index >= 0 && index < 17 ? kNames[index] : "UNKNOWN";
 }
@@ -55,8 +56,10 @@ CallScope::~CallScope() {
 
 absl::Status CallScope::RequireWritableStore() const {
   if (!service_.stores.read_only()) return absl::OkStatus();
-  return absl::FailedPreconditionError(StrCat(method_, ": this server serves a read-only store (mocapd serve --read-only); "
-                                              "change the store with mocapd import on its writer and roll the file out"));
+  return absl::FailedPreconditionError(
+      StrCat(method_,
+             ": this server serves a read-only store (mocapd serve --read-only); "
+             "change the store with mocapd import on its writer and roll the file out"));
 }
 
 absl::Status CallScope::CheckKeyPresent() {
@@ -96,7 +99,8 @@ grpc::Status CallScope::End(const absl::Status& status) {
                  LogText(context_->peer()), seconds * 1e3);
   } else {
     spdlog::warn("request={} method={} tenant={} peer={} code={} ms={:.1f} error=\"{}\"", request_id_, method_, tenant,
-                 LogText(context_->peer()), GrpcCodeName(mapped.error_code()), seconds * 1e3, LogText(std::string(status.message())));
+                 LogText(context_->peer()), GrpcCodeName(mapped.error_code()), seconds * 1e3,
+                 LogText(std::string(status.message())));
   }
   ticket_.reset();
   store_.reset();

@@ -20,10 +20,10 @@
 namespace mocap {
 
 struct ServerLimits {
-  int max_message_bytes = 4 << 20;             // any one message, either direction
-  int max_calls_per_tenant = 16;               // calls in progress at once
-  std::int64_t max_file_bytes = 512ll << 20;   // one imported BVH file
-  std::int64_t max_batch_frames = 2'000'000;   // frames an import holds before its batch commits
+  int max_message_bytes = 4 << 20;            // any one message, either direction
+  int max_calls_per_tenant = 16;              // calls in progress at once
+  std::int64_t max_file_bytes = 512ll << 20;  // one imported BVH file
+  std::int64_t max_batch_frames = 2'000'000;  // frames an import holds before its batch commits
 };
 
 struct ServiceContext {

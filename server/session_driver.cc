@@ -7,15 +7,15 @@
 
 namespace mocap {
 
-absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::SessionConfig& config,
-                                                                     std::shared_ptr<const ReconstructionDatabase> database,
-                                                                     std::string session_id, const SessionLimits& limits,
-                                                                     ServerMetrics& metrics, const std::atomic<bool>* cancel) {
+absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
+    const v1::SessionConfig& config, std::shared_ptr<const ReconstructionDatabase> database, std::string session_id,
+    const SessionLimits& limits, ServerMetrics& metrics, const std::atomic<bool>* cancel) {
   MOCAP_ASSIGN_OR_RETURN(ReconstructionOptions options, OptionsFromConfig(config));
   options.max_window_frames = limits.max_window_frames;
   MOCAP_ASSIGN_OR_RETURN(PerformerScale scale, ScaleForPerformer(*database, config.performer_height()));
   MOCAP_ASSIGN_OR_RETURN(InputFrame input_frame, InputFrameFromProto(config.input_frame()));
-  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session, ReconstructionSession::Create(database, options));
+  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session,
+                         ReconstructionSession::Create(database, options));
   std::unique_ptr<SessionDriver> driver(new SessionDriver(metrics));
   metrics.SessionStarted();
   driver->session_ = std::move(session);
@@ -25,9 +25,10 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(const v1::S
   driver->limits_ = limits;
   const FloorSpec& floor = input_frame.floor;
   driver->input_ = {input_frame, FrameTransform(input_frame.convention, floor.calibrate ? 0.0 : floor.height)};
-  driver->monitor_ = std::make_unique<InputMonitor>(input_frame.convention, floor.calibrate,
-                                                    InputMonitorOptions{.body_height = scale.database_height * scale.scale});
-  if (config.output_frame() == v1::OUTPUT_FRAME_INPUT && !IsNativeFrame(input_frame)) driver->output_transform_ = driver->input_.transform;
+  driver->monitor_ = std::make_unique<InputMonitor>(
+      input_frame.convention, floor.calibrate, InputMonitorOptions{.body_height = scale.database_height * scale.scale});
+  if (config.output_frame() == v1::OUTPUT_FRAME_INPUT && !IsNativeFrame(input_frame))
+    driver->output_transform_ = driver->input_.transform;
   v1::SessionStarted& started = driver->started_;
   started.set_session_id(std::move(session_id));
   ToProto(*database, scale, started.mutable_skeleton());
@@ -159,7 +160,8 @@ void SessionDriver::AppendFrames(std::vector<v1::ReconstructResponse>* replies) 
       if (retargeter_) {
         retargeter_->Retarget(session_->database().body(), pending_[i].pose, &target_pose_);
         const int pelvis = retargeter_->target().topology.landmarks.pelvis;
-        SetTargetPose(target_pose_, retargeter_->world_rotations()[pelvis], retargeter_->world_positions()[pelvis], frame);
+        SetTargetPose(target_pose_, retargeter_->world_rotations()[pelvis], retargeter_->world_positions()[pelvis],
+                      frame);
       }
       if (output_transform_) ToCallerFrame(*output_transform_, frame);  // last, whatever the rig
     }

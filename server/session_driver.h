@@ -67,7 +67,8 @@ class SessionDriver {
  private:
   explicit SessionDriver(ServerMetrics& metrics) : metrics_(metrics) {}
   void AppendFrames(std::vector<v1::ReconstructResponse>* replies);
-  absl::Status Reject(long index, double time, const std::string& reason, std::vector<v1::ReconstructResponse>* replies);
+  absl::Status Reject(long index, double time, const std::string& reason,
+                      std::vector<v1::ReconstructResponse>* replies);
   // The monitor's released samples into the session, its findings into an InputReport.
   absl::Status PushReady(std::vector<v1::ReconstructResponse>* replies);
   absl::Status ReportInput(std::vector<v1::ReconstructResponse>* replies);

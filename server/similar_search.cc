@@ -16,7 +16,8 @@ absl::StatusOr<SearchDatabasePtr> LoadSearchDatabase(MotionStore& store, const D
   const std::int64_t database_id = database.id;
   MOCAP_ASSIGN_OR_RETURN(loaded->clips, store.ListClips(database_id));
   if (loaded->clips.empty()) {
-    return absl::FailedPreconditionError(StrCat("database '", loaded->summary.name, "' has no clips: import motion into it first"));
+    return absl::FailedPreconditionError(
+        StrCat("database '", loaded->summary.name, "' has no clips: import motion into it first"));
   }
   MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(database_id));
   loaded->index = PoseIndex(points);
@@ -32,8 +33,9 @@ absl::StatusOr<SearchDatabasePtr> LoadSearchDatabase(MotionStore& store, const D
   return SearchDatabasePtr(std::move(loaded));
 }
 
-absl::StatusOr<SimilarQuery> SimilarQuery::FromBvh(BvhClip clip, const std::string& name, std::optional<int> first_frame,
-                                                   std::optional<int> last_frame, int step) {
+absl::StatusOr<SimilarQuery> SimilarQuery::FromBvh(BvhClip clip, const std::string& name,
+                                                   std::optional<int> first_frame, std::optional<int> last_frame,
+                                                   int step) {
   if (step < 1) return absl::InvalidArgumentError("frame step must be at least 1");
   SimilarQuery query;
   absl::StatusOr<RigModel> rig = BuildRigModel(clip, {});
@@ -42,7 +44,8 @@ absl::StatusOr<SimilarQuery> SimilarQuery::FromBvh(BvhClip clip, const std::stri
   const int first = first_frame.value_or(0);
   const int last = last_frame.value_or(file_frames - 1);
   if (first < 0 || last >= file_frames || first > last) {
-    return absl::InvalidArgumentError(StrCat("query frames ", first, ":", last, " are outside the file's 0:", file_frames - 1));
+    return absl::InvalidArgumentError(
+        StrCat("query frames ", first, ":", last, " are outside the file's 0:", file_frames - 1));
   }
   for (int frame = first; frame <= last; frame += step) query.frames_.push_back(frame);
   query.rig_ = std::move(*rig);
@@ -50,14 +53,16 @@ absl::StatusOr<SimilarQuery> SimilarQuery::FromBvh(BvhClip clip, const std::stri
   return query;
 }
 
-absl::StatusOr<SimilarQuery> SimilarQuery::FromPoses(const std::vector<NamedPose>& poses, const BodyPointOptions& points) {
+absl::StatusOr<SimilarQuery> SimilarQuery::FromPoses(const std::vector<NamedPose>& poses,
+                                                     const BodyPointOptions& points) {
   if (poses.empty()) return absl::InvalidArgumentError("the query has no poses");
   SimilarQuery query;
   for (size_t i = 0; i < poses.size(); ++i) {
     absl::StatusOr<ClipPoints> pose_points = NamedPosePoints(poses[i], points);
     if (!pose_points.ok()) {
-      return absl::Status(pose_points.status().code(), poses.size() == 1 ? std::string(pose_points.status().message())
-                                                                          : StrCat("poses[", i, "]: ", pose_points.status().message()));
+      return absl::Status(pose_points.status().code(),
+                          poses.size() == 1 ? std::string(pose_points.status().message())
+                                            : StrCat("poses[", i, "]: ", pose_points.status().message()));
     }
     query.pose_points_.push_back(std::move(*pose_points));
     query.frames_.push_back(static_cast<int>(i));
@@ -71,7 +76,8 @@ absl::Status SimilarQuery::Prepare(const std::vector<SearchDatabasePtr>& databas
   if (!clip_) return absl::OkStatus();
   const BodyChains chains = MakeBodyChains(rig_->skeleton, rig_->topology);
   for (const SearchDatabasePtr& database : databases_) {
-    MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared, PrepareClip(*clip_, *rig_, {.frame_rate = database->summary.frame_rate}));
+    MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared,
+                           PrepareClip(*clip_, *rig_, {.frame_rate = database->summary.frame_rate}));
     clip_points_.push_back(MakeClipPoints(ForwardKinematics(prepared.skeleton, prepared.motion), chains, points));
   }
   return absl::OkStatus();
@@ -98,8 +104,9 @@ absl::StatusOr<std::vector<FoundPose>> SimilarQuery::Search(size_t index, const 
       merged.push_back({&database, match, static_cast<int>(std::lround(source_frame))});
     }
   }
-  std::stable_sort(merged.begin(), merged.end(),
-                   [](const FoundPose& a, const FoundPose& b) { return a.match.distance.total < b.match.distance.total; });
+  std::stable_sort(merged.begin(), merged.end(), [](const FoundPose& a, const FoundPose& b) {
+    return a.match.distance.total < b.match.distance.total;
+  });
   if (static_cast<int>(merged.size()) > options.top_k) merged.resize(options.top_k);
   return merged;
 }

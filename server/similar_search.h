@@ -63,10 +63,10 @@ class SimilarQuery {
   SimilarQuery() = default;
   std::optional<BvhClip> clip_;
   std::optional<RigModel> rig_;
-  std::vector<ClipPoints> pose_points_;   // one per pose
+  std::vector<ClipPoints> pose_points_;  // one per pose
   std::vector<int> frames_;
   std::vector<SearchDatabasePtr> databases_;
-  std::vector<ClipPoints> clip_points_;   // per database, for a clip
+  std::vector<ClipPoints> clip_points_;  // per database, for a clip
 };
 
 }  // namespace mocap

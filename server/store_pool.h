@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "storage/motion_store.h"
 #include "server/mutex.h"
+#include "storage/motion_store.h"
 
 namespace mocap {
 

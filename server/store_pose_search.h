@@ -15,11 +15,11 @@ namespace mocap {
 
 struct SimilarOptions {
   std::filesystem::path store;
-  std::string tenant;                   // tenant name; empty: the default tenant
-  std::vector<std::string> databases;   // searched together; matches merged by distance
-  std::filesystem::path query;          // a BVH file on any humanoid rig, or
-  std::optional<v1::NamedPose> pose;    // one pose as named joint positions with its landmarks
-  std::optional<int> first_frame;       // query frames in the file's own numbering (inclusive)
+  std::string tenant;                  // tenant name; empty: the default tenant
+  std::vector<std::string> databases;  // searched together; matches merged by distance
+  std::filesystem::path query;         // a BVH file on any humanoid rig, or
+  std::optional<v1::NamedPose> pose;   // one pose as named joint positions with its landmarks
+  std::optional<int> first_frame;      // query frames in the file's own numbering (inclusive)
   std::optional<int> last_frame;
   int frame_step = 1;
   PoseSearchOptions search;

@@ -9,8 +9,9 @@ absl::StatusOr<TenantAdmission::Ticket> TenantAdmission::Admit(TenantId tenant) 
     MutexLock lock(&mutex_);
     int& active = active_[tenant];
     if (active >= max_calls_) {
-      return absl::ResourceExhaustedError(StrCat("this tenant has ", active, " ", what_, " in progress, the most allowed (",
-                                                 max_calls_, "); retry when one has finished"));
+      return absl::ResourceExhaustedError(StrCat("this tenant has ", active, " ", what_,
+                                                 " in progress, the most allowed (", max_calls_,
+                                                 "); retry when one has finished"));
     }
     ++active;
   }

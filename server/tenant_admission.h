@@ -8,8 +8,8 @@
 #include <utility>
 
 #include "absl/status/statusor.h"
-#include "storage/motion_store.h"
 #include "server/mutex.h"
+#include "storage/motion_store.h"
 
 namespace mocap {
 

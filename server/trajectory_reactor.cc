@@ -20,8 +20,9 @@ void TrajectoryReactor::Begin() {
   if (status.ok() && state_.draining) status = absl::UnavailableError("the server is shutting down; connect again");
   if (!status.ok()) return Complete(status);
   pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
-  AcquireSessionDatabase(state_, call_, request_->config().database(),
-                         [this](absl::StatusOr<ReconstructionDatabases::Database> database) { Start(std::move(database)); });
+  AcquireSessionDatabase(
+      state_, call_, request_->config().database(),
+      [this](absl::StatusOr<ReconstructionDatabases::Database> database) { Start(std::move(database)); });
 }
 
 void TrajectoryReactor::Start(absl::StatusOr<ReconstructionDatabases::Database> database) {
@@ -66,15 +67,17 @@ void TrajectoryReactor::Slice(int begin) {
       v1::InputReport* report = response_->mutable_input_report();
       report->set_floor_height(reply.input_report().floor_height());
       report->set_floor_calibrated(reply.input_report().floor_calibrated());
-      for (v1::InputWarning& warning : *reply.mutable_input_report()->mutable_warnings()) report->add_warnings()->Swap(&warning);
+      for (v1::InputWarning& warning : *reply.mutable_input_report()->mutable_warnings())
+        report->add_warnings()->Swap(&warning);
     }
   }
   // An answer over the send limit would fail in the transport after this call logged OK.
   const size_t bytes = response_->ByteSizeLong();
   if (bytes > static_cast<size_t>(state_.service.limits.max_message_bytes)) {
-    return Complete(absl::ResourceExhaustedError(
-        StrCat("the answer has ", bytes, " bytes, over the server's message limit of ", state_.service.limits.max_message_bytes,
-               " bytes: send fewer samples per call, or stream them with Reconstruct")));
+    return Complete(
+        absl::ResourceExhaustedError(StrCat("the answer has ", bytes, " bytes, over the server's message limit of ",
+                                            state_.service.limits.max_message_bytes,
+                                            " bytes: send fewer samples per call, or stream them with Reconstruct")));
   }
   Complete(absl::OkStatus());
 }

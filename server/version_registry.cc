@@ -106,7 +106,8 @@ void VersionRegistry::Evict() {
   while (cached > max_cached_) {
     auto oldest = entries_.end();
     for (auto it = entries_.begin(); it != entries_.end(); ++it) {
-      if (it->second.value && (oldest == entries_.end() || it->second.last_used < oldest->second.last_used)) oldest = it;
+      if (it->second.value && (oldest == entries_.end() || it->second.last_used < oldest->second.last_used))
+        oldest = it;
     }
     entries_.erase(oldest);
     --cached;

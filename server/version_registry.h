@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "server/store_pool.h"
 #include "server/mutex.h"
+#include "server/store_pool.h"
 
 namespace mocap {
 
@@ -33,7 +33,7 @@ struct DatabaseVersion {
   std::int64_t database_id = 0;
   std::string content_stamp;  // DatabaseContentStamp()
   double frame_rate = 30.0;
-  std::string name;           // for what is built; not part of the key
+  std::string name;  // for what is built; not part of the key
 };
 
 // The content stamp of a database now (one query on `store`): changes with every import or
@@ -97,8 +97,8 @@ class TypedVersionRegistry {
 
   TypedVersionRegistry(StorePool& stores, int max_cached, std::string what, Loader loader)
       : registry_(stores, max_cached, std::move(what),
-                  [loader = std::move(loader)](MotionStore& store, const DatabaseVersion& version)
-                      -> absl::StatusOr<VersionRegistry::Value> {
+                  [loader = std::move(loader)](
+                      MotionStore& store, const DatabaseVersion& version) -> absl::StatusOr<VersionRegistry::Value> {
                     absl::StatusOr<Value> value = loader(store, version);
                     if (!value.ok()) return value.status();
                     return VersionRegistry::Value(std::move(*value));

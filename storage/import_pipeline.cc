@@ -14,12 +14,12 @@
 
 #include <spdlog/spdlog.h>
 
+#include "motion/bvh/bvh_files.h"
 #include "motion/bvh/bvh_reader.h"
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
-#include "motion/bvh/bvh_files.h"
 #include "storage/import_writer.h"
 #include "storage/motion_store.h"
 #include "storage/tenant_directory.h"
@@ -172,7 +172,8 @@ absl::StatusOr<ImportSummary> RunImport(const ImportOptions& options, const Impo
   MOCAP_RETURN_IF_ERROR(writer->Finish());
   fill(writer->totals());
   for (const ImportFileResult& file : writer->totals().files) {
-    if (file.outcome == ImportFileResult::Outcome::kDuplicate) summary.problems.push_back(StrCat(file.file_name, ": ", file.message));
+    if (file.outcome == ImportFileResult::Outcome::kDuplicate)
+      summary.problems.push_back(StrCat(file.file_name, ": ", file.message));
     if (file.outcome == ImportFileResult::Outcome::kFailed) summary.problems.push_back(file.message);
   }
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -15,7 +15,7 @@ namespace mocap {
 
 struct ImportOptions {
   std::filesystem::path store;
-  std::string tenant;               // tenant name; empty: the default tenant
+  std::string tenant;  // tenant name; empty: the default tenant
   std::string database;
   std::vector<std::string> inputs;  // files and folders (searched recursively for *.bvh)
   double frame_rate = 30.0;         // used when the database is created
@@ -31,12 +31,12 @@ struct ImportSummary {
   int files = 0;
   int imported = 0;
   int duplicates = 0;
-  int failed = 0;                    // only with keep_going
-  std::int64_t frames = 0;           // at the database rate
-  std::int64_t source_frames = 0;    // as in the files
+  int failed = 0;                  // only with keep_going
+  std::int64_t frames = 0;         // at the database rate
+  std::int64_t source_frames = 0;  // as in the files
   double motion_seconds = 0.0;
   double wall_seconds = 0.0;
-  std::vector<std::string> problems; // "FILE: message" per skipped or duplicate file
+  std::vector<std::string> problems;  // "FILE: message" per skipped or duplicate file
   double frames_per_second() const { return wall_seconds > 0 ? source_frames / wall_seconds : 0.0; }
 };
 

@@ -106,9 +106,9 @@ absl::Status ImportWriter::Add(const std::string& file_name, PreparedFile prepar
     if (target_.buffer_batch) {
       pending_frames_ += pending.clip.num_frames();
       if (pending_frames_ > target_.max_pending_frames) {
-        return Fail(absl::ResourceExhaustedError(
-            StrCat(file_name, ": this batch would hold over ", target_.max_pending_frames,
-                   " frames; import with a smaller batch size")));
+        return Fail(
+            absl::ResourceExhaustedError(StrCat(file_name, ": this batch would hold over ", target_.max_pending_frames,
+                                                " frames; import with a smaller batch size")));
       }
       pending_.push_back(std::move(pending));
     } else {
@@ -125,7 +125,8 @@ absl::Status ImportWriter::Store(Pending pending) {
   if (!database_) {
     // Created with its first clip, inside that clip's batch: a failed or empty import leaves no
     // empty database behind.
-    MOCAP_ASSIGN_OR_RETURN(database_, store_.CreateDatabase(target_.database, *rig_, preprocess_.frame_rate, target_.tenant));
+    MOCAP_ASSIGN_OR_RETURN(database_,
+                           store_.CreateDatabase(target_.database, *rig_, preprocess_.frame_rate, target_.tenant));
     totals_.created_database = true;
   } else if (!database_->has_rig) {
     MOCAP_RETURN_IF_ERROR(store_.SetRig(database_->id, *rig_));

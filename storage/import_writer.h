@@ -53,7 +53,7 @@ struct ImportFileResult {
   std::int64_t clip_id = 0;  // stored clip, or the stored clip with the same content
   int frames = 0;            // at the database rate
   int source_frames = 0;
-  std::string message;       // failure or duplicate explanation
+  std::string message;  // failure or duplicate explanation
 };
 
 struct ImportTotals {

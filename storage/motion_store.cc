@@ -3,10 +3,10 @@
 #include <cstdlib>
 #include <cstring>
 
-#include <sqlite3.h>
 #include <SQLiteCpp/Database.h>
 #include <SQLiteCpp/Statement.h>
 #include <SQLiteCpp/Transaction.h>
+#include <sqlite3.h>
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
@@ -25,10 +25,12 @@ void BindFloats(SQLite::Statement& statement, int index, const std::vector<T>& v
 }
 
 template <typename T>
-absl::Status ReadFloats(const SQLite::Column& column, size_t expected_count, std::vector<T>& out, std::string_view what) {
+absl::Status ReadFloats(const SQLite::Column& column, size_t expected_count, std::vector<T>& out,
+                        std::string_view what) {
   const size_t bytes = static_cast<size_t>(column.getBytes());
   if (bytes != expected_count * sizeof(T)) {
-    return absl::DataLossError(StrCat("clip ", what, " blob has ", bytes, " bytes; expected ", expected_count * sizeof(T)));
+    return absl::DataLossError(
+        StrCat("clip ", what, " blob has ", bytes, " bytes; expected ", expected_count * sizeof(T)));
   }
   out.resize(expected_count);
   if (bytes > 0) std::memcpy(out.data(), column.getBlob(), bytes);
@@ -93,7 +95,8 @@ absl::Status CheckCheckpointed(const std::filesystem::path& path) {
   std::error_code error;
   const std::filesystem::path wal = path.string() + "-wal";
   if (std::filesystem::exists(wal, error) && std::filesystem::file_size(wal, error) > 0) {
-    return absl::FailedPreconditionError(StrCat(path.string(), " has changes not yet checkpointed into it (", wal.string(),
+    return absl::FailedPreconditionError(StrCat(path.string(), " has changes not yet checkpointed into it (",
+                                                wal.string(),
                                                 "); stop its writers, or copy it with sqlite3's .backup, first"));
   }
   return absl::OkStatus();
@@ -106,7 +109,7 @@ MotionStore::MotionStore(std::filesystem::path path, std::unique_ptr<SQLite::Dat
 MotionStore::~MotionStore() = default;
 
 absl::StatusOr<std::unique_ptr<MotionStore>> MotionStore::Open(const std::filesystem::path& path,
-                                                              const StoreOpenOptions& options) {
+                                                               const StoreOpenOptions& options) {
   try {
     if (!options.read_only && options.create_if_missing && path.has_parent_path()) {
       std::error_code error;
@@ -163,7 +166,8 @@ absl::StatusOr<std::unique_ptr<MotionStore::WriteBatch>> MotionStore::BeginWrite
 
 absl::Status CheckDatabaseName(std::string_view name) {
   if (name.empty() || name.size() > kMaxDatabaseNameBytes) {
-    return absl::InvalidArgumentError(StrCat("database name must have 1 to ", kMaxDatabaseNameBytes, " bytes, not ", name.size()));
+    return absl::InvalidArgumentError(
+        StrCat("database name must have 1 to ", kMaxDatabaseNameBytes, " bytes, not ", name.size()));
   }
   return absl::OkStatus();
 }
@@ -218,7 +222,8 @@ absl::StatusOr<DatabaseSummary> MotionStore::InsertDatabase(TenantId tenant, con
     exists.bind(1, tenant);
     exists.bind(2, name);
     if (exists.executeStep()) return absl::AlreadyExistsError(StrCat("motion database '", name, "' already exists"));
-    SQLite::Statement insert(*db_, "INSERT INTO databases (tenant_id, name, frame_rate, unit, rig) VALUES (?, ?, ?, ?, ?)");
+    SQLite::Statement insert(*db_,
+                             "INSERT INTO databases (tenant_id, name, frame_rate, unit, rig) VALUES (?, ?, ?, ?, ?)");
     insert.bind(1, tenant);
     insert.bind(2, name);
     insert.bind(3, frame_rate);
@@ -239,7 +244,8 @@ absl::Status MotionStore::SetRig(std::int64_t database_id, const RigModel& rig) 
     update.bind(1, std::string(UnitName(rig.unit)));
     update.bind(2, storage::EncodeRig(rig));
     update.bind(3, database_id);
-    if (update.exec() == 0) return absl::FailedPreconditionError(StrCat("motion database ", database_id, " has a rig already"));
+    if (update.exec() == 0)
+      return absl::FailedPreconditionError(StrCat("motion database ", database_id, " has a rig already"));
     return absl::OkStatus();
   } catch (const std::exception& error) {
     return FromException(error, "setting the rig");
@@ -273,7 +279,7 @@ absl::Status MotionStore::DeleteDatabase(std::int64_t database_id) {
 }
 
 absl::StatusOr<std::optional<std::int64_t>> MotionStore::FindClipByHash(std::int64_t database_id,
-                                                                       const std::string& content_hash) {
+                                                                        const std::string& content_hash) {
   try {
     SQLite::Statement query(*db_, "SELECT id FROM clips WHERE database_id = ? AND content_hash = ?");
     query.bind(1, database_id);
@@ -411,7 +417,8 @@ absl::StatusOr<StoredClip> MotionStore::LoadClip(std::int64_t clip_id, const Rig
     const int joints = rig.skeleton.num_joints();
     std::vector<float> offsets, poses, translations;
     MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(5), static_cast<size_t>(joints) * 3, offsets, "offsets"));
-    MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(6), static_cast<size_t>(frames) * EncodedPoseFloats(joints), poses, "poses"));
+    MOCAP_RETURN_IF_ERROR(
+        ReadFloats(query.getColumn(6), static_cast<size_t>(frames) * EncodedPoseFloats(joints), poses, "poses"));
     std::vector<int> animated_joints;
     {
       const std::string list = query.getColumn(10).getString();
@@ -420,19 +427,22 @@ absl::StatusOr<StoredClip> MotionStore::LoadClip(std::int64_t clip_id, const Rig
         size_t end = list.find(',', start);
         if (end == std::string::npos) end = list.size();
         const int joint = std::atoi(list.substr(start, end - start).c_str());
-        if (joint <= 0 || joint >= joints) return absl::DataLossError(StrCat("clip ", clip_id, " has a bad animated joint list"));
+        if (joint <= 0 || joint >= joints)
+          return absl::DataLossError(StrCat("clip ", clip_id, " has a bad animated joint list"));
         animated_joints.push_back(joint);
         start = end + 1;
       }
     }
     const size_t animated = animated_joints.size();
     if (animated > 0) {
-      MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(7), static_cast<size_t>(frames) * animated * 3, translations, "translations"));
+      MOCAP_RETURN_IF_ERROR(
+          ReadFloats(query.getColumn(7), static_cast<size_t>(frames) * animated * 3, translations, "translations"));
     }
     MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(8), static_cast<size_t>(frames), out.features, "features"));
     const double frame_time = 1.0 / query.getColumn(9).getDouble();
     std::vector<Joint> skeleton_joints = rig.skeleton.joints();
-    for (int j = 0; j < joints; ++j) skeleton_joints[j].offset = Eigen::Vector3f(offsets[3 * j], offsets[3 * j + 1], offsets[3 * j + 2]);
+    for (int j = 0; j < joints; ++j)
+      skeleton_joints[j].offset = Eigen::Vector3f(offsets[3 * j], offsets[3 * j + 1], offsets[3 * j + 2]);
     out.skeleton = Skeleton(std::move(skeleton_joints));
     out.motion = DecodePoses(poses, out.skeleton, rig, frame_time);
     for (int f = 0; f < frames; ++f) {
@@ -443,7 +453,8 @@ absl::StatusOr<StoredClip> MotionStore::LoadClip(std::int64_t clip_id, const Rig
     }
     SQLite::Statement labels(*db_, "SELECT key, value FROM clip_labels WHERE clip_id = ? ORDER BY key");
     labels.bind(1, clip_id);
-    while (labels.executeStep()) out.summary.labels.emplace_back(labels.getColumn(0).getString(), labels.getColumn(1).getString());
+    while (labels.executeStep())
+      out.summary.labels.emplace_back(labels.getColumn(0).getString(), labels.getColumn(1).getString());
     return out;
   } catch (const std::exception& error) {
     return FromException(error, StrCat("loading clip ", clip_id));

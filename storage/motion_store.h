@@ -34,7 +34,7 @@ struct DatabaseSummary {
   TenantId tenant_id = kDefaultTenantId;
   std::string name;
   double frame_rate = 0.0;
-  bool has_rig = false;  // false for a database created empty, until its first import
+  bool has_rig = false;                       // false for a database created empty, until its first import
   LengthUnit unit = LengthUnit::kCentimetre;  // meaningful only with has_rig
   int num_joints = 0;
   std::string root_joint;

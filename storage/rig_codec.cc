@@ -22,7 +22,10 @@ std::string EncodeRig(const RigModel& rig) {
     const Joint& joint = rig.skeleton.joint(j);
     json channels = json::array();
     for (ChannelType c : joint.channels) channels.push_back(std::string(ChannelName(c)));
-    json entry = {{"name", joint.name}, {"parent", joint.parent}, {"offset", Vec(joint.offset)}, {"channels", channels},
+    json entry = {{"name", joint.name},
+                  {"parent", joint.parent},
+                  {"offset", Vec(joint.offset)},
+                  {"channels", channels},
                   {"group", std::string(BodyGroupName(rig.topology.group_of_joint[j]))},
                   {"reference_rotation", Quat(rig.reference_rotations[j])}};
     if (joint.end_site) entry["end_site"] = Vec(*joint.end_site);
@@ -36,9 +39,17 @@ std::string EncodeRig(const RigModel& rig) {
       {"unit", std::string(UnitName(rig.unit))},
       {"to_y_up", Quat(rig.to_y_up)},
       {"pelvis_up_local", Vec(rig.pelvis_up_local)},
-      {"landmarks", {{"pelvis", l.pelvis}, {"head", l.head}, {"left_wrist", l.left_wrist}, {"right_wrist", l.right_wrist},
-                     {"left_ankle", l.left_ankle}, {"right_ankle", l.right_ankle}, {"left_elbow", l.left_elbow},
-                     {"right_elbow", l.right_elbow}, {"left_knee", l.left_knee}, {"right_knee", l.right_knee}}},
+      {"landmarks",
+       {{"pelvis", l.pelvis},
+        {"head", l.head},
+        {"left_wrist", l.left_wrist},
+        {"right_wrist", l.right_wrist},
+        {"left_ankle", l.left_ankle},
+        {"right_ankle", l.right_ankle},
+        {"left_elbow", l.left_elbow},
+        {"right_elbow", l.right_elbow},
+        {"left_knee", l.left_knee},
+        {"right_knee", l.right_knee}}},
       {"group_top", t.group_top},
       {"group_end", t.group_end},
       {"up", {{"axis", t.up_axis}, {"sign", t.up_sign}, {"alignment", t.up_alignment}}},
@@ -96,14 +107,16 @@ absl::StatusOr<RigModel> DecodeRig(const std::string& text) {
     rig.pelvis_up_local = ToVec(in.at("pelvis_up_local"));
     const json& l = in.at("landmarks");
     BodyLandmarks& landmarks = rig.topology.landmarks;
-    landmarks = {l.at("pelvis"), l.at("head"), l.at("left_wrist"), l.at("right_wrist"), l.at("left_ankle"), l.at("right_ankle")};
-    for (int joint : {landmarks.pelvis, landmarks.head, landmarks.left_wrist, landmarks.right_wrist, landmarks.left_ankle,
-                      landmarks.right_ankle}) {
+    landmarks = {l.at("pelvis"),      l.at("head"),       l.at("left_wrist"),
+                 l.at("right_wrist"), l.at("left_ankle"), l.at("right_ankle")};
+    for (int joint : {landmarks.pelvis, landmarks.head, landmarks.left_wrist, landmarks.right_wrist,
+                      landmarks.left_ankle, landmarks.right_ankle}) {
       if (joint < 0 || joint >= rig.skeleton.num_joints()) return absl::DataLossError("rig landmark out of range");
     }
     // Elbows and knees: stored since issue #12 (-1 in older rigs).
-    for (auto [key, joint] : {std::pair{"left_elbow", &landmarks.left_elbow}, std::pair{"right_elbow", &landmarks.right_elbow},
-                              std::pair{"left_knee", &landmarks.left_knee}, std::pair{"right_knee", &landmarks.right_knee}}) {
+    for (auto [key, joint] :
+         {std::pair{"left_elbow", &landmarks.left_elbow}, std::pair{"right_elbow", &landmarks.right_elbow},
+          std::pair{"left_knee", &landmarks.left_knee}, std::pair{"right_knee", &landmarks.right_knee}}) {
       *joint = l.value(key, -1);
       if (*joint < -1 || *joint >= rig.skeleton.num_joints()) return absl::DataLossError("rig landmark out of range");
     }

@@ -91,9 +91,8 @@ int SchemaVersion(SQLite::Database& db) { return db.execAndGet("PRAGMA user_vers
 absl::Status MigrateSchema(SQLite::Database& db, int target_version) {
   int version = SchemaVersion(db);
   if (version > kSchemaVersion) {
-    return absl::FailedPreconditionError(StrCat("store schema version ", version,
-                                                " is newer than this build supports (", kSchemaVersion,
-                                                "); upgrade mocapd"));
+    return absl::FailedPreconditionError(StrCat(
+        "store schema version ", version, " is newer than this build supports (", kSchemaVersion, "); upgrade mocapd"));
   }
   if (version >= target_version) return absl::OkStatus();
   // Table rebuilds (migration 2) need foreign keys off; the pragma is a no-op inside a

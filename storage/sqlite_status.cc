@@ -1,7 +1,7 @@
 #include "storage/sqlite_status.h"
 
-#include <sqlite3.h>
 #include <SQLiteCpp/Exception.h>
+#include <sqlite3.h>
 
 #include "motion/core/str_cat.h"
 

@@ -30,8 +30,8 @@ Tenant TenantFromRow(SQLite::Statement& query) {
 bool ValidTenantName(const std::string& name) {
   if (name.empty() || name.size() > 64) return false;
   for (char c : name) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
-                    c == '_' || c == '-';
+    const bool ok =
+        (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
     if (!ok) return false;
   }
   return true;
@@ -67,7 +67,9 @@ absl::StatusOr<Tenant> TenantDirectory::CreateTenant(const std::string& name) {
   return FindTenant(name);
 }
 
-absl::StatusOr<Tenant> TenantDirectory::FindTenant(const std::string& name) { return FindTenantWhere("t.name = ?", name); }
+absl::StatusOr<Tenant> TenantDirectory::FindTenant(const std::string& name) {
+  return FindTenantWhere("t.name = ?", name);
+}
 
 absl::StatusOr<std::vector<Tenant>> TenantDirectory::ListTenants() {
   try {

@@ -7,16 +7,16 @@
 #include <sstream>
 
 #include <google/protobuf/util/json_util.h>
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
-#include "motion/bvh/bvh_files.h"
-#include "tools/command_line/progress_bar.h"
 #include "client/cli/cli_common.h"
 #include "client/cli/reconstruct_command.h"
 #include "client/cli/similar_command.h"
 #include "client/cli/view_command.h"
 #include "mocap/client.h"
+#include "motion/bvh/bvh_files.h"
+#include "tools/command_line/progress_bar.h"
 
 namespace mocap::cli {
 namespace {
@@ -72,23 +72,27 @@ void RegisterDatabases(CLI::App& app, Registry& registry) {
       return 0;
     }
     std::cout << info->name() << ": " << info->clip_count() << " clips, " << info->frame_count() << " frames at "
-              << info->frame_rate() << " fps, imported from " << (info->source_unit().empty() ? "-" : info->source_unit())
-              << "; skeleton of " << info->skeleton().joints_size() << " joints\n";
+              << info->frame_rate() << " fps, imported from "
+              << (info->source_unit().empty() ? "-" : info->source_unit()) << "; skeleton of "
+              << info->skeleton().joints_size() << " joints\n";
     for (const v1::Joint& joint : info->skeleton().joints()) {
-      std::cout << "  " << joint.name() << " (parent " << joint.parent() << ", "
-                << v1::BodyGroup_Name(joint.group()) << ")\n";
+      std::cout << "  " << joint.name() << " (parent " << joint.parent() << ", " << v1::BodyGroup_Name(joint.group())
+                << ")\n";
     }
     return 0;
   });
-  CLI::App* create = databases->add_subcommand("create", "Create an empty database (its rig comes with the first import)");
+  CLI::App* create =
+      databases->add_subcommand("create", "Create an empty database (its rig comes with the first import)");
   create->add_option("name", *name, "Database name")->required();
   create->add_option("--frame-rate", *frame_rate, "Frames per second clips are stored at (default 30)")
       ->check(CLI::Range(0.0, 1000.0));
   registry.Add(create, [global, name, frame_rate](client::Client& client) {
     auto created = client.CreateDatabase(*name, *frame_rate);
     if (!created.ok()) return ReportError(created.status());
-    if (global->json) std::cout << Json(*created) << "\n";
-    else std::cout << "database '" << created->name() << "' created at " << created->frame_rate() << " fps\n";
+    if (global->json)
+      std::cout << Json(*created) << "\n";
+    else
+      std::cout << "database '" << created->name() << "' created at " << created->frame_rate() << " fps\n";
     return 0;
   });
   CLI::App* remove = databases->add_subcommand("delete", "Delete a database and all its clips");
@@ -128,8 +132,9 @@ void RegisterImport(CLI::App& app, Registry& registry) {
     bool quiet = false;
   };
   auto options = std::make_shared<Options>();
-  CLI::App* command = app.add_subcommand("import", "Send BVH files to a database (created from the first file's rig "
-                                                   "when missing); atomic per batch");
+  CLI::App* command = app.add_subcommand("import",
+                                         "Send BVH files to a database (created from the first file's rig "
+                                         "when missing); atomic per batch");
   command->add_option("--database", options->database, "Database name")->required();
   command->add_option("inputs", options->inputs, "BVH files or folders (searched recursively)")->required();
   command->add_option("--frame-rate", options->import.frame_rate, "Frame rate of a database this import creates");
@@ -154,7 +159,8 @@ void RegisterImport(CLI::App& app, Registry& registry) {
       return 0;
     }
     for (const v1::FileResult& file : result->files()) {
-      if (file.outcome() != v1::FileResult::OUTCOME_IMPORTED) std::cerr << "  " << file.file_name() << ": " << file.error() << "\n";
+      if (file.outcome() != v1::FileResult::OUTCOME_IMPORTED)
+        std::cerr << "  " << file.file_name() << ": " << file.error() << "\n";
     }
     std::cout << "database '" << result->database() << "'" << (result->created_database() ? " (created)" : "") << ": "
               << result->imported_count() << " clips imported, " << result->duplicate_count() << " duplicates skipped"
@@ -194,7 +200,9 @@ void RegisterExport(CLI::App& app, Registry& registry) {
 std::function<int()> RegisterCommands(CLI::App& app) {
   auto registry = std::make_shared<Registry>();
   GlobalOptions& global = *registry->global;
-  app.add_option("--address", global.address, "Server address host:port")->envname("MOCAP_ADDRESS")->capture_default_str();
+  app.add_option("--address", global.address, "Server address host:port")
+      ->envname("MOCAP_ADDRESS")
+      ->capture_default_str();
   app.add_option("--key", global.key, "API key (default: $MOCAP_API_KEY)");
   app.add_flag("--tls", global.tls, "Use TLS with the system's root certificates");
   app.add_option("--tls-root-certs", global.tls_root_certs, "Use TLS trusting these PEM root certificates");

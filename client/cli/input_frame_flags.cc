@@ -2,15 +2,16 @@
 
 #include <charconv>
 
-#include "proto/convert/input_frame_proto.h"
 #include "motion/frames/frame_transform.h"
+#include "proto/convert/input_frame_proto.h"
 
 namespace mocap::cli {
 namespace {
 
 std::string PresetNames() {
   std::string names;
-  for (const InputFramePreset& preset : InputFramePresets()) names += (names.empty() ? "" : ", ") + std::string(preset.name);
+  for (const InputFramePreset& preset : InputFramePresets())
+    names += (names.empty() ? "" : ", ") + std::string(preset.name);
   return names;
 }
 
@@ -24,17 +25,20 @@ void ToDeclared(const FrameTransform& transform, v1::Vec3* v) {
 }  // namespace
 
 void AddInputFrameFlags(CLI::App* command, InputFrameFlags* flags) {
-  command->add_option("--input-frame", flags->preset, "Convention of the wrist samples, a preset: " + PresetNames() +
-                                                          " (README \"Input conventions\"; default native)");
+  command->add_option("--input-frame", flags->preset,
+                      "Convention of the wrist samples, a preset: " + PresetNames() +
+                          " (README \"Input conventions\"; default native)");
   command->add_option("--units", flags->units, "Length unit of the samples: m, cm, mm or in (over the preset)");
   command->add_option("--up", flags->up, "Up axis of the samples: +X, -X, +Y, -Y, +Z or -Z (over the preset)");
   command->add_option("--handedness", flags->handedness, "right or left (over the preset)");
   command->add_option("--floor", flags->floor,
                       "The floor's coordinate on the up axis, in --units, or 'calibrate' (from the first second)");
-  command->add_option("--device-offset", flags->device_offset,
-                      "The tracked point is a device held in the hand: offset X,Y,Z from it to the wrist, in its own "
-                      "frame and --units (the CSV then needs the orientation columns)")
-      ->expected(3)->delimiter(',');
+  command
+      ->add_option("--device-offset", flags->device_offset,
+                   "The tracked point is a device held in the hand: offset X,Y,Z from it to the wrist, in its own "
+                   "frame and --units (the CSV then needs the orientation columns)")
+      ->expected(3)
+      ->delimiter(',');
 }
 
 absl::StatusOr<DeclaredInputFrame> ResolveInputFrame(const InputFrameFlags& flags) {
@@ -43,7 +47,9 @@ absl::StatusOr<DeclaredInputFrame> ResolveInputFrame(const InputFrameFlags& flag
   v1::InputFrame& proto = declared.proto;
   if (!flags.preset.empty()) {
     std::optional<InputFramePreset> preset = FindInputFramePreset(flags.preset);
-    if (!preset) return absl::InvalidArgumentError("--input-frame: unknown preset \"" + flags.preset + "\" (" + PresetNames() + ")");
+    if (!preset)
+      return absl::InvalidArgumentError("--input-frame: unknown preset \"" + flags.preset + "\" (" + PresetNames() +
+                                        ")");
     frame = preset->frame;
     proto.set_preset(PresetToProto(preset->name));
   }
@@ -59,7 +65,8 @@ absl::StatusOr<DeclaredInputFrame> ResolveInputFrame(const InputFrameFlags& flag
   }
   if (!flags.handedness.empty()) {
     std::optional<Handedness> handedness = ParseHandedness(flags.handedness);
-    if (!handedness) return absl::InvalidArgumentError("--handedness: expected right or left, not \"" + flags.handedness + "\"");
+    if (!handedness)
+      return absl::InvalidArgumentError("--handedness: expected right or left, not \"" + flags.handedness + "\"");
     frame.convention.handedness = *handedness;
   }
   if (flags.floor == "calibrate") {
@@ -85,8 +92,9 @@ absl::StatusOr<DeclaredInputFrame> ResolveInputFrame(const InputFrameFlags& flag
 
 absl::Status ToDeclaredFrame(const InputFrame& frame, std::vector<v1::WristSample>* samples) {
   if (frame.tracked_device) {
-    return absl::InvalidArgumentError("--device-offset needs each device's orientation: give --csv with the orientation "
-                                      "columns (BVH wrists are wrist joints already)");
+    return absl::InvalidArgumentError(
+        "--device-offset needs each device's orientation: give --csv with the orientation "
+        "columns (BVH wrists are wrist joints already)");
   }
   const FrameTransform transform(frame.convention, frame.floor.calibrate ? 0.0 : frame.floor.height);
   for (v1::WristSample& sample : *samples) {

@@ -21,7 +21,7 @@ struct InputFrameFlags {
 void AddInputFrameFlags(CLI::App* command, InputFrameFlags* flags);
 
 struct DeclaredInputFrame {
-  InputFrame frame;     // resolved: the preset with the flags over it
+  InputFrame frame;      // resolved: the preset with the flags over it
   v1::InputFrame proto;  // SessionConfig.input_frame
 };
 // InvalidArgument naming the flag for an unknown preset, unit, axis or handedness, or a floor that

@@ -1,7 +1,7 @@
 // mocap: the command-line client of a mocapd server (over the SDK, client/include/mocap/client.h).
-#include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "client/cli/commands.h"
 

@@ -8,11 +8,11 @@
 #include <iostream>
 #include <thread>
 
-#include "tools/command_line/progress_bar.h"
-#include "client/wrist_input/wrist_source.h"
 #include "client/cli/input_frame_flags.h"
 #include "client/cli/reconstruction_bvh.h"
 #include "client/cli/target_rig_file.h"
+#include "client/wrist_input/wrist_source.h"
+#include "tools/command_line/progress_bar.h"
 
 namespace mocap::cli {
 namespace {
@@ -81,7 +81,8 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
         const v1::InputReport& report = (*reply)->input_report();
         result.mutable_input_report()->set_floor_height(report.floor_height());
         result.mutable_input_report()->set_floor_calibrated(report.floor_calibrated());
-        for (const v1::InputWarning& warning : report.warnings()) *result.mutable_input_report()->add_warnings() = warning;
+        for (const v1::InputWarning& warning : report.warnings())
+          *result.mutable_input_report()->add_warnings() = warning;
       }
       frames_back = result.frames_size();
     }
@@ -94,7 +95,8 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
       const double offset = samples[end - 1].time() - samples.front().time();
       std::this_thread::sleep_until(start + std::chrono::duration<double>(offset));
     }
-    if (!(*stream)->Write({samples.begin() + static_cast<long>(i), samples.begin() + static_cast<long>(end)}).ok()) break;
+    if (!(*stream)->Write({samples.begin() + static_cast<long>(i), samples.begin() + static_cast<long>(end)}).ok())
+      break;
     bar.Update(static_cast<long>(end), std::to_string(frames_back.load()) + " frames back");
   }
   (*stream)->CloseInput().IgnoreError();  // always OK
@@ -138,8 +140,9 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
               : Stream(client, *config, *samples, o, !o.quiet && !global.json);
   if (!result.ok()) return ReportError(result.status());
   const std::vector<v1::Frame> frames(result->frames().begin(), result->frames().end());
-  absl::StatusOr<std::string> bvh = o.target_rig.empty() ? ReconstructionBvh(result->started(), frames)
-                                                         : RetargetedBvhText(o.target_rig_text, result->started(), frames);
+  absl::StatusOr<std::string> bvh = o.target_rig.empty()
+                                        ? ReconstructionBvh(result->started(), frames)
+                                        : RetargetedBvhText(o.target_rig_text, result->started(), frames);
   if (!bvh.ok()) return ReportError(bvh.status());
   const std::string bvh_path = o.output + ".bvh", json_path = o.output + ".json";
   if (absl::Status s = WriteFile(bvh_path, *bvh); !s.ok()) return ReportError(s);
@@ -157,15 +160,16 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
     std::cerr << "  input frame: " << warning.message() << "\n";
   }
   for (const v1::SampleRejected& rejected : result->rejected()) {
-    std::cerr << "  sample " << rejected.sample_index() << " (t = " << rejected.time() << " s) refused: " << rejected.reason()
-              << "\n";
+    std::cerr << "  sample " << rejected.sample_index() << " (t = " << rejected.time()
+              << " s) refused: " << rejected.reason() << "\n";
   }
   std::cout << "session " << result->started().session_id() << ": " << summary.samples() << " samples → "
             << summary.frames() << " frames in " << summary.segments() << " segment(s)"
-            << (summary.rejected_samples() ? ", " + std::to_string(summary.rejected_samples()) + " samples refused" : "")
-            << "\n  per frame: cloud " << summary.cloud_ms_per_frame() << " ms, ankle path " << summary.path_ms_per_frame()
-            << " ms, pose " << summary.pose_ms_per_frame() << " ms, cleanup " << summary.cleanup_ms_per_frame()
-            << " ms\n  wrote " << bvh_path << " and " << json_path << "\n";
+            << (summary.rejected_samples() ? ", " + std::to_string(summary.rejected_samples()) + " samples refused"
+                                           : "")
+            << "\n  per frame: cloud " << summary.cloud_ms_per_frame() << " ms, ankle path "
+            << summary.path_ms_per_frame() << " ms, pose " << summary.pose_ms_per_frame() << " ms, cleanup "
+            << summary.cleanup_ms_per_frame() << " ms\n  wrote " << bvh_path << " and " << json_path << "\n";
   return 0;
 }
 
@@ -174,22 +178,26 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
 void RegisterReconstruct(CLI::App& app, Registry& registry) {
   auto global = registry.global;
   auto o = std::make_shared<ReconstructOptions>();
-  CLI::App* command = app.add_subcommand("reconstruct", "Reconstruct whole-body motion from wrist trajectories; "
-                                                        "writes OUTPUT.bvh and OUTPUT.json");
+  CLI::App* command = app.add_subcommand("reconstruct",
+                                         "Reconstruct whole-body motion from wrist trajectories; "
+                                         "writes OUTPUT.bvh and OUTPUT.json");
   command->add_option("--database", o->database, "Database to draw motion from")->required();
-  auto* csv = command->add_option("--csv", o->csv,
-                                  "Wrist samples: time,left_x,left_y,left_z,right_x,right_y,right_z"
-                                  "[,left_confidence,right_confidence[,left_qw,...,right_qz]] (seconds; metres, Y up "
-                                  "unless --input-frame or --units, --up, --handedness, --floor say otherwise)")
+  auto* csv = command
+                  ->add_option("--csv", o->csv,
+                               "Wrist samples: time,left_x,left_y,left_z,right_x,right_y,right_z"
+                               "[,left_confidence,right_confidence[,left_qw,...,right_qz]] (seconds; metres, Y up "
+                               "unless --input-frame or --units, --up, --handedness, --floor say otherwise)")
                   ->check(CLI::ExistingFile);
   auto* bvh = command->add_option("--bvh", o->bvh, "Take the wrists from this BVH clip's forward kinematics")
                   ->check(CLI::ExistingFile);
   csv->excludes(bvh);
   command->add_option("--noise-cm", o->noise_cm, "With --bvh: Gaussian noise on the wrists, cm")
-      ->check(CLI::NonNegativeNumber)->needs(bvh);
+      ->check(CLI::NonNegativeNumber)
+      ->needs(bvh);
   command->add_option("--seed", o->seed, "With --noise-cm: random seed")->capture_default_str();
   command->add_option("--method", o->method, "full, wrists-only or nearest")
-      ->check(CLI::IsMember({"full", "wrists-only", "nearest"}))->capture_default_str();
+      ->check(CLI::IsMember({"full", "wrists-only", "nearest"}))
+      ->capture_default_str();
   auto* window = command->add_option("--window", o->window, "Sub-interval length L in frames (0: whole trajectory)")
                      ->check(CLI::NonNegativeNumber);
   auto* lag = command->add_option("--lag", o->lag, "Fixed lag D in frames (frame t-D leaves when t arrives)")
@@ -197,22 +205,27 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   window->excludes(lag);
   command->add_option("--k1", o->k1, "Ankle candidates K1 (server default 500)")->check(CLI::PositiveNumber);
   command->add_option("--k2", o->k2, "Pose neighbours K2 (server default 50)")->check(CLI::PositiveNumber);
-  command->add_option("--foot-contacts", o->foot_contacts,
-                      "A7 foot contacts: estimated (most accurate), database (least skating) or both")
-      ->check(CLI::IsMember({"estimated", "database", "both"}))->capture_default_str();
-  command->add_option("--performer-height", o->performer_height, "Performer's height in metres (scales input and output)")
+  command
+      ->add_option("--foot-contacts", o->foot_contacts,
+                   "A7 foot contacts: estimated (most accurate), database (least skating) or both")
+      ->check(CLI::IsMember({"estimated", "database", "both"}))
+      ->capture_default_str();
+  command
+      ->add_option("--performer-height", o->performer_height, "Performer's height in metres (scales input and output)")
       ->check(CLI::NonNegativeNumber);
   AddInputFrameFlags(command, &o->input_frame);
-  command->add_option("--target-rig", o->target_rig,
-                      "Answer on this avatar's rig (a BVH file: any joint names, count, proportions, unit, up axis); "
-                      "OUTPUT.bvh is then written on that rig, in its own unit, axes and channels")
+  command
+      ->add_option("--target-rig", o->target_rig,
+                   "Answer on this avatar's rig (a BVH file: any joint names, count, proportions, unit, up axis); "
+                   "OUTPUT.bvh is then written on that rig, in its own unit, axes and channels")
       ->check(CLI::ExistingFile);
   command->add_flag("--diagnostics", o->diagnostics, "Per-frame diagnostics in the JSON");
   command->add_flag("--strict", o->strict, "Fail at the first refused sample instead of skipping it");
   command->add_flag("--unary", o->unary, "One ReconstructTrajectory call instead of a stream");
   command->add_flag("--realtime", o->realtime, "Send samples at their timestamps' pace (as a live tracker would)");
   command->add_option("--samples-per-message", o->samples_per_message, "Samples per stream message")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   command->add_option("-o,--output", o->output, "Output path prefix")->capture_default_str();
   command->add_flag("--quiet", o->quiet, "No progress bar");
   command->callback([o, csv, bvh] {

@@ -18,7 +18,8 @@ struct SimilarCliOptions {
 absl::StatusOr<v1::FindSimilarPosesRequest> MakeRequest(const SimilarCliOptions& o) {
   v1::FindSimilarPosesRequest request;
   for (const std::string& database : o.databases) request.add_databases(database);
-  if (o.query.empty() == o.pose_file.empty()) return absl::InvalidArgumentError("give --query FILE.bvh or --query-pose FILE.json");
+  if (o.query.empty() == o.pose_file.empty())
+    return absl::InvalidArgumentError("give --query FILE.bvh or --query-pose FILE.json");
   if (!o.pose_file.empty()) {
     std::ifstream in(o.pose_file);
     if (!in) return absl::NotFoundError(o.pose_file + ": cannot open file");
@@ -77,12 +78,14 @@ int Run(client::Client& client, const SimilarCliOptions& o, const GlobalOptions&
 void RegisterSimilar(CLI::App& app, Registry& registry) {
   auto global = registry.global;
   auto o = std::make_shared<SimilarCliOptions>();
-  CLI::App* command = app.add_subcommand("similar", "Find the poses most similar to a BVH frame's in the server's "
-                                                    "databases, across skeletons (any rig: no joint mapping needed)");
+  CLI::App* command = app.add_subcommand("similar",
+                                         "Find the poses most similar to a BVH frame's in the server's "
+                                         "databases, across skeletons (any rig: no joint mapping needed)");
   command->add_option("--database", o->databases, "Database(s) to search (repeat for several)")->required();
   auto* query = command->add_option("--query", o->query, "BVH file with the query pose(s)")->check(CLI::ExistingFile);
-  auto* pose = command->add_option("--query-pose", o->pose_file,
-                                   "JSON file with one pose as named joint positions and landmarks (see README)")
+  auto* pose = command
+                   ->add_option("--query-pose", o->pose_file,
+                                "JSON file with one pose as named joint positions and landmarks (see README)")
                    ->check(CLI::ExistingFile);
   query->excludes(pose);
   command->add_option("--frames", o->frames, "Query frames A:B (inclusive, the file's numbering); default all");

@@ -15,8 +15,9 @@ absl::StatusOr<std::string> TargetRigText(const std::string& path, size_t max_by
   buffer << in.rdbuf();
   const std::string text = buffer.str();
   const size_t motion = text.find("MOTION");
-  if (motion == std::string::npos) return text.size() <= max_bytes ? absl::StatusOr<std::string>(text)
-                                                                   : absl::InvalidArgumentError(path + ": hierarchy too large");
+  if (motion == std::string::npos)
+    return text.size() <= max_bytes ? absl::StatusOr<std::string>(text)
+                                    : absl::InvalidArgumentError(path + ": hierarchy too large");
   // Keep "Frame Time" and as many whole frame lines as fit.
   std::istringstream lines(text.substr(motion));
   std::string line, frame_time, frames;
@@ -48,8 +49,8 @@ absl::StatusOr<std::string> RetargetedBvhText(const std::string& target_rig_text
   for (size_t f = 0; f < frames.size(); ++f) {
     if (frames[f].rotations_size() != joints) {
       return absl::InvalidArgumentError("frame " + std::to_string(frames[f].index()) + " has " +
-                                        std::to_string(frames[f].rotations_size()) + " rotations for " + std::to_string(joints) +
-                                        " joints");
+                                        std::to_string(frames[f].rotations_size()) + " rotations for " +
+                                        std::to_string(joints) + " joints");
     }
     const v1::Vec3& root = frames[f].root_position();
     poses[f].root_position = Eigen::Vector3f(root.x(), root.y(), root.z());

@@ -29,9 +29,11 @@ absl::StatusOr<std::map<fs::path, fs::path>> PairJsonWithBvh(const std::vector<f
                                                              const std::vector<fs::path>& json_files) {
   std::map<fs::path, fs::path> json_of;
   for (const fs::path& json : json_files) {
-    auto match = std::find_if(bvh_files.begin(), bvh_files.end(), [&](const fs::path& b) { return b.stem() == json.stem(); });
+    auto match =
+        std::find_if(bvh_files.begin(), bvh_files.end(), [&](const fs::path& b) { return b.stem() == json.stem(); });
     if (match == bvh_files.end()) {
-      return absl::InvalidArgumentError(json.string() + " matches no BVH given (traces go with the BVH of the same name)");
+      return absl::InvalidArgumentError(json.string() +
+                                        " matches no BVH given (traces go with the BVH of the same name)");
     }
     json_of[*match] = json;
   }
@@ -46,7 +48,8 @@ absl::StatusOr<std::map<fs::path, fs::path>> PairJsonWithBvh(const std::vector<f
 std::vector<std::string> DisplayNames(const std::vector<fs::path>& files) {
   std::vector<std::string> names;
   for (const fs::path& file : files) {
-    const bool shared = std::count_if(files.begin(), files.end(), [&](const fs::path& f) { return f.filename() == file.filename(); }) > 1;
+    const bool shared = std::count_if(files.begin(), files.end(),
+                                      [&](const fs::path& f) { return f.filename() == file.filename(); }) > 1;
     const fs::path folder = fs::absolute(file).parent_path().filename();
     names.push_back(shared && !folder.empty() ? (folder / file.filename()).string() : file.filename().string());
   }
@@ -72,7 +75,8 @@ void AddTraces(nlohmann::json& clip, const fs::path& json_path) {
 
 int Run(const ViewOptions& o) {
   std::vector<fs::path> bvh_files, json_files;
-  for (const std::string& input : o.inputs) (fs::path(input).extension() == ".json" ? json_files : bvh_files).emplace_back(input);
+  for (const std::string& input : o.inputs)
+    (fs::path(input).extension() == ".json" ? json_files : bvh_files).emplace_back(input);
   if (bvh_files.empty()) return ReportError(absl::InvalidArgumentError("give at least one BVH file"));
   absl::StatusOr<std::map<fs::path, fs::path>> json_of = PairJsonWithBvh(bvh_files, json_files);
   if (!json_of.ok()) return ReportError(json_of.status());
@@ -97,7 +101,8 @@ int Run(const ViewOptions& o) {
   }
   html_view::Page page;
   page.title = o.title.empty() ? "mocap view — " + names : o.title;
-  page.data = {{"layout", o.layout}, {"follow", o.follow}, {"scenes", {{{"label", page.title}, {"clips", std::move(clips)}}}}};
+  page.data = {
+      {"layout", o.layout}, {"follow", o.follow}, {"scenes", {{{"label", page.title}, {"clips", std::move(clips)}}}}};
   if (absl::Status s = html_view::WriteTextFile(o.output, html_view::PageHtml(page)); !s.ok()) return ReportError(s);
   std::cout << "wrote " << o.output << " (" << names << ")\n";
   return unreadable == 0 ? 0 : 1;
@@ -107,14 +112,17 @@ int Run(const ViewOptions& o) {
 
 void RegisterView(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<ViewOptions>();
-  CLI::App* command = app.add_subcommand(
-      "view", "Write one self-contained HTML page playing BVH clips in a browser (no server needed); a "
-              "`mocap reconstruct` JSON given (or beside its BVH) adds wrist and ankle traces");
+  CLI::App* command =
+      app.add_subcommand("view",
+                         "Write one self-contained HTML page playing BVH clips in a browser (no server needed); a "
+                         "`mocap reconstruct` JSON given (or beside its BVH) adds wrist and ankle traces");
   command->add_option("inputs", o->inputs, "BVH files, and optionally NAME.json beside NAME.bvh")
-      ->required()->check(CLI::ExistingFile);
+      ->required()
+      ->check(CLI::ExistingFile);
   command->add_option("-o,--output", o->output, "The HTML page to write")->capture_default_str();
   command->add_option("--layout", o->layout, "Clips drawn over each other or in panels side by side")
-      ->check(CLI::IsMember({"overlay", "side-by-side"}))->capture_default_str();
+      ->check(CLI::IsMember({"overlay", "side-by-side"}))
+      ->capture_default_str();
   command->add_option("--title", o->title, "The page's title (default: the file names)");
   command->add_flag("--follow", o->follow, "Start with the camera following the bodies (a toggle on the page)");
   registry.AddLocal(command, [o] { return Run(*o); });

@@ -18,10 +18,10 @@ int main(int argc, char** argv) {
   }
   const std::string database = argv[2];
   std::vector<std::filesystem::path> files(argv + 3, argv + argc);
-  auto imported = (*client)->ImportFiles(database, files, {.keep_going = true},
-                                         [](const mocap::client::ImportProgress& p) {
-                                           std::cerr << "\r" << p.files_sent << "/" << p.files_total << " files";
-                                         });
+  auto imported =
+      (*client)->ImportFiles(database, files, {.keep_going = true}, [](const mocap::client::ImportProgress& p) {
+        std::cerr << "\r" << p.files_sent << "/" << p.files_total << " files";
+      });
   std::cerr << "\n";
   if (!imported.ok()) {
     std::cerr << "import failed: " << imported.status() << "\n";

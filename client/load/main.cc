@@ -8,14 +8,14 @@
 #include <random>
 #include <thread>
 
-#include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
-#include "client/wrist_input/wrist_source.h"
 #include "client/load/latency_summary.h"
 #include "client/load/stream_load.h"
+#include "client/wrist_input/wrist_source.h"
 
 namespace mocap::load {
 namespace {
@@ -103,9 +103,13 @@ int Run(const Options& o) {
   std::vector<std::thread> threads;
   const auto began = std::chrono::steady_clock::now();
   for (int s = 0; s < o.streams; ++s) {
-    StreamPlan plan{Config(o, s), samples,
-                    start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(offset(random))),
-                    o.samples_per_message, !o.unpaced, std::nullopt};
+    StreamPlan plan{Config(o, s),
+                    samples,
+                    start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                std::chrono::duration<double>(offset(random))),
+                    o.samples_per_message,
+                    !o.unpaced,
+                    std::nullopt};
     if (o.reopen_after > 0) plan.cancel_after = Seconds(o.reopen_after);
     threads.emplace_back([&o, &outcomes, s, plan = std::move(plan)]() mutable {
       client::ConnectOptions connect;
@@ -157,22 +161,36 @@ int Run(const Options& o) {
   const bool p99_ok = o.max_p99_ms <= 0 || latency.p99_ms <= o.max_p99_ms;
 
   if (o.json) {
-    nlohmann::json report = {
-        {"streams", o.streams}, {"streams_ok", ok}, {"sessions", sessions}, {"sessions_cancelled", cancelled}, {"seconds", elapsed}, {"input_rate", o.rate},
-        {"samples_sent", sent}, {"samples_rejected", rejected}, {"frames", frames},
-        {"frames_per_second", frames / elapsed},
-        {"latency_ms", {{"count", latency.count}, {"mean", latency.mean_ms}, {"p50", latency.p50_ms}, {"p90", latency.p90_ms},
-                        {"p99", latency.p99_ms}, {"max", latency.max_ms}}},
-        {"server_reply_ms", {{"mean", server_mean}, {"max", server_max}}},
-        {"worst_late_send_ms", late}, {"errors", errors}};
+    nlohmann::json report = {{"streams", o.streams},
+                             {"streams_ok", ok},
+                             {"sessions", sessions},
+                             {"sessions_cancelled", cancelled},
+                             {"seconds", elapsed},
+                             {"input_rate", o.rate},
+                             {"samples_sent", sent},
+                             {"samples_rejected", rejected},
+                             {"frames", frames},
+                             {"frames_per_second", frames / elapsed},
+                             {"latency_ms",
+                              {{"count", latency.count},
+                               {"mean", latency.mean_ms},
+                               {"p50", latency.p50_ms},
+                               {"p90", latency.p90_ms},
+                               {"p99", latency.p99_ms},
+                               {"max", latency.max_ms}}},
+                             {"server_reply_ms", {{"mean", server_mean}, {"max", server_max}}},
+                             {"worst_late_send_ms", late},
+                             {"errors", errors}};
     std::cout << report.dump(2) << "\n";
   } else {
     std::cout << "streams " << ok << "/" << o.streams << " ok, " << elapsed << " s, " << sent << " samples sent ("
               << rejected << " rejected), " << frames << " frames (" << frames / elapsed << " frames/s), " << sessions
               << " sessions (" << cancelled << " cancelled on purpose)\n"
-              << "frame latency ms: mean " << latency.mean_ms << "  p50 " << latency.p50_ms << "  p90 " << latency.p90_ms
-              << "  p99 " << latency.p99_ms << "  max " << latency.max_ms << "  (" << latency.count << " frames)\n"
-              << "server reply ms: mean " << server_mean << "  max " << server_max << "; worst late send " << late << " ms\n";
+              << "frame latency ms: mean " << latency.mean_ms << "  p50 " << latency.p50_ms << "  p90 "
+              << latency.p90_ms << "  p99 " << latency.p99_ms << "  max " << latency.max_ms << "  (" << latency.count
+              << " frames)\n"
+              << "server reply ms: mean " << server_mean << "  max " << server_max << "; worst late send " << late
+              << " ms\n";
     for (const auto& [error, count] : errors) std::cout << "error x" << count << ": " << error << "\n";
   }
   if (!p99_ok) spdlog::error("p99 latency {:.1f} ms exceeds --max-p99-ms {}", latency.p99_ms, o.max_p99_ms);
@@ -194,25 +212,33 @@ int main(int argc, char** argv) {
   app.add_option("--database", o.database, "Database to reconstruct from")->required();
   auto* source = app.add_option_group("wrists", "Where the wrists come from");
   source->add_option("--bvh", o.bvh, "A BVH clip: wrists by forward kinematics plus noise")->check(CLI::ExistingFile);
-  source->add_option("--csv", o.csv, "A CSV of timestamped samples (mocap reconstruct's format)")->check(CLI::ExistingFile);
+  source->add_option("--csv", o.csv, "A CSV of timestamped samples (mocap reconstruct's format)")
+      ->check(CLI::ExistingFile);
   source->require_option(1);
   app.add_option("--noise-cm", o.noise_cm, "Gaussian noise on BVH wrists, cm")->capture_default_str();
   app.add_option("--seed", o.seed, "Noise seed")->capture_default_str();
   app.add_option("--streams", o.streams, "Concurrent sessions")->capture_default_str()->check(CLI::Range(1, 10000));
   app.add_option("--seconds", o.seconds, "Length of each session (the clip is played back and forth)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--rate", o.rate, "Samples per second per stream")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--rate", o.rate, "Samples per second per stream")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1000.0));
   app.add_option("--lag", o.lag, "Fixed lag D, frames (0: causal)")->capture_default_str()->check(CLI::Range(0, 600));
   app.add_option("--window", o.window, "Sub-interval mode with windows of L frames instead of fixed lag");
   app.add_option("--k1", o.k1, "Override K1 (ankle candidates)");
   app.add_option("--k2", o.k2, "Override K2 (pose neighbours)");
-  app.add_option("--ramp-seconds", o.ramp_seconds, "Streams start at random offsets within this span")->capture_default_str();
+  app.add_option("--ramp-seconds", o.ramp_seconds, "Streams start at random offsets within this span")
+      ->capture_default_str();
   app.add_option("--max-p99-ms", o.max_p99_ms, "Exit 1 when the p99 frame latency exceeds this");
   app.add_option("--samples-per-message", o.samples_per_message, "Samples sent in each message")
-      ->capture_default_str()->check(CLI::Range(1, 1000000));
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
   app.add_flag("--unpaced", o.unpaced, "Send every message as soon as the server takes it, not at the input rate");
-  app.add_option("--reopen-after", o.reopen_after, "Cancel each session after this many seconds and open a new one, "
-                 "until --seconds have passed")->check(CLI::NonNegativeNumber);
+  app.add_option("--reopen-after", o.reopen_after,
+                 "Cancel each session after this many seconds and open a new one, "
+                 "until --seconds have passed")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--json", o.json, "Report as JSON on stdout");
   CLI11_PARSE(app, argc, argv);
   return mocap::load::Run(o);

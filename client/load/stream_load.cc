@@ -96,10 +96,12 @@ StreamOutcome RunStream(client::Client& client, const StreamPlan& plan) {
       const auto due = stream_start + std::chrono::duration_cast<Clock::duration>(
                                           std::chrono::duration<double>(plan.samples[i].time() - first_time));
       std::this_thread::sleep_until(due);
-      outcome.late_send_ms = std::max(outcome.late_send_ms, std::chrono::duration<double, std::milli>(Clock::now() - due).count());
+      outcome.late_send_ms =
+          std::max(outcome.late_send_ms, std::chrono::duration<double, std::milli>(Clock::now() - due).count());
     }
     const size_t end = std::min(plan.samples.size(), i + per_message);
-    message.assign(plan.samples.begin() + static_cast<std::ptrdiff_t>(i), plan.samples.begin() + static_cast<std::ptrdiff_t>(end));
+    message.assign(plan.samples.begin() + static_cast<std::ptrdiff_t>(i),
+                   plan.samples.begin() + static_cast<std::ptrdiff_t>(end));
     const Clock::time_point now = Clock::now();
     for (size_t j = i; j < end; ++j) send_times.Set(j, now);
     if (!stream.Write(message).ok()) break;  // the call ended: Finish says why

@@ -31,15 +31,15 @@ struct StreamPlan {
 };
 
 struct StreamOutcome {
-  absl::Status status;                 // the session's end (OK, or the server's error)
-  std::vector<double> latencies_ms;    // one per frame received
+  absl::Status status;               // the session's end (OK, or the server's error)
+  std::vector<double> latencies_ms;  // one per frame received
   long samples_sent = 0;
   long frames = 0;
   long rejected = 0;
-  long sessions = 0;                   // sessions opened (more than one with cancel-and-reopen)
-  long cancelled = 0;                  // sessions this side cancelled on purpose
-  double late_send_ms = 0;             // worst delay of a send behind its schedule (backpressure)
-  v1::SessionSummary summary;          // the server's, when the session ended OK
+  long sessions = 0;           // sessions opened (more than one with cancel-and-reopen)
+  long cancelled = 0;          // sessions this side cancelled on purpose
+  double late_send_ms = 0;     // worst delay of a send behind its schedule (backpressure)
+  v1::SessionSummary summary;  // the server's, when the session ended OK
 };
 
 // Runs one session to its end (blocks). Never throws; errors are in the outcome.

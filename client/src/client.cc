@@ -39,8 +39,8 @@ absl::StatusOr<v1::DatabaseSummary> Client::CreateDatabase(const std::string& na
   v1::CreateDatabaseResponse response;
   absl::Status status = impl_->Unary(
       Client::Impl::Retry::kNever,
-      [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->CreateDatabase(c, r, out); }, request,
-      &response);
+      [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->CreateDatabase(c, r, out); },
+      request, &response);
   if (!status.ok()) return status;
   return response.database();
 }
@@ -73,8 +73,8 @@ absl::Status Client::DeleteDatabase(const std::string& name) {
   v1::DeleteDatabaseResponse response;
   return impl_->Unary(
       Client::Impl::Retry::kNever,
-      [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->DeleteDatabase(c, r, out); }, request,
-      &response);
+      [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->store->DeleteDatabase(c, r, out); },
+      request, &response);
 }
 
 absl::StatusOr<v1::ImportBvhResponse> Client::ImportFiles(const std::string& database,

@@ -37,7 +37,8 @@ absl::Status Client::StreamSimilarPoses(const v1::FindSimilarPosesRequest& reque
   std::unique_ptr<v1::PoseSearch::Stub> stub = v1::PoseSearch::NewStub(impl_->channel);
   grpc::ClientContext context;
   impl_->Prepare(context, deadline);
-  std::unique_ptr<grpc::ClientReader<v1::FindSimilarPosesResponse>> reader = stub->StreamSimilarPoses(&context, request);
+  std::unique_ptr<grpc::ClientReader<v1::FindSimilarPosesResponse>> reader =
+      stub->StreamSimilarPoses(&context, request);
   v1::FindSimilarPosesResponse part;
   while (reader->Read(&part)) {
     if (on_part && !on_part(part)) {

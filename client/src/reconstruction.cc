@@ -73,7 +73,8 @@ class Stream final : public ReconstructionStream {
     return reply;
   }
 
-  absl::StatusOr<v1::SessionSummary> Finish(const std::function<void(const v1::ReconstructResponse&)>& on_reply) override {
+  absl::StatusOr<v1::SessionSummary> Finish(
+      const std::function<void(const v1::ReconstructResponse&)>& on_reply) override {
     CloseInput().IgnoreError();  // always OK
     while (true) {
       absl::StatusOr<std::optional<v1::ReconstructResponse>> reply = Read();
@@ -114,16 +115,17 @@ absl::StatusOr<std::unique_ptr<ReconstructionStream>> Client::OpenReconstruction
   return stream;
 }
 
-absl::StatusOr<v1::ReconstructTrajectoryResponse> Client::ReconstructTrajectory(const v1::SessionConfig& config,
-                                                                               const std::vector<v1::WristSample>& samples,
-                                                                               std::chrono::milliseconds deadline) {
+absl::StatusOr<v1::ReconstructTrajectoryResponse> Client::ReconstructTrajectory(
+    const v1::SessionConfig& config, const std::vector<v1::WristSample>& samples, std::chrono::milliseconds deadline) {
   v1::ReconstructTrajectoryRequest request;
   *request.mutable_config() = config;
   request.mutable_samples()->Add(samples.begin(), samples.end());
   v1::ReconstructTrajectoryResponse response;
   absl::Status status = impl_->Unary(
       Client::Impl::Retry::kIdempotent,
-      [&](grpc::ClientContext* c, const auto& r, auto* out) { return impl_->reconstruction->ReconstructTrajectory(c, r, out); },
+      [&](grpc::ClientContext* c, const auto& r, auto* out) {
+        return impl_->reconstruction->ReconstructTrajectory(c, r, out);
+      },
       request, &response, deadline);
   if (!status.ok()) return status;
   return response;

@@ -19,8 +19,9 @@ namespace mocap {
 namespace {
 
 constexpr std::array<std::string_view, 17> kCsvColumns = {
-    "time",    "left_x",  "left_y",  "left_z",  "right_x",  "right_y",  "right_z",  "left_confidence", "right_confidence",
-    "left_qw", "left_qx", "left_qy", "left_qz", "right_qw", "right_qx", "right_qy", "right_qz"};
+    "time",    "left_x",          "left_y",           "left_z",   "right_x", "right_y",
+    "right_z", "left_confidence", "right_confidence", "left_qw",  "left_qx", "left_qy",
+    "left_qz", "right_qw",        "right_qx",         "right_qy", "right_qz"};
 constexpr size_t kPositionColumns = 7, kConfidenceColumns = 9;
 constexpr std::string_view kCsvHeader =
     "time,left_x,left_y,left_z,right_x,right_y,right_z[,left_confidence,right_confidence"
@@ -38,7 +39,8 @@ std::vector<std::string_view> SplitFields(std::string_view line) {
   size_t start = 0;
   while (true) {
     const size_t comma = line.find(',', start);
-    fields.push_back(Trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    fields.push_back(
+        Trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
     if (comma == std::string_view::npos) return fields;
     start = comma + 1;
   }
@@ -79,7 +81,8 @@ absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(std::istream& in, con
         }
         return true;
       }();
-      if ((fields.size() != kPositionColumns && fields.size() != kConfidenceColumns && fields.size() != kCsvColumns.size()) ||
+      if ((fields.size() != kPositionColumns && fields.size() != kConfidenceColumns &&
+           fields.size() != kCsvColumns.size()) ||
           !names_match) {
         return absl::InvalidArgumentError(
             StrCat(name, ":", line_number, ": expected the header ", kCsvHeader, ", found \"", text, "\""));
@@ -97,8 +100,8 @@ absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(std::istream& in, con
       if (i >= kPositionColumns && fields[i].empty()) continue;  // confidence or orientation left unset
       const std::optional<double> value = ParseNumber(fields[i]);
       if (!value) {
-        return absl::InvalidArgumentError(StrCat(name, ":", line_number, ": ", kCsvColumns[i],
-                                                 " is not a number: \"", fields[i], "\""));
+        return absl::InvalidArgumentError(
+            StrCat(name, ":", line_number, ": ", kCsvColumns[i], " is not a number: \"", fields[i], "\""));
       }
       if (i >= kPositionColumns && i < kConfidenceColumns && std::isfinite(*value) && (*value < 0.0 || *value > 1.0)) {
         return absl::InvalidArgumentError(

@@ -24,7 +24,8 @@ DataLocation DataLocationFromEnvironment(const std::filesystem::path& shared_dir
           .cache_dir = cache != nullptr && *cache != '\0' ? std::filesystem::path(cache) : DefaultCacheDir()};
 }
 
-std::optional<std::filesystem::path> UnpackedSet(const DataLocation& location, std::string_view name, std::string* why) {
+std::optional<std::filesystem::path> UnpackedSet(const DataLocation& location, std::string_view name,
+                                                 std::string* why) {
   const std::filesystem::path folder = location.cache_dir / std::string(name);
   if (std::filesystem::exists(folder / ".complete")) return folder;
   const std::filesystem::path unpack = location.shared_dir / "unpack.sh";
@@ -36,8 +37,8 @@ std::optional<std::filesystem::path> UnpackedSet(const DataLocation& location, s
   // once on one folder).
   std::error_code error;
   std::filesystem::create_directories(location.cache_dir, error);
-  const std::string command = "flock '" + (location.cache_dir / ".unpack.lock").string() + "' bash '" + unpack.string() +
-                              "' '" + location.cache_dir.string() + "' " + std::string(name) + " >&2";
+  const std::string command = "flock '" + (location.cache_dir / ".unpack.lock").string() + "' bash '" +
+                              unpack.string() + "' '" + location.cache_dir.string() + "' " + std::string(name) + " >&2";
   if (std::system(command.c_str()) != 0 || !std::filesystem::exists(folder / ".complete")) {
     *why = "unpacking " + std::string(name) + " with " + unpack.string() + " failed";
     return std::nullopt;

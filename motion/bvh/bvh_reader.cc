@@ -1,17 +1,17 @@
 #include "motion/bvh/bvh_reader.h"
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <algorithm>
-#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "motion/core/str_cat.h"
 #include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
 
 namespace mocap {
 namespace {
@@ -189,7 +189,7 @@ class HierarchyParser {
         auto channel = ParseChannel(channel_token);
         if (!channel.ok()) {
           return tokens_.Error(StrCat("unknown channel ", Quote(channel_token), " on joint ", Quote(name),
-                                            " (expected X/Y/Z position or rotation)"));
+                                      " (expected X/Y/Z position or rotation)"));
         }
         for (ChannelType seen : joints_[index].channels) {
           if (seen == *channel) {
@@ -218,11 +218,10 @@ class HierarchyParser {
         }
         joints_[index].end_site = end_site;
       } else if (token.empty() || token == "MOTION") {
-        return tokens_.Error(StrCat("unbalanced braces: joint ", Quote(name), " is not closed before ",
-                                          Quote(token)));
+        return tokens_.Error(StrCat("unbalanced braces: joint ", Quote(name), " is not closed before ", Quote(token)));
       } else {
-        return tokens_.Error(StrCat("expected JOINT, End Site or '}' in joint ", Quote(name), ", found ",
-                                          Quote(token)));
+        return tokens_.Error(
+            StrCat("expected JOINT, End Site or '}' in joint ", Quote(name), ", found ", Quote(token)));
       }
     }
   }
@@ -242,10 +241,9 @@ std::string_view AfterColon(std::string_view line) {
 
 }  // namespace
 
-absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_name,
-                                 const BvhReadLimits& limits) {
-  if (text.size() >= 3 && static_cast<unsigned char>(text[0]) == 0xEF &&
-      static_cast<unsigned char>(text[1]) == 0xBB && static_cast<unsigned char>(text[2]) == 0xBF) {
+absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_name, const BvhReadLimits& limits) {
+  if (text.size() >= 3 && static_cast<unsigned char>(text[0]) == 0xEF && static_cast<unsigned char>(text[1]) == 0xBB &&
+      static_cast<unsigned char>(text[2]) == 0xBF) {
     text.remove_prefix(3);  // UTF-8 byte order mark
   }
   Tokenizer tokens(text, source_name);
@@ -267,8 +265,8 @@ absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_
   {
     auto [ptr, ec] = std::from_chars(frames_value.data(), frames_value.data() + frames_value.size(), num_frames);
     if (ec != std::errc() || ptr != frames_value.data() + frames_value.size()) {
-      return tokens.ErrorAtLine(frames_line, StrCat("expected a whole frame count after 'Frames:', found ",
-                                                          Quote(frames_value)));
+      return tokens.ErrorAtLine(frames_line,
+                                StrCat("expected a whole frame count after 'Frames:', found ", Quote(frames_value)));
     }
   }
   if (num_frames < 1 || num_frames > limits.max_frames) {
@@ -286,13 +284,12 @@ absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_
   {
     const char* end = time_value.data() + time_value.size();
     if (time_value.empty() || ParseFloat(time_value.data(), end, frame_time) != end) {
-      return tokens.ErrorAtLine(time_line, StrCat("expected a number after 'Frame Time:', found ",
-                                                        Quote(time_value)));
+      return tokens.ErrorAtLine(time_line, StrCat("expected a number after 'Frame Time:', found ", Quote(time_value)));
     }
   }
   if (!(frame_time >= limits.min_frame_time && frame_time <= limits.max_frame_time)) {
-    return tokens.ErrorAtLine(time_line, StrCat("frame time ", frame_time, " s is outside ",
-                                                      limits.min_frame_time, "..", limits.max_frame_time, " s"));
+    return tokens.ErrorAtLine(time_line, StrCat("frame time ", frame_time, " s is outside ", limits.min_frame_time,
+                                                "..", limits.max_frame_time, " s"));
   }
   clip.frame_time = frame_time;
 
@@ -308,7 +305,7 @@ absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_
     while (true) {
       if (cursor >= data_end) {
         return tokens.ErrorAtLine(line, StrCat("truncated motion block: 'Frames: ", num_frames,
-                                                     "' but the file ends after ", frame, " frames"));
+                                               "' but the file ends after ", frame, " frames"));
       }
       line_end = static_cast<const char*>(memchr(cursor, '\n', data_end - cursor));
       if (line_end == nullptr) line_end = data_end;
@@ -325,23 +322,24 @@ absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_
       while (p < line_end && IsSpace(*p)) ++p;
       if (p >= line_end) break;
       if (count >= num_channels) {
-        return tokens.ErrorAtLine(line, StrCat("frame ", frame, " has more than the ", num_channels,
-                                                     " values the hierarchy declares"));
+        return tokens.ErrorAtLine(
+            line, StrCat("frame ", frame, " has more than the ", num_channels, " values the hierarchy declares"));
       }
       float value;
       const char* next = ParseFloat(p, line_end, value);
       if (next == nullptr || (next < line_end && !IsSpace(*next))) {
         const char* token_end = p;
         while (token_end < line_end && !IsSpace(*token_end)) ++token_end;
-        return tokens.ErrorAtLine(line, StrCat("frame ", frame, " value ", count + 1, ": expected a finite number, found ",
-                                                     Quote(std::string_view(p, token_end - p))));
+        return tokens.ErrorAtLine(line,
+                                  StrCat("frame ", frame, " value ", count + 1, ": expected a finite number, found ",
+                                         Quote(std::string_view(p, token_end - p))));
       }
       row[count++] = value;
       p = next;
     }
     if (count != num_channels) {
-      return tokens.ErrorAtLine(line, StrCat("frame ", frame, " has ", count, " values; the hierarchy declares ",
-                                                   num_channels));
+      return tokens.ErrorAtLine(
+          line, StrCat("frame ", frame, " has ", count, " values; the hierarchy declares ", num_channels));
     }
     cursor = line_end < data_end ? line_end + 1 : data_end;
     ++line;
@@ -349,8 +347,8 @@ absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_
   for (const char* p = cursor; p < data_end; ++p) {
     if (*p == '\n') ++line;
     if (!IsSpace(*p)) {
-      return tokens.ErrorAtLine(line, StrCat("unexpected data after the ", num_frames,
-                                                   " declared frames (is 'Frames:' too small?)"));
+      return tokens.ErrorAtLine(
+          line, StrCat("unexpected data after the ", num_frames, " declared frames (is 'Frames:' too small?)"));
     }
   }
   return clip;

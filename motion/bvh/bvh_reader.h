@@ -18,8 +18,7 @@ struct BvhReadLimits {
 // Parses BVH text. Accepts any Euler order, 0/3/6 channels on any joint, End Sites, tabs or spaces,
 // CRLF, trailing blank lines, "Frame Time: .0333". Every malformed input yields InvalidArgument
 // with "SOURCE:LINE: what was expected" — never a partial clip.
-absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_name,
-                                 const BvhReadLimits& limits = {});
+absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_name, const BvhReadLimits& limits = {});
 
 // Reads and parses a file; NotFound / PermissionDenied style errors when it cannot be read.
 absl::StatusOr<BvhClip> ReadBvhFile(const std::filesystem::path& path, const BvhReadLimits& limits = {});

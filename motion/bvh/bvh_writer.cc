@@ -68,7 +68,8 @@ std::string FormatBvh(const BvhClip& clip) {
     const int joint = stack.back();
     stack.pop_back();
     const int start = clip.skeleton.channel_start(joint);
-    for (size_t c = 0; c < clip.skeleton.joint(joint).channels.size(); ++c) columns.push_back(start + static_cast<int>(c));
+    for (size_t c = 0; c < clip.skeleton.joint(joint).channels.size(); ++c)
+      columns.push_back(start + static_cast<int>(c));
     const std::vector<int> children = clip.skeleton.Children(joint);
     stack.insert(stack.end(), children.rbegin(), children.rend());
   }

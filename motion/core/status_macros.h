@@ -8,10 +8,9 @@
 #define MOCAP_CONCAT_(a, b) MOCAP_CONCAT_INNER_(a, b)
 
 // Returns the status from the enclosing function when `expr` is not OK.
-#define MOCAP_RETURN_IF_ERROR(expr)                 \
-  do {                                              \
-    if (absl::Status _mocap_status = (expr); !_mocap_status.ok()) \
-      return _mocap_status;                         \
+#define MOCAP_RETURN_IF_ERROR(expr)                                                     \
+  do {                                                                                  \
+    if (absl::Status _mocap_status = (expr); !_mocap_status.ok()) return _mocap_status; \
   } while (false)
 
 // `lhs = value of expr`, or return its status from the enclosing function.

@@ -8,20 +8,28 @@ namespace mocap {
 
 double MetresPerUnit(LengthUnit unit) {
   switch (unit) {
-    case LengthUnit::kMetre: return 1.0;
-    case LengthUnit::kCentimetre: return 0.01;
-    case LengthUnit::kMillimetre: return 0.001;
-    case LengthUnit::kInch: return 0.0254;
+    case LengthUnit::kMetre:
+      return 1.0;
+    case LengthUnit::kCentimetre:
+      return 0.01;
+    case LengthUnit::kMillimetre:
+      return 0.001;
+    case LengthUnit::kInch:
+      return 0.0254;
   }
   return 1.0;
 }
 
 std::string_view UnitName(LengthUnit unit) {
   switch (unit) {
-    case LengthUnit::kMetre: return "m";
-    case LengthUnit::kCentimetre: return "cm";
-    case LengthUnit::kMillimetre: return "mm";
-    case LengthUnit::kInch: return "in";
+    case LengthUnit::kMetre:
+      return "m";
+    case LengthUnit::kCentimetre:
+      return "cm";
+    case LengthUnit::kMillimetre:
+      return "mm";
+    case LengthUnit::kInch:
+      return "in";
   }
   return "?";
 }
@@ -36,8 +44,8 @@ std::optional<LengthUnit> ParseUnit(std::string_view name) {
 
 LengthUnit DetectUnitFromLegLength(double leg_length) {
   constexpr double kTypicalLegMetres = 0.8;
-  constexpr std::array kCandidates = {LengthUnit::kCentimetre, LengthUnit::kMetre,
-                                      LengthUnit::kInch, LengthUnit::kMillimetre};
+  constexpr std::array kCandidates = {LengthUnit::kCentimetre, LengthUnit::kMetre, LengthUnit::kInch,
+                                      LengthUnit::kMillimetre};
   LengthUnit best = LengthUnit::kCentimetre;
   double best_error = std::numeric_limits<double>::infinity();
   for (LengthUnit unit : kCandidates) {

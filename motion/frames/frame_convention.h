@@ -14,9 +14,9 @@ namespace mocap {
 enum class UpAxis { kPosX, kNegX, kPosY, kNegY, kPosZ, kNegZ };
 enum class Handedness { kRight, kLeft };
 
-std::string_view UpAxisName(UpAxis up);  // "+X", "-X", "+Y", "-Y", "+Z", "-Z"
-std::optional<UpAxis> ParseUpAxis(std::string_view name);  // the names above; "x" = "+x"; any case
-std::string_view HandednessName(Handedness handedness);  // "right", "left"
+std::string_view UpAxisName(UpAxis up);                            // "+X", "-X", "+Y", "-Y", "+Z", "-Z"
+std::optional<UpAxis> ParseUpAxis(std::string_view name);          // the names above; "x" = "+x"; any case
+std::string_view HandednessName(Handedness handedness);            // "right", "left"
 std::optional<Handedness> ParseHandedness(std::string_view name);  // "right"/"rh", "left"/"lh"; any case
 // Index (0, 1, 2 for X, Y, Z) and sign (+1, −1) of an up axis.
 int UpAxisIndex(UpAxis up);

@@ -19,23 +19,32 @@ constexpr FloorSpec kCalibrate{true, 0.0};
 
 const std::array<InputFramePreset, 9> kPresets = {{
     {"native", "metres, right-handed, Y up, floor at y = 0 (the server's own frame)", {kYUpRightMetres, kFloorAtZero}},
-    {"openxr-local-floor", "OpenXR LOCAL_FLOOR / STAGE space: metres, right-handed, Y up, floor at y = 0",
+    {"openxr-local-floor",
+     "OpenXR LOCAL_FLOOR / STAGE space: metres, right-handed, Y up, floor at y = 0",
      {kYUpRightMetres, kFloorAtZero}},
-    {"openxr-local", "OpenXR LOCAL space: metres, right-handed, Y up, origin at the head at start: floor calibrated",
+    {"openxr-local",
+     "OpenXR LOCAL space: metres, right-handed, Y up, origin at the head at start: floor calibrated",
      {kYUpRightMetres, kCalibrate}},
-    {"webxr-local-floor", "WebXR 'local-floor': metres, right-handed, Y up, floor at y = 0", {kYUpRightMetres, kFloorAtZero}},
-    {"webxr-local", "WebXR 'local': metres, right-handed, Y up, origin near the head at start: floor calibrated",
+    {"webxr-local-floor",
+     "WebXR 'local-floor': metres, right-handed, Y up, floor at y = 0",
+     {kYUpRightMetres, kFloorAtZero}},
+    {"webxr-local",
+     "WebXR 'local': metres, right-handed, Y up, origin near the head at start: floor calibrated",
      {kYUpRightMetres, kCalibrate}},
-    {"arkit-world", "ARKit world space: metres, right-handed, Y up (gravity), origin where the session started: "
-                    "floor calibrated",
+    {"arkit-world",
+     "ARKit world space: metres, right-handed, Y up (gravity), origin where the session started: "
+     "floor calibrated",
      {kYUpRightMetres, kCalibrate}},
-    {"unity", "Unity world: metres, left-handed, Y up, floor at y = 0 (an XR rig with a floor origin)",
+    {"unity",
+     "Unity world: metres, left-handed, Y up, floor at y = 0 (an XR rig with a floor origin)",
      {{LengthUnit::kMetre, UpAxis::kPosY, Handedness::kLeft}, kFloorAtZero}},
-    {"unreal", "Unreal Engine world: centimetres, left-handed, Z up, floor at z = 0",
+    {"unreal",
+     "Unreal Engine world: centimetres, left-handed, Z up, floor at z = 0",
      {{LengthUnit::kCentimetre, UpAxis::kPosZ, Handedness::kLeft}, kFloorAtZero}},
-    {"mediapipe-world", "MediaPipe pose world landmarks: metres, right-handed (x right, y down, z away from the camera), "
-                        "origin between the hips: floor calibrated; the origin follows the hips, so the body does not "
-                        "travel",
+    {"mediapipe-world",
+     "MediaPipe pose world landmarks: metres, right-handed (x right, y down, z away from the camera), "
+     "origin between the hips: floor calibrated; the origin follows the hips, so the body does not "
+     "travel",
      {{LengthUnit::kMetre, UpAxis::kNegY, Handedness::kRight}, kCalibrate}},
 }};
 

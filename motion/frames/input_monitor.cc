@@ -11,7 +11,8 @@
 namespace mocap {
 namespace {
 
-constexpr LengthUnit kUnits[] = {LengthUnit::kMetre, LengthUnit::kCentimetre, LengthUnit::kMillimetre, LengthUnit::kInch};
+constexpr LengthUnit kUnits[] = {LengthUnit::kMetre, LengthUnit::kCentimetre, LengthUnit::kMillimetre,
+                                 LengthUnit::kInch};
 constexpr double kWaypointSeconds = 0.1;
 // Wrist joints of one adult: from hands together to arms spread (metres), and the typical
 // distance (the median over every frame of the held-out bandai-namco-2 clips: 0.54 m; 1% are
@@ -21,10 +22,14 @@ constexpr double kTypicalSeparation = 0.54;
 
 std::string_view LongUnitName(LengthUnit unit) {
   switch (unit) {
-    case LengthUnit::kMetre: return "metres";
-    case LengthUnit::kCentimetre: return "centimetres";
-    case LengthUnit::kMillimetre: return "millimetres";
-    case LengthUnit::kInch: return "inches";
+    case LengthUnit::kMetre:
+      return "metres";
+    case LengthUnit::kCentimetre:
+      return "centimetres";
+    case LengthUnit::kMillimetre:
+      return "millimetres";
+    case LengthUnit::kInch:
+      return "inches";
   }
   return "?";
 }
@@ -122,8 +127,8 @@ void InputMonitor::CloseWindow(std::vector<MonitoredSample>* ready, std::vector<
   const float separation = Median(separations);
   if (separation < kMinWristSeparationFraction * height) {
     const double caller_units = separation / MetresPerUnit(convention_.unit);
-    std::string message = StrCat("wrists ", Rounded(caller_units), " units apart on median over the first ", seconds, " (",
-                                 Rounded(separation), " m as declared in ", UnitName(convention_.unit),
+    std::string message = StrCat("wrists ", Rounded(caller_units), " units apart on median over the first ", seconds,
+                                 " (", Rounded(separation), " m as declared in ", UnitName(convention_.unit),
                                  "; one person's wrists are at least ", Rounded(kMinWristSeparationFraction * height),
                                  " m apart at a height of ", Rounded(height), " m)");
     message += UnitHint(caller_units, convention_.unit);
@@ -132,15 +137,17 @@ void InputMonitor::CloseWindow(std::vector<MonitoredSample>* ready, std::vector<
   if (!calibrate_floor_) {
     const float lower = Median(lower_heights);
     if (lower < -kBelowFloorFraction * height) {
-      warnings->push_back({InputWarning::Kind::kBelowFloor,
-                           StrCat("wrists below the floor: the lower wrist is ", Rounded(-lower), " m below it on median over ",
-                                  "the first ", seconds, " (wrong floor height, or the up axis ", UpAxisName(convention_.up),
-                                  " the wrong way round?)")});
+      warnings->push_back(
+          {InputWarning::Kind::kBelowFloor,
+           StrCat("wrists below the floor: the lower wrist is ", Rounded(-lower), " m below it on median over ",
+                  "the first ", seconds, " (wrong floor height, or the up axis ", UpAxisName(convention_.up),
+                  " the wrong way round?)")});
     } else if (lower > kAboveFloorFraction * height) {
-      warnings->push_back({InputWarning::Kind::kAboveFloor,
-                           StrCat("wrists far above the floor: the lower wrist is ", Rounded(lower), " m above it on median ",
-                                  "over the first ", seconds, ", higher than a raised hand reaches at a height of ",
-                                  Rounded(height), " m (floor declared too low? 'calibrate' estimates it)")});
+      warnings->push_back(
+          {InputWarning::Kind::kAboveFloor,
+           StrCat("wrists far above the floor: the lower wrist is ", Rounded(lower), " m above it on median ",
+                  "over the first ", seconds, ", higher than a raised hand reaches at a height of ", Rounded(height),
+                  " m (floor declared too low? 'calibrate' estimates it)")});
     }
   }
   window_.clear();
@@ -170,11 +177,12 @@ void InputMonitor::TrackSides(const WristSample& sample, std::vector<InputWarnin
   if (votes_ < kSwapVotes) return;
   if (static_cast<float>(swapped_votes_) >= kSwapVoteShare * static_cast<float>(votes_)) {
     swap_reported_ = true;
-    warnings->push_back({InputWarning::Kind::kSwapped,
-                         StrCat("left and right look swapped: while the body travelled, the left wrist was on its right in ",
-                                swapped_votes_, " of ", votes_, " looks (left and right samples exchanged, or a mirrored frame: ",
-                                convention_.handedness == Handedness::kRight ? "left" : "right", "-handed, not ",
-                                HandednessName(convention_.handedness), "-handed as declared?)")});
+    warnings->push_back(
+        {InputWarning::Kind::kSwapped,
+         StrCat("left and right look swapped: while the body travelled, the left wrist was on its right in ",
+                swapped_votes_, " of ", votes_, " looks (left and right samples exchanged, or a mirrored frame: ",
+                convention_.handedness == Handedness::kRight ? "left" : "right", "-handed, not ",
+                HandednessName(convention_.handedness), "-handed as declared?)")});
   }
   votes_ = swapped_votes_ = 0;
 }

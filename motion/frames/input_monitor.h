@@ -56,7 +56,7 @@ struct InputWarning {
 
 struct InputMonitorOptions {
   float body_height = kDefaultBodyHeight;  // H, metres
-  double window_seconds = 1.0;  // floor calibration and the first checks read this much input
+  double window_seconds = 1.0;             // floor calibration and the first checks read this much input
 };
 
 // A sample on its way to the session, with its position in the caller's stream.
@@ -73,7 +73,8 @@ class InputMonitor {
 
   // Appends to `ready` the samples that may go on (all of them, except while calibrating), and to
   // `warnings` what the checks found (each kind at most once per session).
-  void Add(const WristSample& sample, long index, std::vector<MonitoredSample>* ready, std::vector<InputWarning>* warnings);
+  void Add(const WristSample& sample, long index, std::vector<MonitoredSample>* ready,
+           std::vector<InputWarning>* warnings);
   // End of input: a window not yet full is judged (and calibrated) on what it holds.
   void Finish(std::vector<MonitoredSample>* ready, std::vector<InputWarning>* warnings);
 

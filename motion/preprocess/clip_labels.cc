@@ -1,8 +1,8 @@
 #include "motion/preprocess/clip_labels.h"
 
-#include <filesystem>
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 
 namespace mocap {
 
@@ -14,7 +14,8 @@ bool AllDigits(std::string_view text) {
 
 bool IsStyle(std::string_view text) {  // letters and inner hyphens ("not-confident")
   return !text.empty() && std::isalpha(static_cast<unsigned char>(text.front())) &&
-         std::all_of(text.begin(), text.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '-'; });
+         std::all_of(text.begin(), text.end(),
+                     [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '-'; });
 }
 
 std::vector<std::string_view> SplitUnderscores(std::string_view text) {
@@ -39,7 +40,9 @@ ClipLabels ParseClipLabels(std::string_view file_name) {
     std::string content(parts[1]);
     for (size_t i = 2; i + 2 < parts.size(); ++i) (content += '_') += parts[i];
     if (!content.empty()) {
-      return {{"set", std::string(parts[0])}, {"content", content}, {"style", std::string(parts[parts.size() - 2])},
+      return {{"set", std::string(parts[0])},
+              {"content", content},
+              {"style", std::string(parts[parts.size() - 2])},
               {"take", std::string(parts.back())}};
     }
   }

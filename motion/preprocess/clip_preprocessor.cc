@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "motion/core/status_macros.h"
 #include "motion/core/rotation_vector.h"
+#include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "motion/skeleton/forward_kinematics.h"
 
@@ -12,7 +12,8 @@ namespace {
 
 // Checked before the resampling allocates: the rate, the resampled length, finite and plausible
 // translations.
-absl::StatusOr<LocalMotion> ToDatabaseWorld(const BvhClip& clip, const RigModel& rig, const PreprocessOptions& options) {
+absl::StatusOr<LocalMotion> ToDatabaseWorld(const BvhClip& clip, const RigModel& rig,
+                                            const PreprocessOptions& options) {
   MOCAP_RETURN_IF_ERROR(CheckDatabaseFrameRate(options.frame_rate));
   const double target = 1.0 / options.frame_rate;
   const double resampled_frames = (clip.num_frames() - 1) * clip.frame_time / target + 1;
@@ -50,7 +51,8 @@ absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const Preproce
   RigModel rig;
   rig.skeleton = first_clip.skeleton;
   const LocalMotion file_motion = MotionFromChannels(first_clip.skeleton, first_clip.channels, first_clip.frame_time);
-  MOCAP_ASSIGN_OR_RETURN(rig.topology, AnalyseBody(first_clip.skeleton, file_motion, BodyTopologyOptions{.unit = options.unit}));
+  MOCAP_ASSIGN_OR_RETURN(rig.topology,
+                         AnalyseBody(first_clip.skeleton, file_motion, BodyTopologyOptions{.unit = options.unit}));
   rig.unit = rig.topology.unit;
   rig.to_y_up = Eigen::Quaternionf::FromTwoVectors(rig.topology.up(), Eigen::Vector3f::UnitY());
 
@@ -93,7 +95,8 @@ absl::StatusOr<PreparedClip> PrepareClip(const BvhClip& clip, const RigModel& ri
       };
       std::string detail;
       if (const std::string extra = missing_from(a, b); !extra.empty()) detail += StrCat("; the clip adds ", extra);
-      if (const std::string lacking = missing_from(b, a); !lacking.empty()) detail += StrCat("; the clip lacks ", lacking);
+      if (const std::string lacking = missing_from(b, a); !lacking.empty())
+        detail += StrCat("; the clip lacks ", lacking);
       return absl::FailedPreconditionError(StrCat("rig differs from the database's: ", a.num_joints(),
                                                   " joints where the database has ", b.num_joints(), detail));
     }
@@ -130,7 +133,8 @@ absl::StatusOr<PreparedClip> PrepareClip(const BvhClip& clip, const RigModel& ri
   }
   prepared.skeleton = Skeleton(std::move(joints));
   const GlobalPoses poses = ForwardKinematics(prepared.skeleton, prepared.motion);
-  prepared.features = ComputeFrameFeatures(poses, rig.topology.landmarks, rig.pelvis_up_local, prepared.motion.frame_time);
+  prepared.features =
+      ComputeFrameFeatures(poses, rig.topology.landmarks, rig.pelvis_up_local, prepared.motion.frame_time);
   return prepared;
 }
 

@@ -18,8 +18,8 @@
 namespace mocap {
 
 struct PreprocessOptions {
-  double frame_rate = 30.0;         // database rate, frames per second (METHOD.md A8: 30 fps)
-  std::optional<LengthUnit> unit;   // override unit detection
+  double frame_rate = 30.0;        // database rate, frames per second (METHOD.md A8: 30 fps)
+  std::optional<LengthUnit> unit;  // override unit detection
 };
 
 // Limits checked before any resampling or allocation (a request names them in its error).
@@ -32,8 +32,8 @@ absl::Status CheckDatabaseFrameRate(double frame_rate);
 // What a motion database knows about its rig, fixed when the database is created from its first
 // clip. Every later clip must have the same joint names and hierarchy.
 struct RigModel {
-  Skeleton skeleton;            // the first clip's hierarchy (file units, file channels)
-  BodyTopology topology;        // groups and landmarks (B1)
+  Skeleton skeleton;      // the first clip's hierarchy (file units, file channels)
+  BodyTopology topology;  // groups and landmarks (B1)
   LengthUnit unit = LengthUnit::kCentimetre;
   Eigen::Quaternionf to_y_up = Eigen::Quaternionf::Identity();  // world rotation making up = +Y
   // Per-joint rotation the pose encoding is relative to (mean over the first clip), so encoded

@@ -58,7 +58,8 @@ std::vector<FrameFeatures> ComputeFrameFeatures(const GlobalPoses& poses, const 
   };
   for (int f = 0; f < frames; ++f) {
     FrameFeatures& out = features[f];
-    const ReferenceFrame ref = WristReferenceFrame(poses.position(f, wrists[0]), poses.position(f, wrists[1]), heading, &heading);
+    const ReferenceFrame ref =
+        WristReferenceFrame(poses.position(f, wrists[0]), poses.position(f, wrists[1]), heading, &heading);
     out.ref_origin_x = ref.origin.x();
     out.ref_origin_z = ref.origin.z();
     out.ref_heading = heading;

@@ -22,8 +22,8 @@ struct FrameFeatures {
   float wrist_velocity[2][3];
   float ankle_position[2][3];
   float ankle_velocity[2][3];
-  float pelvis_height;  // h: pelvis above the ground
-  float pelvis_tilt;    // θ: angle between world up and the pelvis' up vector
+  float pelvis_height;       // h: pelvis above the ground
+  float pelvis_tilt;         // θ: angle between world up and the pelvis' up vector
   float pelvis_position[3];  // in the reference frame
   float pelvis_rotation[4];  // w, x, y, z, in the reference frame
 };
@@ -34,8 +34,12 @@ static_assert(sizeof(FrameFeatures) == kFrameFeatureFloats * sizeof(float), "Fra
 struct ReferenceFrame {
   Eigen::Vector3f origin;
   Eigen::Matrix3f rotation;  // columns: x, y, z axes in world coordinates
-  Eigen::Vector3f ToLocal(const Eigen::Vector3f& world_point) const { return rotation.transpose() * (world_point - origin); }
-  Eigen::Vector3f DirectionToLocal(const Eigen::Vector3f& world_vector) const { return rotation.transpose() * world_vector; }
+  Eigen::Vector3f ToLocal(const Eigen::Vector3f& world_point) const {
+    return rotation.transpose() * (world_point - origin);
+  }
+  Eigen::Vector3f DirectionToLocal(const Eigen::Vector3f& world_vector) const {
+    return rotation.transpose() * world_vector;
+  }
 };
 
 // Reference frame from two world wrist positions (Y up, ground y = 0). When the wrists are

@@ -40,9 +40,10 @@ absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<Fr
       // The neighbour's ankles are in its own wrist frame; the same local coordinates in the
       // query's wrist frame give the query-world positions (METHOD.md A1, A3).
       candidate.position[side] =
-          ref.origin + ref.rotation * Eigen::Vector3f(f.ankle_position[side][0], f.ankle_position[side][1], f.ankle_position[side][2]);
-      candidate.velocity[side] =
-          ref.rotation * Eigen::Vector3f(f.ankle_velocity[side][0], f.ankle_velocity[side][1], f.ankle_velocity[side][2]);
+          ref.origin + ref.rotation * Eigen::Vector3f(f.ankle_position[side][0], f.ankle_position[side][1],
+                                                      f.ankle_position[side][2]);
+      candidate.velocity[side] = ref.rotation * Eigen::Vector3f(f.ankle_velocity[side][0], f.ankle_velocity[side][1],
+                                                                f.ankle_velocity[side][2]);
     }
   }
   return absl::OkStatus();

@@ -64,16 +64,16 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 struct SortedPredecessors {
   int count = 0;
   int padded = 0;
-  std::vector<int> node;                // index into `previous`, per sorted position
-  std::vector<float> cost;              // path cost, per sorted position
-  std::vector<FloatGroup> path;         // the same, as vectors
+  std::vector<int> node;                 // index into `previous`, per sorted position
+  std::vector<float> cost;               // path cost, per sorted position
+  std::vector<FloatGroup> path;          // the same, as vectors
   std::vector<FloatGroup> predicted[6];  // y + Δt·ẏ: left x, y, z, right x, y, z
   std::vector<FloatGroup> position[6];   // y
   std::vector<MaskGroup> low[2];         // ~0 when that ankle is below the contact ceiling
 };
 
-SortedPredecessors SortPredecessors(const std::vector<AnkleCandidate>& previous, const std::vector<float>& previous_cost,
-                                    float dt, float ceiling) {
+SortedPredecessors SortPredecessors(const std::vector<AnkleCandidate>& previous,
+                                    const std::vector<float>& previous_cost, float dt, float ceiling) {
   SortedPredecessors p;
   p.count = static_cast<int>(previous.size());
   p.padded = (p.count + kBlock - 1) / kBlock * kBlock;

@@ -13,7 +13,9 @@
 namespace mocap {
 
 // The prior's factor β·s² (σ taken in units of 1/prior_length_scale).
-inline float AnklePriorFactor(const AnklePathOptions& o) { return o.prior_weight * o.prior_length_scale * o.prior_length_scale; }
+inline float AnklePriorFactor(const AnklePathOptions& o) {
+  return o.prior_weight * o.prior_length_scale * o.prior_length_scale;
+}
 
 // Height below which an ankle counts as touching the ground for SlideRule::kContact.
 inline float AnkleContactCeiling(const AnklePathOptions& o) { return o.planted_ankle_height + o.contact_height; }

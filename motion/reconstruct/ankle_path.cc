@@ -17,7 +17,8 @@ AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<
   return sum;
 }
 
-void AddAnkleDataCost(const std::vector<AnkleCandidate>& cloud, const AnklePathOptions& options, std::vector<float>* cost) {
+void AddAnkleDataCost(const std::vector<AnkleCandidate>& cloud, const AnklePathOptions& options,
+                      std::vector<float>* cost) {
   if (options.data_weight <= 0.0f) return;
   const float weight = options.data_weight * options.prior_length_scale * options.prior_length_scale;
   for (size_t k = 0; k < cloud.size(); ++k) (*cost)[k] += weight * cloud[k].wrist_distance;
@@ -47,7 +48,8 @@ absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector
   cost[0] = AnkleStartCosts(start, clouds[0], dt, options);
   from[0].assign(clouds[0].size(), -1);
   for (int t = 1; t < frames; ++t) {
-    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return absl::CancelledError("ankle path cancelled");
+    if (cancel != nullptr && cancel->load(std::memory_order_relaxed))
+      return absl::CancelledError("ankle path cancelled");
     AnkleDagStep(clouds[t - 1], cost[t - 1], clouds[t], dt, options, &cost[t], &from[t]);
     AddAnkleDataCost(clouds[t], options, &cost[t]);
   }

@@ -28,16 +28,16 @@ enum class SlideRule {
 };
 
 struct AnklePathOptions {
-  float prior_weight = 0.5f;        // β
+  float prior_weight = 0.5f;  // β
   // σ is a squared length; the patent does not give its unit. In metres a 2 cm miss costs 0.0004
   // while any slide costs ≥ 1, so σ is taken in centimetres (× 100²), which balances the terms.
   float prior_length_scale = 100.0f;
   SlideRule slide_rule = SlideRule::kContact;
-  float slide_distance = 0.02f;     // metres between consecutive frames
-  float slide_height = 0.014f;      // metres: the patent's "0.14 cm" read as 1.4 cm (see note)
-  float planted_ankle_height = 0.08f;  // metres (the session sets the database's)
-  float contact_height = 0.04f;     // metres above the planted height
-  float slide_weight = 100.0f;      // w_s, 1/m²
+  float slide_distance = 0.02f;         // metres between consecutive frames
+  float slide_height = 0.014f;          // metres: the patent's "0.14 cm" read as 1.4 cm (see note)
+  float planted_ankle_height = 0.08f;   // metres (the session sets the database's)
+  float contact_height = 0.04f;         // metres above the planted height
+  float slide_weight = 100.0f;          // w_s, 1/m²
   float smoothing_sigma_frames = 2.0f;  // Gaussian filter on the chosen path; 0 = none
   // Node cost: this weight × the candidate's eq. 2 wrist distance (× prior_length_scale², the
   // σ term's units). The patent's edge cost has no data term, so every one of the K1 candidates
@@ -50,8 +50,8 @@ using AnklePair = std::array<Eigen::Vector3f, 2>;  // [0] left, [1] right ankle,
 inline AnklePair AnklesOf(const AnkleCandidate& c) { return {c.position[0], c.position[1]}; }
 
 struct AnkleWindowResult {
-  std::vector<int> nodes;          // chosen candidate per frame of the window
-  std::vector<AnklePair> ankles;   // its ankles (not smoothed)
+  std::vector<int> nodes;         // chosen candidate per frame of the window
+  std::vector<AnklePair> ankles;  // its ankles (not smoothed)
   float cost = 0.0f;
 };
 
@@ -63,7 +63,8 @@ void AnkleDagStep(const std::vector<AnkleCandidate>& previous, const std::vector
                   const std::vector<AnkleCandidate>& current, float frame_time, const AnklePathOptions& options,
                   std::vector<float>* cost, std::vector<int>* from);
 // Adds each node's data cost (AnklePathOptions::data_weight) to its path cost.
-void AddAnkleDataCost(const std::vector<AnkleCandidate>& cloud, const AnklePathOptions& options, std::vector<float>* cost);
+void AddAnkleDataCost(const std::vector<AnkleCandidate>& cloud, const AnklePathOptions& options,
+                      std::vector<float>* cost);
 // Path costs of a window's first frame: edges from `start`, or all zero at a segment's start.
 std::vector<float> AnkleStartCosts(const std::optional<AnkleCandidate>& start, const std::vector<AnkleCandidate>& first,
                                    float frame_time, const AnklePathOptions& options);

@@ -8,8 +8,10 @@
 
 namespace mocap {
 
-absl::StatusOr<BodyModel> BodyModel::Create(const RigModel& rig, const Skeleton& skeleton, const std::vector<int>& pose_joints) {
-  if (!skeleton.SameRigAs(rig.skeleton)) return absl::InvalidArgumentError("body model skeleton is not the rig's hierarchy");
+absl::StatusOr<BodyModel> BodyModel::Create(const RigModel& rig, const Skeleton& skeleton,
+                                            const std::vector<int>& pose_joints) {
+  if (!skeleton.SameRigAs(rig.skeleton))
+    return absl::InvalidArgumentError("body model skeleton is not the rig's hierarchy");
   const int joints = skeleton.num_joints();
   if (static_cast<int>(rig.reference_rotations.size()) != joints) {
     return absl::InvalidArgumentError("rig has no reference rotation per joint");
@@ -94,10 +96,11 @@ void BodyModel::ControlPoints(const Eigen::Quaterniond& pelvis_rotation, const E
 }
 
 BodyPose BodyModel::Pose(const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position,
-                        const float* q) const {
+                         const float* q) const {
   Eigen::Quaterniond root_rotation;
   Eigen::Vector3d root_position;
-  RootFromPelvis(pelvis_rotation.cast<double>().normalized(), pelvis_position.cast<double>(), &root_rotation, &root_position);
+  RootFromPelvis(pelvis_rotation.cast<double>().normalized(), pelvis_position.cast<double>(), &root_rotation,
+                 &root_position);
   BodyPose pose;
   pose.root_position = root_position.cast<float>();
   pose.rotations.resize(skeleton_.num_joints());

@@ -34,7 +34,8 @@ class BodyModel {
   // `skeleton`: the rig's hierarchy with offsets in metres (a database performer's, optionally
   // scaled). InvalidArgument when it is not the rig's hierarchy or a pose joint is on the pelvis
   // chain.
-  static absl::StatusOr<BodyModel> Create(const RigModel& rig, const Skeleton& skeleton, const std::vector<int>& pose_joints);
+  static absl::StatusOr<BodyModel> Create(const RigModel& rig, const Skeleton& skeleton,
+                                          const std::vector<int>& pose_joints);
 
   const Skeleton& skeleton() const { return skeleton_; }
   const RigModel& rig() const { return rig_; }
@@ -52,7 +53,8 @@ class BodyModel {
 
   // The whole pose: every joint's local rotation and the root translation that puts the pelvis
   // at `pelvis_position` (other joints keep their offsets).
-  BodyPose Pose(const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position, const float* q) const;
+  BodyPose Pose(const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position,
+                const float* q) const;
   // World rotations and positions of every joint of `pose`.
   void WorldTransforms(const BodyPose& pose, std::vector<Eigen::Quaternionf>* rotations,
                        std::vector<Eigen::Vector3f>* positions) const;
@@ -68,8 +70,8 @@ class BodyModel {
   RigModel rig_;
   Skeleton skeleton_;
   std::vector<int> pose_joints_;
-  std::vector<int> pose_slot_;           // per joint: index into pose_joints_, or -1
-  std::vector<int> control_joints_;      // joints on the root-to-control-point paths, parents first
+  std::vector<int> pose_slot_;       // per joint: index into pose_joints_, or -1
+  std::vector<int> control_joints_;  // joints on the root-to-control-point paths, parents first
   std::array<int, kNumControlPoints> control_landmarks_{};
   std::vector<Eigen::Quaterniond> reference_;
   std::vector<Eigen::Vector3d> offset_;

@@ -22,18 +22,23 @@ void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& t
   const Eigen::Quaternionf& knee_turn = turns.middle_turn;
   const Eigen::Quaternionf ankle_world = rotations[ankle_joint];
   pose->rotations[hip] = (pose->rotations[hip] * (rotations[hip].conjugate() * hip_turn * rotations[hip])).normalized();
-  pose->rotations[knee] = (pose->rotations[knee] * (rotations[knee].conjugate() * knee_turn * rotations[knee])).normalized();
+  pose->rotations[knee] =
+      (pose->rotations[knee] * (rotations[knee].conjugate() * knee_turn * rotations[knee])).normalized();
   const Eigen::Quaternionf new_knee_world = hip_turn * knee_turn * rotations[knee];
   pose->rotations[ankle_joint] = (new_knee_world.conjugate() * ankle_world).normalized();
 }
 
 FootskateCleaner::FootskateCleaner(const BodyModel& body, float planted_ankle_height, double frame_time,
                                    const FootskateOptions& options)
-    : body_(body), planted_height_(planted_ankle_height), rate_(static_cast<float>(1.0 / frame_time)), options_(options) {}
+    : body_(body),
+      planted_height_(planted_ankle_height),
+      rate_(static_cast<float>(1.0 / frame_time)),
+      options_(options) {}
 
 void FootskateCleaner::Reset() { feet_ = {}; }
 
-std::array<bool, 2> PlantedFeet(const FrameFeatures& frame, float planted_ankle_height, const FootskateOptions& options) {
+std::array<bool, 2> PlantedFeet(const FrameFeatures& frame, float planted_ankle_height,
+                                const FootskateOptions& options) {
   std::array<bool, 2> planted{};
   for (int side = 0; side < 2; ++side) {
     // Velocities are in the wrist reference frame, whose y axis is up: x and z span the ground.
@@ -53,8 +58,8 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
   const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
   const bool use_database = source_frame != nullptr && options_.contact_source != ContactSource::kEstimatedAnkles;
   const bool use_estimate = source_frame == nullptr || options_.contact_source != ContactSource::kDatabaseFrame;
-  const std::array<bool, 2> database = use_database ? PlantedFeet(*source_frame, planted_height_, options_)
-                                                    : std::array<bool, 2>{true, true};
+  const std::array<bool, 2> database =
+      use_database ? PlantedFeet(*source_frame, planted_height_, options_) : std::array<bool, 2>{true, true};
   for (int side = 0; side < 2; ++side) {
     Foot& foot = feet_[side];
     const Eigen::Vector3f& estimate = estimated_ankles[side];

@@ -41,11 +41,13 @@ struct FootskateOptions {
 void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose);
 
 // Whether each foot of a captured database frame is planted (ground-plane speed and height).
-std::array<bool, 2> PlantedFeet(const FrameFeatures& frame, float planted_ankle_height, const FootskateOptions& options);
+std::array<bool, 2> PlantedFeet(const FrameFeatures& frame, float planted_ankle_height,
+                                const FootskateOptions& options);
 
 class FootskateCleaner {
  public:
-  FootskateCleaner(const BodyModel& body, float planted_ankle_height, double frame_time, const FootskateOptions& options);
+  FootskateCleaner(const BodyModel& body, float planted_ankle_height, double frame_time,
+                   const FootskateOptions& options);
 
   // Where the leg IK put each ankle this frame (a pin, or a release step); none when untouched.
   using AnkleTargets = std::array<std::optional<Eigen::Vector3f>, 2>;

@@ -18,7 +18,8 @@ absl::StatusOr<LocalPoseModel> FitLocalPoseModel(const Eigen::MatrixXf& examples
   const Eigen::MatrixXd x = examples.cast<double>();
   const Eigen::RowVectorXd mean = x.colwise().mean();
   const Eigen::MatrixXd centred = x.rowwise() - mean;
-  const int kept = std::min<int>({components, static_cast<int>(examples.rows()) - 1, static_cast<int>(examples.cols())});
+  const int kept =
+      std::min<int>({components, static_cast<int>(examples.rows()) - 1, static_cast<int>(examples.cols())});
   // K2 (200) examples of ~60 features: the smaller of the two Gram matrices is cheap either way.
   const Eigen::MatrixXd covariance = centred.transpose() * centred / static_cast<double>(examples.rows() - 1);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(covariance);

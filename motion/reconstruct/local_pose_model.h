@@ -12,9 +12,9 @@
 namespace mocap {
 
 struct LocalPoseModel {
-  Eigen::VectorXf mean;         // p̄, one entry per pose feature
-  Eigen::MatrixXf basis;        // U: features x components, orthonormal columns
-  Eigen::VectorXf variances;    // λ: variance of the examples along each basis column
+  Eigen::VectorXf mean;       // p̄, one entry per pose feature
+  Eigen::MatrixXf basis;      // U: features x components, orthonormal columns
+  Eigen::VectorXf variances;  // λ: variance of the examples along each basis column
   int num_components() const { return static_cast<int>(basis.cols()); }
 
   Eigen::VectorXf Reconstruct(const Eigen::VectorXf& weights) const { return mean + basis * weights; }

@@ -37,7 +37,8 @@ struct PoseEnergy {
   int components() const { return static_cast<int>(basis.cols()); }
   int inputs() const { return components() + 7; }
   int values() const {
-    return 3 + components() + 3 * kNumControlPoints + (previous && before_previous ? 7 + static_cast<int>(mean.size()) - 2 : 0);
+    return 3 + components() + 3 * kNumControlPoints +
+           (previous && before_previous ? 7 + static_cast<int>(mean.size()) - 2 : 0);
   }
 
   int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& r) const {
@@ -91,10 +92,12 @@ absl::StatusOr<SolvedPose> SolvePose(const BodyModel& body, const LocalPoseModel
                                      const SolvedPose* before_previous, const PoseSolverOptions& options) {
   const int features = 2 + 3 * body.num_pose_joints();
   if (model.mean.size() != features || model.basis.rows() != features) {
-    return absl::InvalidArgumentError(StrCat("pose model has ", model.mean.size(), " features; the body needs ", features));
+    return absl::InvalidArgumentError(
+        StrCat("pose model has ", model.mean.size(), " features; the body needs ", features));
   }
   if (initial.pose_feature.size() != features) {
-    return absl::InvalidArgumentError(StrCat("initial pose has ", initial.pose_feature.size(), " features; the body needs ", features));
+    return absl::InvalidArgumentError(
+        StrCat("initial pose has ", initial.pose_feature.size(), " features; the body needs ", features));
   }
   for (const Eigen::Vector3f& target : targets) {
     if (!target.allFinite()) return absl::InvalidArgumentError("control target is not finite");
@@ -113,7 +116,9 @@ absl::StatusOr<SolvedPose> SolvePose(const BodyModel& body, const LocalPoseModel
     if (q2.dot(q1) < 0) q2 = -q2;
     energy.smooth_rotation_target = 2 * q1 - q2;
     energy.smooth_position_target = (2 * previous->pelvis_position - before_previous->pelvis_position).cast<double>();
-    energy.smooth_q_target = (2 * previous->pose_feature.tail(features - 2) - before_previous->pose_feature.tail(features - 2)).cast<double>();
+    energy.smooth_q_target =
+        (2 * previous->pose_feature.tail(features - 2) - before_previous->pose_feature.tail(features - 2))
+            .cast<double>();
   }
   const int n = energy.components();
   Eigen::VectorXd x(n + 7);
@@ -137,7 +142,8 @@ absl::StatusOr<SolvedPose> SolvePose(const BodyModel& body, const LocalPoseModel
   std::array<Eigen::Vector3d, kNumControlPoints> points;
   const Eigen::VectorXd q = result.pose_feature.tail(features - 2).cast<double>();
   body.ControlPoints(result.pelvis_rotation.cast<double>(), result.pelvis_position.cast<double>(), q.data(), &points);
-  for (int c = 0; c < kNumControlPoints; ++c) result.control_error[c] = static_cast<float>((points[c] - targets[c].cast<double>()).norm());
+  for (int c = 0; c < kNumControlPoints; ++c)
+    result.control_error[c] = static_cast<float>((points[c] - targets[c].cast<double>()).norm());
   if (!result.pose_feature.allFinite() || !result.pelvis_position.allFinite()) {
     return absl::InternalError("pose solve diverged");
   }

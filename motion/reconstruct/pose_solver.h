@@ -26,10 +26,10 @@ struct PoseSolverOptions {
   float prior_weight = 1.0f;
   float control_weight = 0.8f;
   float smooth_weight = 0.2f;
-  float length_scale = 100.0f;     // lengths in the energies are in metres × this (cm)
-  float min_variance = 1e-6f;      // floor on λ_i
-  int max_evaluations = 200;       // residual evaluations (LM steps, excluding the Jacobians')
-  bool control_ankles = true;      // false: E_ctrl on the wrists only (the patent's baseline)
+  float length_scale = 100.0f;  // lengths in the energies are in metres × this (cm)
+  float min_variance = 1e-6f;   // floor on λ_i
+  int max_evaluations = 200;    // residual evaluations (LM steps, excluding the Jacobians')
+  bool control_ankles = true;   // false: E_ctrl on the wrists only (the patent's baseline)
 };
 
 // One frame's pose: pelvis and the pose feature m = (θ, h, q).

@@ -43,7 +43,8 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   }
   if (total == 0) return absl::FailedPreconditionError("reconstruction database has no frames");
   db->frames_.reserve(total);
-  db->pose_features_.resize(static_cast<Eigen::Index>(total), 2 + 3 * static_cast<Eigen::Index>(db->pose_joints_.size()));
+  db->pose_features_.resize(static_cast<Eigen::Index>(total),
+                            2 + 3 * static_cast<Eigen::Index>(db->pose_joints_.size()));
   for (size_t c = 0; c < clips.size(); ++c) {
     for (size_t f = 0; f < clips[c].features.size(); ++f) {
       const int row = static_cast<int>(db->frames_.size());
@@ -80,8 +81,10 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
     return status;
   }
   std::vector<float> points(total * kWristAnkleFeatureDims);
-  for (size_t r = 0; r < total; ++r) WristAnkleFeature(db->frames_[r], position_weight, points.data() + r * kWristAnkleFeatureDims);
-  if (absl::Status status = db->full_index_.Build(std::move(points), kWristAnkleFeatureDims); !status.ok()) return status;
+  for (size_t r = 0; r < total; ++r)
+    WristAnkleFeature(db->frames_[r], position_weight, points.data() + r * kWristAnkleFeatureDims);
+  if (absl::Status status = db->full_index_.Build(std::move(points), kWristAnkleFeatureDims); !status.ok())
+    return status;
   return std::shared_ptr<const ReconstructionDatabase>(std::move(db));
 }
 

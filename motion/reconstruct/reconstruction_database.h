@@ -35,16 +35,18 @@ class ReconstructionDatabase {
   // InvalidArgument when a clip's poses do not match its features or the rig; FailedPrecondition
   // when there are no frames.
   static absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> Build(const RigModel& rig,
-                                                                            const std::vector<DatabaseClip>& clips,
-                                                                            float position_weight = 0.8f,
-                                                                            double frame_time = 1.0 / 30.0);
+                                                                             const std::vector<DatabaseClip>& clips,
+                                                                             float position_weight = 0.8f,
+                                                                             double frame_time = 1.0 / 30.0);
 
   const RigModel& rig() const { return rig_; }
   int num_frames() const { return static_cast<int>(frames_.size()); }
   const std::vector<FrameFeatures>& frames() const { return frames_; }
   // Row r: pose feature m of frame r: θ, h, then the rotation vectors of every joint below the
   // pelvis chain (the root-to-pelvis joints are the solver's z_R, not part of q).
-  const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& pose_features() const { return pose_features_; }
+  const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& pose_features() const {
+    return pose_features_;
+  }
   const std::vector<int>& pose_joints() const { return pose_joints_; }  // joints of q, in order
   int clip_of(int row) const { return clip_of_row_[row]; }
   int frame_in_clip(int row) const { return frame_of_row_[row]; }
@@ -56,7 +58,8 @@ class ReconstructionDatabase {
   float planted_ankle_height() const { return planted_ankle_height_; }
   double frame_time() const { return frame_time_; }
   // K nearest frames by eq. 8 (exact kd-tree).
-  absl::StatusOr<std::vector<Neighbour>> NearestByWristsAndAnkles(const float query[kWristAnkleFeatureDims], int k) const;
+  absl::StatusOr<std::vector<Neighbour>> NearestByWristsAndAnkles(const float query[kWristAnkleFeatureDims],
+                                                                  int k) const;
 
   ReconstructionDatabase(const ReconstructionDatabase&) = delete;
   ReconstructionDatabase& operator=(const ReconstructionDatabase&) = delete;

@@ -50,7 +50,8 @@ BvhClip ReconstructionToBvh(const ReconstructionDatabase& database, const std::v
   const RigModel& rig = database.rig();
   // The rig's reference rotations (the root's includes the turn to Y up), the root at its OFFSET.
   HoldJointsAbovePelvis(rig.skeleton, rig.topology.landmarks.pelvis, rig.reference_rotations,
-                        rig.to_y_up * (rig.skeleton.joint(0).offset * static_cast<float>(MetresPerUnit(rig.unit))), motion);
+                        rig.to_y_up * (rig.skeleton.joint(0).offset * static_cast<float>(MetresPerUnit(rig.unit))),
+                        motion);
   // Back to the file's world: undo the Y-up rotation and the conversion to metres.
   RotateWorld(motion, database.rig().to_y_up.conjugate());
   ScaleTranslations(motion, static_cast<float>(1.0 / MetresPerUnit(database.rig().unit)));

@@ -35,21 +35,21 @@ struct ReconstructionOptions {
   // A3: K1. The patent's 1000; 500 measures the same with the A4 data term (mocap-eval
   // --dev-split: MPJPE 2.382 vs 2.381 cm) at half the A3/A4 cost.
   int ankle_candidates = 500;
-  AnklePathOptions ankle_path;      // A4: β, sliding rule, Gaussian σ
+  AnklePathOptions ankle_path;  // A4: β, sliding rule, Gaussian σ
   // A5: K2. The patent's 200 makes a blurred local model (its mean is the average of 200 poses);
   // 50 measured best with 25 (--dev-split MPJPE 2.38 → 2.29 cm; 25: 2.27 but more jitter).
   int pose_neighbours = 50;
-  int pose_components = 6;          // A5: D'
-  int average_neighbours = 10;      // the kNearestAverage baseline's K
-  PoseSolverOptions solver;         // A6: energy weights, LM
-  FootskateOptions footskate;       // A7: contacts, leg IK
+  int pose_components = 6;             // A5: D'
+  int average_neighbours = 10;         // the kNearestAverage baseline's K
+  PoseSolverOptions solver;            // A6: energy weights, LM
+  FootskateOptions footskate;          // A7: contacts, leg IK
   float joint_smoothing_sigma = 1.0f;  // A7: Gaussian in joint space, frames (0 = none)
   // After the joint filter, two-bone arm IK puts each hand on the input wrist (as the legs are put
   // on their pins): the input smoothed by a centred Gaussian of this σ over the samples that have
   // arrived (zero phase where the lag allows, unlike A2's exponential smoothing); < 0 = off.
   float hand_target_sigma = 1.0f;
 
-  double max_gap_seconds = 0.25;    // longer input dropouts end the segment
+  double max_gap_seconds = 0.25;  // longer input dropouts end the segment
 };
 
 }  // namespace mocap

@@ -26,9 +26,9 @@ void PelvisInQueryFrame(const FrameFeatures& f, const ReferenceFrame& ref, Solve
   const Eigen::Quaternionf ref_rotation(ref.rotation);
   pose->pelvis_position =
       ref.origin + ref.rotation * Eigen::Vector3f(f.pelvis_position[0], f.pelvis_position[1], f.pelvis_position[2]);
-  pose->pelvis_rotation =
-      (ref_rotation * Eigen::Quaternionf(f.pelvis_rotation[0], f.pelvis_rotation[1], f.pelvis_rotation[2], f.pelvis_rotation[3]))
-          .normalized();
+  pose->pelvis_rotation = (ref_rotation * Eigen::Quaternionf(f.pelvis_rotation[0], f.pelvis_rotation[1],
+                                                             f.pelvis_rotation[2], f.pelvis_rotation[3]))
+                              .normalized();
 }
 
 // Fixed-lag DP frame: a cloud, its path costs and best predecessors.
@@ -53,7 +53,8 @@ std::vector<int> BestPathFrom(const std::deque<DpFrame>& dp, int first, int from
 
 struct ReconstructionSession::Segment {
   Segment(int id, const ReconstructionDatabase& db, const ReconstructionOptions& o)
-      : id(id), smoother(o.smoothing, db.frame_time()),
+      : id(id),
+        smoother(o.smoothing, db.frame_time()),
         cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), o.footskate) {}
   int id;
   WristSmoother smoother;
@@ -109,13 +110,16 @@ absl::StatusOr<std::unique_ptr<ReconstructionSession>> ReconstructionSession::Cr
     std::shared_ptr<const ReconstructionDatabase> database, const ReconstructionOptions& options) {
   if (!database) return absl::InvalidArgumentError("no reconstruction database");
   if (options.ankle_candidates < 1 || options.ankle_candidates > 100000) {
-    return absl::InvalidArgumentError(StrCat("K1 (ankle candidates) must be in [1, 100000], not ", options.ankle_candidates));
+    return absl::InvalidArgumentError(
+        StrCat("K1 (ankle candidates) must be in [1, 100000], not ", options.ankle_candidates));
   }
   if (options.pose_neighbours < 2 || options.pose_neighbours > 100000) {
-    return absl::InvalidArgumentError(StrCat("K2 (pose neighbours) must be in [2, 100000], not ", options.pose_neighbours));
+    return absl::InvalidArgumentError(
+        StrCat("K2 (pose neighbours) must be in [2, 100000], not ", options.pose_neighbours));
   }
   if (options.pose_components < 1 || options.pose_components > 64) {
-    return absl::InvalidArgumentError(StrCat("pose model components must be in [1, 64], not ", options.pose_components));
+    return absl::InvalidArgumentError(
+        StrCat("pose model components must be in [1, 64], not ", options.pose_components));
   }
   if (options.window < 0 || options.lag < 0 || options.lag > 600) {
     return absl::InvalidArgumentError("window and lag must be ≥ 0 (lag ≤ 600 frames)");
@@ -161,7 +165,8 @@ absl::Status ReconstructionSession::Finish(std::vector<ReconstructedFrame>* out)
 }
 
 absl::Status ReconstructionSession::CheckCancelled() const {
-  if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed)) return absl::CancelledError("reconstruction cancelled");
+  if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed))
+    return absl::CancelledError("reconstruction cancelled");
   return absl::OkStatus();
 }
 
@@ -199,8 +204,9 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
     return SolveFrame(t, out);
   }
   std::vector<AnkleCandidate> cloud;
-  MOCAP_RETURN_IF_ERROR(FindAnkleCloud(database_->wrist_index(), database_->frames(), {.position_weight = database_->position_weight()},
-                                       s.wrists.back(), options_.ankle_candidates, &s.cloud_heading, &cloud));
+  MOCAP_RETURN_IF_ERROR(FindAnkleCloud(database_->wrist_index(), database_->frames(),
+                                       {.position_weight = database_->position_weight()}, s.wrists.back(),
+                                       options_.ankle_candidates, &s.cloud_heading, &cloud));
   s.wrist_distance.push_back(cloud.front().wrist_distance);
   statistics_.cloud_seconds += SecondsSince(start);
   start = Clock::now();
@@ -209,7 +215,8 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
     s.window.push_back(std::move(cloud));
     const int window = options_.window > 0 ? options_.window : options_.max_window_frames;
     if (window > 0 && static_cast<int>(s.window.size()) == window) {
-      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
+      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved,
+                             SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
       s.start = s.window.back()[solved.nodes.back()];
       for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
       s.raw.append(solved.ankles.begin(), solved.ankles.end());
@@ -253,7 +260,8 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
   return DecideAnkles(decide + 1, s.raw.size() + static_cast<int>(tentative.size()), tentative, out);
 }
 
-absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available, const std::vector<AnklePair>& tentative,
+absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
+                                                 const std::vector<AnklePair>& tentative,
                                                  std::vector<ReconstructedFrame>* out) {
   Segment& s = *segment_;
   const int radius = static_cast<int>(ankle_kernel_.size()) / 2;
@@ -280,12 +288,14 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   const double dt = db.frame_time();
   const SmoothedWrists& wrists = s.wrists[f];
   const bool full = options_.method == ReconstructionMethod::kFull;
-  const ReferenceFrame ref = WristReferenceFrame(wrists.position[0], wrists.position[1], s.pose_heading, &s.pose_heading);
+  const ReferenceFrame ref =
+      WristReferenceFrame(wrists.position[0], wrists.position[1], s.pose_heading, &s.pose_heading);
   FrameFeatures query = WristQueryFeatures(ref, wrists);
   AnklePair ankles{};
   for (int side = 0; side < 2 && full; ++side) {
     ankles[side] = s.ankles[f][side];
-    const Eigen::Vector3f velocity = f > 0 ? Eigen::Vector3f((s.ankles[f][side] - s.ankles[f - 1][side]) / dt) : Eigen::Vector3f::Zero();
+    const Eigen::Vector3f velocity =
+        f > 0 ? Eigen::Vector3f((s.ankles[f][side] - s.ankles[f - 1][side]) / dt) : Eigen::Vector3f::Zero();
     const Eigen::Vector3f ap = ref.ToLocal(ankles[side]);
     const Eigen::Vector3f av = ref.DirectionToLocal(velocity);
     for (int axis = 0; axis < 3; ++axis) {
@@ -337,7 +347,8 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   }
   if (!lookup) {
     Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_features().cols());
-    for (size_t i = 0; i < neighbours.size(); ++i) examples.row(static_cast<Eigen::Index>(i)) = db.pose_features().row(neighbours[i].row);
+    for (size_t i = 0; i < neighbours.size(); ++i)
+      examples.row(static_cast<Eigen::Index>(i)) = db.pose_features().row(neighbours[i].row);
     MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, options_.pose_components));
     ControlTargets targets = {wrists.position[0], wrists.position[1], ankles[0], ankles[1]};
     PoseSolverOptions solver_options = options_.solver;
@@ -347,7 +358,8 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
     }
     const SolvedPose& initial = s.previous ? *s.previous : solved;
     const SolvedPose* before = s.before_previous ? &*s.before_previous : nullptr;
-    MOCAP_ASSIGN_OR_RETURN(solved, SolvePose(db.body(), model, targets, initial, s.previous ? &*s.previous : nullptr, before, solver_options));
+    MOCAP_ASSIGN_OR_RETURN(solved, SolvePose(db.body(), model, targets, initial, s.previous ? &*s.previous : nullptr,
+                                             before, solver_options));
     s.before_previous = std::move(s.previous);
     s.previous = solved;
   }
@@ -402,10 +414,12 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
         const BodyPose& p = s.post[k - s.post_first].pose;
         const float w = joint_kernel_[i + radius];
         root += w * p.root_position;
-        for (int j = 0; j < joints; ++j) log_sum[j] += w * RotationVector(Eigen::Quaternionf(centre.rotations[j].conjugate() * p.rotations[j]));
+        for (int j = 0; j < joints; ++j)
+          log_sum[j] += w * RotationVector(Eigen::Quaternionf(centre.rotations[j].conjugate() * p.rotations[j]));
       }
       frame.pose.root_position = root;
-      for (int j = 0; j < joints; ++j) frame.pose.rotations[j] = (centre.rotations[j] * FromRotationVector(log_sum[j])).normalized();
+      for (int j = 0; j < joints; ++j)
+        frame.pose.rotations[j] = (centre.rotations[j] * FromRotationVector(log_sum[j])).normalized();
       const BodyLandmarks& l = database_->rig().topology.landmarks;
       const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
       for (int side = 0; side < 2; ++side) {
@@ -468,7 +482,8 @@ absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* 
   const float dt = static_cast<float>(database_->frame_time());
   if (options_.method == ReconstructionMethod::kFull) {
     if (options_.mode == StreamMode::kSubInterval && !s.window.empty()) {
-      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved, SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
+      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved,
+                             SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
       for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
       s.raw.append(solved.ankles.begin(), solved.ankles.end());
       s.window.clear();
@@ -492,10 +507,11 @@ absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* 
   return absl::OkStatus();
 }
 
-absl::StatusOr<std::vector<ReconstructedFrame>> ReconstructOffline(std::shared_ptr<const ReconstructionDatabase> database,
-                                                                   const ReconstructionOptions& options,
-                                                                   const std::vector<WristSample>& samples) {
-  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session, ReconstructionSession::Create(std::move(database), options));
+absl::StatusOr<std::vector<ReconstructedFrame>> ReconstructOffline(
+    std::shared_ptr<const ReconstructionDatabase> database, const ReconstructionOptions& options,
+    const std::vector<WristSample>& samples) {
+  MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session,
+                         ReconstructionSession::Create(std::move(database), options));
   std::vector<ReconstructedFrame> frames;
   for (const WristSample& sample : samples) MOCAP_RETURN_IF_ERROR(session->Push(sample, &frames));
   MOCAP_RETURN_IF_ERROR(session->Finish(&frames));

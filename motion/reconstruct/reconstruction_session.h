@@ -40,13 +40,13 @@ struct FrameDiagnostics {
 };
 
 struct ReconstructedFrame {
-  int segment = 0;          // increments after each long input gap
-  int index = 0;            // frame number in the session's output
+  int segment = 0;  // increments after each long input gap
+  int index = 0;    // frame number in the session's output
   int frame_in_segment = 0;
-  double time = 0.0;        // seconds, on the input's clock
+  double time = 0.0;                                                    // seconds, on the input's clock
   Eigen::Quaternionf pelvis_rotation = Eigen::Quaternionf::Identity();  // world
   Eigen::Vector3f pelvis_position = Eigen::Vector3f::Zero();            // world, metres
-  BodyPose pose;            // every joint's local rotation and the root translation
+  BodyPose pose;                          // every joint's local rotation and the root translation
   std::array<Eigen::Vector3f, 2> ankles;  // A4 estimates (left, right), world metres
   std::array<Eigen::Vector3f, 2> wrists;  // A2-smoothed input
   FrameDiagnostics diagnostics;
@@ -64,8 +64,8 @@ struct SessionStatistics {
 class ReconstructionSession {
  public:
   // InvalidArgument for options out of range (K1, K2 < 1, negative window/lag, ...).
-  static absl::StatusOr<std::unique_ptr<ReconstructionSession>> Create(std::shared_ptr<const ReconstructionDatabase> database,
-                                                                      const ReconstructionOptions& options);
+  static absl::StatusOr<std::unique_ptr<ReconstructionSession>> Create(
+      std::shared_ptr<const ReconstructionDatabase> database, const ReconstructionOptions& options);
   ~ReconstructionSession();
 
   // One input sample; frames decided by it are appended to `out`. A refused sample (NaN, time
@@ -96,7 +96,8 @@ class ReconstructionSession {
   // A2 and onwards for the segment's next frame whose input has arrived.
   absl::Status ProcessFrame(std::vector<ReconstructedFrame>* out);
   absl::Status EndSegment(std::vector<ReconstructedFrame>* out);
-  absl::Status DecideAnkles(int up_to_frame, int available, const std::vector<AnklePair>& tentative, std::vector<ReconstructedFrame>* out);
+  absl::Status DecideAnkles(int up_to_frame, int available, const std::vector<AnklePair>& tentative,
+                            std::vector<ReconstructedFrame>* out);
   absl::Status SolveFrame(int frame, std::vector<ReconstructedFrame>* out);
   void EmitFiltered(bool flush, std::vector<ReconstructedFrame>* out);
   // A2's local linear fit of the input at `frame` over the samples that have arrived.
@@ -119,8 +120,8 @@ class ReconstructionSession {
 };
 
 // The offline path: the same session fed every sample, then finished.
-absl::StatusOr<std::vector<ReconstructedFrame>> ReconstructOffline(std::shared_ptr<const ReconstructionDatabase> database,
-                                                                   const ReconstructionOptions& options,
-                                                                   const std::vector<WristSample>& samples);
+absl::StatusOr<std::vector<ReconstructedFrame>> ReconstructOffline(
+    std::shared_ptr<const ReconstructionDatabase> database, const ReconstructionOptions& options,
+    const std::vector<WristSample>& samples);
 
 }  // namespace mocap

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-
 namespace mocap {
 
 void WristFeature(const FrameFeatures& features, const WristFeatureOptions& options, float out[kWristFeatureDims]) {
@@ -32,7 +31,7 @@ absl::StatusOr<std::vector<Neighbour>> WristFeatureIndex::Search(const float que
 }
 
 absl::StatusOr<std::vector<Neighbour>> WristFeatureIndex::SearchBruteForce(const float query[kWristFeatureDims],
-                                                                          int k) const {
+                                                                           int k) const {
   if (tree_.size() == 0) return absl::FailedPreconditionError("wrist index is not built");
   if (k < 1) return absl::InvalidArgumentError("k must be at least 1");
   std::vector<Neighbour> all(tree_.size());

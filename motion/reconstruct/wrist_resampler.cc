@@ -7,7 +7,8 @@
 
 namespace mocap {
 
-WristResampler::WristResampler(double frame_time, double max_gap_seconds) : frame_time_(frame_time), max_gap_(max_gap_seconds) {}
+WristResampler::WristResampler(double frame_time, double max_gap_seconds)
+    : frame_time_(frame_time), max_gap_(max_gap_seconds) {}
 
 absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSample>* out) {
   if (!std::isfinite(sample.time)) return absl::InvalidArgumentError("wrist sample time is not finite");
@@ -15,20 +16,23 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
     return absl::InvalidArgumentError(StrCat("wrist sample at t = ", sample.time, " s is not finite (NaN or inf)"));
   }
   if (has_previous_ && sample.time <= previous_.time) {
-    return absl::InvalidArgumentError(StrCat("wrist sample times must increase: ", sample.time, " s after ", previous_.time, " s"));
+    return absl::InvalidArgumentError(
+        StrCat("wrist sample times must increase: ", sample.time, " s after ", previous_.time, " s"));
   }
   const bool new_segment = !has_previous_ || sample.time - previous_.time > max_gap_;
   if (new_segment) {
     grid_origin_ = sample.time;
     next_index_ = 0;
     typical_period_ = 0.0;
-    GridSample first{.starts_segment = true, .bridged = false, .time = sample.time, .left = sample.left, .right = sample.right};
+    GridSample first{
+        .starts_segment = true, .bridged = false, .time = sample.time, .left = sample.left, .right = sample.right};
     out->push_back(first);
     next_index_ = 1;
   } else {
     const double span = sample.time - previous_.time;
     const bool bridged = typical_period_ > 0.0 && span > 2.0 * typical_period_;
-    typical_period_ = typical_period_ > 0.0 && !bridged ? 0.9 * typical_period_ + 0.1 * span : (typical_period_ > 0.0 ? typical_period_ : span);
+    typical_period_ = typical_period_ > 0.0 && !bridged ? 0.9 * typical_period_ + 0.1 * span
+                                                        : (typical_period_ > 0.0 ? typical_period_ : span);
     // Grid times in (previous, sample], with a tolerance of 1% of a frame: a tracker at the
     // database's nominal rate (e.g. a BVH's "Frame Time: 0.033333" against 1/30 s) drifts by
     // ~1e-4 s over ten seconds, and its last sample must still complete the last frame.

@@ -14,8 +14,8 @@
 namespace mocap {
 
 struct WristSample {
-  double time = 0.0;             // seconds, any origin; strictly increasing
-  Eigen::Vector3f left = Eigen::Vector3f::Zero();   // metres, world Y up
+  double time = 0.0;                               // seconds, any origin; strictly increasing
+  Eigen::Vector3f left = Eigen::Vector3f::Zero();  // metres, world Y up
   Eigen::Vector3f right = Eigen::Vector3f::Zero();
 };
 

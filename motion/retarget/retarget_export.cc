@@ -20,7 +20,8 @@ BvhClip RetargetedToBvh(const RetargetRig& target, const std::vector<BodyPose>& 
   // The rest pose is the file's: joints above the pelvis hold it, the root's turned to Y up.
   std::vector<Eigen::Quaternionf> held(joints, Eigen::Quaternionf::Identity());
   held[0] = target.to_y_up;
-  HoldJointsAbovePelvis(skeleton, target.topology.landmarks.pelvis, held, target.to_y_up * skeleton.joint(0).offset, motion);
+  HoldJointsAbovePelvis(skeleton, target.topology.landmarks.pelvis, held, target.to_y_up * skeleton.joint(0).offset,
+                        motion);
   // Back to the file's world: undo the Y-up rotation and the conversion to metres.
   RotateWorld(motion, target.to_y_up.conjugate());
   const float to_file = static_cast<float>(1.0 / MetresPerUnit(target.unit));

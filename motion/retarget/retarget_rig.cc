@@ -60,10 +60,12 @@ absl::StatusOr<RetargetRig> TargetRigFromClip(BvhClip clip, std::optional<Length
   if (clip.num_frames() > kMaxTargetFrames) clip.channels.conservativeResize(kMaxTargetFrames, Eigen::NoChange);
   // Without frames the analysis reads the zero-rotation pose itself.
   if (clip.num_frames() == 0) clip.channels = ChannelMatrix::Zero(1, clip.skeleton.num_channels());
-  const LocalMotion motion = MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time > 0 ? clip.frame_time : 1.0 / 30);
+  const LocalMotion motion =
+      MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time > 0 ? clip.frame_time : 1.0 / 30);
   absl::StatusOr<BodyTopology> topology = AnalyseBody(clip.skeleton, motion, BodyTopologyOptions{.unit = unit});
   if (!topology.ok()) {
-    return absl::FailedPreconditionError(StrCat("the target rig is not a recognisable humanoid: ", topology.status().message()));
+    return absl::FailedPreconditionError(
+        StrCat("the target rig is not a recognisable humanoid: ", topology.status().message()));
   }
   const float metres = static_cast<float>(MetresPerUnit(topology->unit));
   MOCAP_ASSIGN_OR_RETURN(RetargetRig rig, MakeRetargetRig(ScaledSkeleton(clip.skeleton, metres), *topology));
@@ -90,8 +92,8 @@ absl::StatusOr<RetargetRig> MakeRetargetRig(const Skeleton& skeleton_in_metres, 
     const std::vector<int>& chain = rig.chains.joints[group];
     const int middle = IndexIn(chain, middles[limb]);
     if (middle <= 0 || middle + 1 >= static_cast<int>(chain.size())) {
-      return absl::FailedPreconditionError(StrCat("the ", BodyGroupName(kLimbs[limb]),
-                                                  " has no elbow or knee between its top and its end"));
+      return absl::FailedPreconditionError(
+          StrCat("the ", BodyGroupName(kLimbs[limb]), " has no elbow or knee between its top and its end"));
     }
     rig.anchors[group] = {UpperSegmentStart(rig, chain, middle), middle};
   }
@@ -143,8 +145,9 @@ absl::StatusOr<RetargetRig> SourceRigOf(const RigModel& rig, const Skeleton& bod
     const BodyLandmarks& a = again.landmarks;
     if (a.left_wrist != l.left_wrist || a.right_wrist != l.right_wrist || a.left_ankle != l.left_ankle ||
         a.right_ankle != l.right_ankle) {
-      return absl::FailedPreconditionError("the database's rig needs re-importing for retargeting (elbows and knees "
-                                           "were not stored with it)");
+      return absl::FailedPreconditionError(
+          "the database's rig needs re-importing for retargeting (elbows and knees "
+          "were not stored with it)");
     }
     l.left_elbow = a.left_elbow;
     l.right_elbow = a.right_elbow;
@@ -172,8 +175,8 @@ absl::StatusOr<RetargetRig> TargetRigFromBvh(std::string_view text, std::optiona
   }
   MOCAP_ASSIGN_OR_RETURN(BvhClip clip, ParseBvh(text, "target rig"));
   if (clip.skeleton.num_joints() > kMaxTargetJoints) {
-    return absl::InvalidArgumentError(StrCat("the target rig has ", clip.skeleton.num_joints(), " joints (at most ",
-                                             kMaxTargetJoints, ")"));
+    return absl::InvalidArgumentError(
+        StrCat("the target rig has ", clip.skeleton.num_joints(), " joints (at most ", kMaxTargetJoints, ")"));
   }
   return TargetRigFromClip(std::move(clip), unit);
 }

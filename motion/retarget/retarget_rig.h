@@ -36,11 +36,11 @@ struct LimbAnchors {
 };
 
 struct RetargetRig {
-  Skeleton skeleton;       // offsets in metres, in the file's own axes (rest pose as the file has it)
-  BodyTopology topology;   // landmarks and groups of `skeleton`
+  Skeleton skeleton;      // offsets in metres, in the file's own axes (rest pose as the file has it)
+  BodyTopology topology;  // landmarks and groups of `skeleton`
   BodyChains chains;
   std::array<LimbAnchors, kNumBodyGroups> anchors{};  // meaningful for the four limbs
-  std::vector<Eigen::Vector3f> rest_positions;         // zero-rotation pose, metres
+  std::vector<Eigen::Vector3f> rest_positions;        // zero-rotation pose, metres
   // Body frame of the rest pose, as a rotation whose columns are (left, up, forward).
   Eigen::Matrix3f rest_body_frame = Eigen::Matrix3f::Identity();
   // Lengths along the rest bones, metres: hip -> knee -> ankle (mean of both legs) and per arm
@@ -75,6 +75,7 @@ inline constexpr int kMaxTargetFrames = 2000;  // frames of a target BVH used by
 absl::StatusOr<RetargetRig> TargetRigFromBvh(std::string_view text, std::optional<LengthUnit> unit = std::nullopt);
 // A caller's rig given as joints (parents before children, offsets in the rig's unit and axes);
 // the analysis sees only the zero-rotation pose, which must be a standing one (T- or A-pose).
-absl::StatusOr<RetargetRig> TargetRigFromSkeleton(const Skeleton& skeleton, std::optional<LengthUnit> unit = std::nullopt);
+absl::StatusOr<RetargetRig> TargetRigFromSkeleton(const Skeleton& skeleton,
+                                                  std::optional<LengthUnit> unit = std::nullopt);
 
 }  // namespace mocap

@@ -132,7 +132,8 @@ absl::Status Retargeter::MapJoints() {
       while (a + 1 < source_last && source_along[a + 1] <= x) ++a;
       const int b = std::min(a + 1, source_last);
       const float span = source_along[b] - source_along[a];
-      return ChainPoint{source_chain[a], source_chain[b], span > 1e-6f ? std::clamp((x - source_along[a]) / span, 0.0f, 1.0f) : 0.0f};
+      return ChainPoint{source_chain[a], source_chain[b],
+                        span > 1e-6f ? std::clamp((x - source_along[a]) / span, 0.0f, 1.0f) : 0.0f};
     };
     for (size_t k = 0; k < sections.size(); ++k) {
       const auto [first, last] = sections[k];
@@ -188,12 +189,14 @@ void Retargeter::ForwardKinematics(const BodyPose& pose) {
   }
 }
 
-void Retargeter::ReachWithLimb(BodyGroup limb, const Eigen::Vector3f& goal, const Eigen::Vector3f& fallback_bend, BodyPose* pose) {
+void Retargeter::ReachWithLimb(BodyGroup limb, const Eigen::Vector3f& goal, const Eigen::Vector3f& fallback_bend,
+                               BodyPose* pose) {
   const int g = static_cast<int>(limb);
   const std::vector<int>& chain = target_.chains.joints[g];
   const int a = chain[target_.anchors[g].root], b = chain[target_.anchors[g].middle], c = chain.back();
   const std::vector<Eigen::Quaternionf>& w = world_rotations_;
-  const TwoBoneTurns turns = SolveTwoBoneIk(world_positions_[a], world_positions_[b], world_positions_[c], goal, fallback_bend);
+  const TwoBoneTurns turns =
+      SolveTwoBoneIk(world_positions_[a], world_positions_[b], world_positions_[c], goal, fallback_bend);
   // Joints from a to b turn by root_turn, joints below b by root_turn · middle_turn; c keeps its
   // world rotation (the hand or foot still points where the source's does).
   std::vector<Eigen::Quaternionf>& local = pose->rotations;
@@ -215,11 +218,16 @@ void Retargeter::Retarget(const std::vector<Eigen::Quaternionf>& source_rotation
     const JointMap& map = maps_[j];
     const int parent = skeleton.parent(j);
     switch (map.rule) {
-      case Rule::kPelvisFrame: w[j] = pelvis_rotation; break;
-      case Rule::kChestFrame:
-        w[j] = Eigen::Quaternionf(Eigen::Matrix3f(ChestFrame(source_, source_positions) * target_chest_rest_.transpose()));
+      case Rule::kPelvisFrame:
+        w[j] = pelvis_rotation;
         break;
-      case Rule::kEndJoint: w[j] = source_rotations[map.owner] * map.alignment; break;
+      case Rule::kChestFrame:
+        w[j] =
+            Eigen::Quaternionf(Eigen::Matrix3f(ChestFrame(source_, source_positions) * target_chest_rest_.transpose()));
+        break;
+      case Rule::kEndJoint:
+        w[j] = source_rotations[map.owner] * map.alignment;
+        break;
       case Rule::kChainBone: {
         const Eigen::Quaternionf carried = source_rotations[map.owner] * map.alignment;
         const Eigen::Vector3f chord = PointOf(map.to, source_positions) - PointOf(map.from, source_positions);
@@ -257,12 +265,15 @@ void Retargeter::Retarget(const std::vector<Eigen::Quaternionf>& source_rotation
     const Eigen::Vector3f normal = (a - b).cross(source_positions[chain.back()] - b);
     return normal.norm() > 1e-6f ? normal : Eigen::Vector3f(body_left);
   };
-  ReachWithLimb(BodyGroup::kLeftLeg, scale_ * source_positions[sl.left_ankle], bend_of_source(BodyGroup::kLeftLeg), out);
-  ReachWithLimb(BodyGroup::kRightLeg, scale_ * source_positions[sl.right_ankle], bend_of_source(BodyGroup::kRightLeg), out);
+  ReachWithLimb(BodyGroup::kLeftLeg, scale_ * source_positions[sl.left_ankle], bend_of_source(BodyGroup::kLeftLeg),
+                out);
+  ReachWithLimb(BodyGroup::kRightLeg, scale_ * source_positions[sl.right_ankle], bend_of_source(BodyGroup::kRightLeg),
+                out);
   const BodyGroup arms[2] = {BodyGroup::kLeftArm, BodyGroup::kRightArm};
   const int source_wrists[2] = {sl.left_wrist, sl.right_wrist};
   for (int side = 0; side < 2; ++side) {
-    const Eigen::Vector3f source_reach = source_positions[source_wrists[side]] - source_positions[LimbRoot(source_, arms[side])];
+    const Eigen::Vector3f source_reach =
+        source_positions[source_wrists[side]] - source_positions[LimbRoot(source_, arms[side])];
     const Eigen::Vector3f goal = world_positions_[LimbRoot(target_, arms[side])] +
                                  source_reach * (target_.arm_length[side] / source_.arm_length[side]);
     ReachWithLimb(arms[side], goal, bend_of_source(arms[side]), out);

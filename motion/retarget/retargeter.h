@@ -53,8 +53,8 @@ class Retargeter {
   // One frame. `source_rotations` and `source_positions`: world transforms of every source joint
   // (metres, Y up; BodyModel::WorldTransforms). `out`: the target's root position (metres, Y up)
   // and every joint's local rotation, target joint order.
-  void Retarget(const std::vector<Eigen::Quaternionf>& source_rotations, const std::vector<Eigen::Vector3f>& source_positions,
-                BodyPose* out);
+  void Retarget(const std::vector<Eigen::Quaternionf>& source_rotations,
+                const std::vector<Eigen::Vector3f>& source_positions, BodyPose* out);
   // The same for a pose of the database's body (BodyModel of the source rig).
   void Retarget(const BodyModel& source_body, const BodyPose& source_pose, BodyPose* out) {
     source_body.WorldTransforms(source_pose, &source_rotations_, &source_positions_);
@@ -73,21 +73,22 @@ class Retargeter {
   };
   struct JointMap {
     Rule rule = Rule::kRest;
-    int owner = -1;  // source joint whose rotation carries the twist
+    int owner = -1;                                                 // source joint whose rotation carries the twist
     Eigen::Quaternionf alignment = Eigen::Quaternionf::Identity();  // target rest -> source rest
-    ChainPoint from, to;               // kChainBone: the source chord
-    Eigen::Vector3f source_rest_chord = Eigen::Vector3f::Zero();  // unit, source rest
+    ChainPoint from, to;                                            // kChainBone: the source chord
+    Eigen::Vector3f source_rest_chord = Eigen::Vector3f::Zero();    // unit, source rest
   };
   Retargeter() = default;
   absl::Status MapJoints();
   Eigen::Vector3f PointOf(const ChainPoint& point, const std::vector<Eigen::Vector3f>& positions) const;
   void ForwardKinematics(const BodyPose& pose);
-  void ReachWithLimb(BodyGroup limb, const Eigen::Vector3f& target, const Eigen::Vector3f& fallback_bend, BodyPose* pose);
+  void ReachWithLimb(BodyGroup limb, const Eigen::Vector3f& target, const Eigen::Vector3f& fallback_bend,
+                     BodyPose* pose);
 
   RetargetRig source_, target_;
   float scale_ = 1.0f;
   std::vector<JointMap> maps_;
-  std::vector<int> pelvis_path_;  // target joints from below the root to the pelvis
+  std::vector<int> pelvis_path_;                                     // target joints from below the root to the pelvis
   Eigen::Matrix3f target_chest_rest_ = Eigen::Matrix3f::Identity();  // the chest's rest frame
   std::vector<Eigen::Quaternionf> source_rotations_, world_rotations_;
   std::vector<Eigen::Vector3f> source_positions_;

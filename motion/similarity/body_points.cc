@@ -30,15 +30,18 @@ BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology
   chains.joints[static_cast<int>(BodyGroup::kSpine)] = ChainBetween(skeleton, l.pelvis, chest >= 0 ? chest : l.pelvis);
   chains.joints[static_cast<int>(BodyGroup::kHead)] = ChainBetween(skeleton, top(BodyGroup::kHead), l.head);
   chains.joints[static_cast<int>(BodyGroup::kLeftArm)] = ChainBetween(skeleton, top(BodyGroup::kLeftArm), l.left_wrist);
-  chains.joints[static_cast<int>(BodyGroup::kRightArm)] = ChainBetween(skeleton, top(BodyGroup::kRightArm), l.right_wrist);
+  chains.joints[static_cast<int>(BodyGroup::kRightArm)] =
+      ChainBetween(skeleton, top(BodyGroup::kRightArm), l.right_wrist);
   chains.joints[static_cast<int>(BodyGroup::kLeftLeg)] = ChainBetween(skeleton, top(BodyGroup::kLeftLeg), l.left_ankle);
-  chains.joints[static_cast<int>(BodyGroup::kRightLeg)] = ChainBetween(skeleton, top(BodyGroup::kRightLeg), l.right_ankle);
+  chains.joints[static_cast<int>(BodyGroup::kRightLeg)] =
+      ChainBetween(skeleton, top(BodyGroup::kRightLeg), l.right_ankle);
   return chains;
 }
 
 absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const BodyLandmarks& l) {
   for (int joint : {l.pelvis, l.head, l.left_wrist, l.right_wrist, l.left_ankle, l.right_ankle}) {
-    if (joint < 0 || joint >= skeleton.num_joints()) return absl::InvalidArgumentError("a landmark is not a joint of the pose");
+    if (joint < 0 || joint >= skeleton.num_joints())
+      return absl::InvalidArgumentError("a landmark is not a joint of the pose");
   }
   auto ancestors = [&](int joint) {
     std::vector<int> out;
@@ -54,8 +57,9 @@ absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const B
   };
   // The chain below `ancestor` down to `end`: its first joint is the child of `ancestor`.
   auto below = [&](int ancestor, int end) -> absl::StatusOr<std::vector<int>> {
-    if (end == ancestor) return absl::InvalidArgumentError(StrCat("joint '", skeleton.joint(end).name,
-                                                                 "' cannot be both a limb end and where limbs branch"));
+    if (end == ancestor)
+      return absl::InvalidArgumentError(
+          StrCat("joint '", skeleton.joint(end).name, "' cannot be both a limb end and where limbs branch"));
     std::vector<int> chain;
     for (int j = end; j != ancestor; j = skeleton.parent(j)) chain.push_back(j);
     std::reverse(chain.begin(), chain.end());
@@ -70,11 +74,10 @@ absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const B
     chains.joints[static_cast<int>(group)] = std::move(*chain);
     return absl::OkStatus();
   };
-  for (auto [group, ancestor, end] : {std::tuple{BodyGroup::kLeftArm, chest, l.left_wrist},
-                                      std::tuple{BodyGroup::kRightArm, chest, l.right_wrist},
-                                      std::tuple{BodyGroup::kLeftLeg, hips, l.left_ankle},
-                                      std::tuple{BodyGroup::kRightLeg, hips, l.right_ankle},
-                                      std::tuple{BodyGroup::kHead, common(l.head, l.left_wrist), l.head}}) {
+  for (auto [group, ancestor, end] :
+       {std::tuple{BodyGroup::kLeftArm, chest, l.left_wrist}, std::tuple{BodyGroup::kRightArm, chest, l.right_wrist},
+        std::tuple{BodyGroup::kLeftLeg, hips, l.left_ankle}, std::tuple{BodyGroup::kRightLeg, hips, l.right_ankle},
+        std::tuple{BodyGroup::kHead, common(l.head, l.left_wrist), l.head}}) {
     if (absl::Status status = set(group, below(ancestor, end)); !status.ok()) return status;
   }
   chains.joints[static_cast<int>(BodyGroup::kSpine)] = ChainBetween(skeleton, l.pelvis, chest);
@@ -131,7 +134,8 @@ void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& ch
   const int n = options.points_per_group;
   const Eigen::Vector3f pelvis = poses.position(frame, chains.pelvis);
   std::array<float, kNumBodyGroups> lengths{};
-  for (int g = 0; g < kNumBodyGroups; ++g) lengths[g] = SampleChain(poses, frame, chains.joints[g], options, out + g * n);
+  for (int g = 0; g < kNumBodyGroups; ++g)
+    lengths[g] = SampleChain(poses, frame, chains.joints[g], options, out + g * n);
 
   if (options.scaling == ChainScaling::kBodyScale) {
     const float inverse = 1.0f / BodyScale(poses, frame, chains);

@@ -25,7 +25,8 @@ int MaxNamedPoseJoints() { return Skeleton::kMaxJoints; }
 absl::StatusOr<ClipPoints> NamedPosePoints(const NamedPose& pose, const BodyPointOptions& options) {
   if (pose.joints.empty()) return absl::InvalidArgumentError("pose has no joints");
   if (static_cast<int>(pose.joints.size()) > MaxNamedPoseJoints()) {
-    return absl::InvalidArgumentError(StrCat("pose has ", pose.joints.size(), " joints; at most ", MaxNamedPoseJoints()));
+    return absl::InvalidArgumentError(
+        StrCat("pose has ", pose.joints.size(), " joints; at most ", MaxNamedPoseJoints()));
   }
   std::vector<Joint> joints;
   for (const NamedPoseJoint& entry : pose.joints) {
@@ -36,11 +37,12 @@ absl::StatusOr<ClipPoints> NamedPosePoints(const NamedPose& pose, const BodyPoin
         if (joints[i].name == entry.parent) joint.parent = static_cast<int>(i);
       }
       if (joint.parent < 0) {
-        return absl::InvalidArgumentError(StrCat("pose joint '", entry.name, "': parent '", entry.parent,
-                                                 "' must be listed before it"));
+        return absl::InvalidArgumentError(
+            StrCat("pose joint '", entry.name, "': parent '", entry.parent, "' must be listed before it"));
       }
     }
-    if (!entry.position.allFinite()) return absl::InvalidArgumentError(StrCat("pose joint '", entry.name, "' is not finite"));
+    if (!entry.position.allFinite())
+      return absl::InvalidArgumentError(StrCat("pose joint '", entry.name, "' is not finite"));
     joints.push_back(std::move(joint));
   }
   Skeleton skeleton(std::move(joints));

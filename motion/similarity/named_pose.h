@@ -14,8 +14,8 @@ namespace mocap {
 
 struct NamedPoseJoint {
   std::string name;
-  std::string parent;          // a joint listed earlier; empty for the root
-  Eigen::Vector3f position;    // world position, any length unit
+  std::string parent;        // a joint listed earlier; empty for the root
+  Eigen::Vector3f position;  // world position, any length unit
 };
 
 struct NamedPose {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <numeric>
 
-#include "motion/core/kd_tree.h"
 #include <Eigen/Eigenvalues>
+#include "motion/core/kd_tree.h"
 
 #include "motion/core/str_cat.h"
 
@@ -58,7 +58,7 @@ struct PoseIndex::Impl {
   bool built = false;
   Eigen::RowVectorXf mean;
   Eigen::MatrixXf basis;  // features x kReducedDims
-  KdTree kd_tree;  // over the reduced features
+  KdTree kd_tree;         // over the reduced features
 
   int pose_points() const { return kNumBodyGroups * options.points_per_group; }
 
@@ -120,7 +120,8 @@ absl::Status PoseIndex::Build() {
   std::int64_t samples = 0;
   for (std::int64_t row = 0; row < m.rows; row += stride) {
     const auto [clip, frame] = m.Locate(row);
-    CanonicalFeature(m.clips[clip].points.row(frame).data(), m.pose_points(), m.options.points_per_group, canonical.data());
+    CanonicalFeature(m.clips[clip].points.row(frame).data(), m.pose_points(), m.options.points_per_group,
+                     canonical.data());
     const Eigen::RowVectorXd x = Eigen::Map<const Eigen::RowVectorXf>(canonical.data(), dims).cast<double>();
     mean += x;
     scatter += x.transpose() * x;
@@ -154,7 +155,8 @@ absl::StatusOr<std::vector<PoseMatch>> PoseIndex::Search(const ClipPoints& query
     return absl::InvalidArgumentError("query points were made with other BodyPointOptions");
   }
   if (options.window < 1 || options.window % 2 == 0 || options.window > 61) {
-    return absl::InvalidArgumentError(StrCat("window must be an odd number of frames from 1 to 61, not ", options.window));
+    return absl::InvalidArgumentError(
+        StrCat("window must be an odd number of frames from 1 to 61, not ", options.window));
   }
   if (options.top_k < 1) return absl::InvalidArgumentError("top_k must be at least 1");
 

@@ -25,16 +25,16 @@ struct PoseSearchOptions {
   // each neighbouring frame's points are placed relative to the centre frame's pelvis, so that
   // the same pose while walking differs from the pose while standing.
   int window = 1;
-  bool exact = false;          // compare with every frame instead of the prefiltered candidates
-  int candidates = 1000;       // fast path: candidates re-ranked with the exact distance
+  bool exact = false;     // compare with every frame instead of the prefiltered candidates
+  int candidates = 1000;  // fast path: candidates re-ranked with the exact distance
   // Matches closer than this many frames to a better match in the same clip are dropped, so the
   // top K are not K neighbours of one frame. 0 keeps all.
   int suppress_within_frames = 0;
 };
 
 struct PoseMatch {
-  int clip = 0;    // index of the clip in the order added
-  int frame = 0;   // frame in that clip (the database's frame numbering)
+  int clip = 0;   // index of the clip in the order added
+  int frame = 0;  // frame in that clip (the database's frame numbering)
   PoseDistance distance;
 };
 
@@ -42,7 +42,7 @@ struct PoseMatch {
 struct ClipPoints {
   std::string name;
   std::int64_t clip_id = 0;
-  BodyPointMatrix points;                       // frames x (groups * points_per_group * 3)
+  BodyPointMatrix points;                                           // frames x (groups * points_per_group * 3)
   Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor> pelvis;  // frames x 3, body scales
 };
 
@@ -61,7 +61,8 @@ class PoseIndex {
   absl::Status Build();
 
   // Top matches for frame `frame` of `query` (a clip made with the same BodyPointOptions).
-  absl::StatusOr<std::vector<PoseMatch>> Search(const ClipPoints& query, int frame, const PoseSearchOptions& options) const;
+  absl::StatusOr<std::vector<PoseMatch>> Search(const ClipPoints& query, int frame,
+                                                const PoseSearchOptions& options) const;
 
   int num_clips() const;
   std::int64_t num_frames() const;

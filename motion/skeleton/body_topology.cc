@@ -36,12 +36,18 @@ void SetLimbLandmarks(const std::array<steps::LimbJoints, 2>& arms, const std::a
 
 std::string_view BodyGroupName(BodyGroup group) {
   switch (group) {
-    case BodyGroup::kSpine: return "spine";
-    case BodyGroup::kHead: return "head";
-    case BodyGroup::kLeftArm: return "left_arm";
-    case BodyGroup::kRightArm: return "right_arm";
-    case BodyGroup::kLeftLeg: return "left_leg";
-    case BodyGroup::kRightLeg: return "right_leg";
+    case BodyGroup::kSpine:
+      return "spine";
+    case BodyGroup::kHead:
+      return "head";
+    case BodyGroup::kLeftArm:
+      return "left_arm";
+    case BodyGroup::kRightArm:
+      return "right_arm";
+    case BodyGroup::kLeftLeg:
+      return "left_leg";
+    case BodyGroup::kRightLeg:
+      return "right_leg";
   }
   return "?";
 }
@@ -67,8 +73,8 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
   const std::vector<bool> overlay = steps::FindOverlayChains(skeleton, tree, poses, frames);
   const std::vector<int> candidates = steps::LimbEndCandidates(tree, overlay);
   if (candidates.size() < 5) {
-    return absl::FailedPreconditionError(StrCat("not a humanoid rig: found ", candidates.size(),
-                                                " limb ends; two arms, two legs and a head need five"));
+    return absl::FailedPreconditionError(
+        StrCat("not a humanoid rig: found ", candidates.size(), " limb ends; two arms, two legs and a head need five"));
   }
 
   // 2. The five limb ends; 3. head, limb pairs and pelvis.
@@ -112,10 +118,11 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
   // 8. Landmarks, groups, sizes and unit.
   SetLimbLandmarks(LeftFirst(arm_joints, arm0_left), LeftFirst(leg_joints, leg0_left), &topology.landmarks);
   topology.landmarks.head = steps::HeadLandmark(body.head, metric, tree);
-  steps::AssignGroups(skeleton,
-                      steps::SidedLimbs{.head = body.head, .left_arm = arms[0], .right_arm = arms[1],
-                                        .left_leg = legs[0], .right_leg = legs[1]},
-                      body.pelvis, &topology);
+  steps::AssignGroups(
+      skeleton,
+      steps::SidedLimbs{
+          .head = body.head, .left_arm = arms[0], .right_arm = arms[1], .left_leg = legs[0], .right_leg = legs[1]},
+      body.pelvis, &topology);
   topology.leg_length = steps::LegLength(limbs.legs, leg_joints, metric, bone);
   const steps::Heights heights = steps::MeasureHeights(topology.group_of_joint, body.pelvis, poses, up);
   topology.standing_pelvis_height = heights.standing_pelvis;

@@ -78,11 +78,11 @@ struct BodyTopology {
   int rest_up_axis = 1;
   int rest_up_sign = 1;
   // Sizes in the file's length unit.
-  float leg_length = 0.0f;           // hip joint -> ankle along bones, mean of both legs
+  float leg_length = 0.0f;              // hip joint -> ankle along bones, mean of both legs
   float standing_pelvis_height = 0.0f;  // median over frames of pelvis height above the lowest leg joint
-  float floor_height = 0.0f;         // lowest leg joint height over the clip, along up
+  float floor_height = 0.0f;            // lowest leg joint height over the clip, along up
   LengthUnit unit = LengthUnit::kCentimetre;
-  bool unit_detected = true;         // false when given by the caller
+  bool unit_detected = true;  // false when given by the caller
 
   Eigen::Vector3f up() const {
     Eigen::Vector3f v = Eigen::Vector3f::Zero();

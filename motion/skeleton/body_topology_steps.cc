@@ -12,8 +12,7 @@ namespace {
 
 // Distance from `p` to the segment a-b; `along` receives the unclamped position of p's projection
 // on the line (0 at a, 1 at b).
-float PointSegmentDistance(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
-                           float* along) {
+float PointSegmentDistance(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b, float* along) {
   const Eigen::Vector3f ab = b - a;
   const float length_sq = ab.squaredNorm();
   const float t = length_sq > 0 ? (p - a).dot(ab) / length_sq : 0.0f;
@@ -329,9 +328,9 @@ void AddKneeBendCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints
   }
 }
 
-float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints,
-                const TreeMetric& metric, const GlobalPoses& poses, const std::vector<int>& frames,
-                const Eigen::Vector3f& up, float body_size, Eigen::Vector3f* sum) {
+float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints, const TreeMetric& metric,
+                const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up, float body_size,
+                Eigen::Vector3f* sum) {
   auto height = [&](int frame, int joint) { return poses.position(frame, joint).dot(up); };
   float foot_length = 0.0f;
   for (int i = 0; i < 2; ++i) {
@@ -408,8 +407,8 @@ void AssignGroups(const Skeleton& skeleton, const SidedLimbs& limbs, int pelvis,
   topology->group_end[static_cast<int>(BodyGroup::kSpine)] = pelvis;
 }
 
-float LegLength(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints,
-                const TreeMetric& metric, const Eigen::VectorXf& bone) {
+float LegLength(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints, const TreeMetric& metric,
+                const Eigen::VectorXf& bone) {
   float sum = 0.0f;
   for (int i = 0; i < 2; ++i) {
     for (int j : metric.Path(legs[i].top, leg_joints[i].end)) {

@@ -69,8 +69,8 @@ float BodySize(const TreeMetric& metric);
 
 // The hierarchy with short bones merged into their parents.
 struct MergedTree {
-  std::vector<int> representative;          // per joint: the kept joint it is merged into (itself if kept)
-  std::vector<std::vector<int>> children;   // per kept joint: its kept children
+  std::vector<int> representative;         // per joint: the kept joint it is merged into (itself if kept)
+  std::vector<std::vector<int>> children;  // per kept joint: its kept children
 };
 // Merges every joint whose bone is shorter than kCollapseFraction * body_size into its parent
 // (the root is always kept).
@@ -119,8 +119,8 @@ HeadAndPairs FindHeadAndPairs(const std::array<int, 5>& ends, const TreeMetric& 
 // Step 4: up.
 
 struct UpAxis {
-  int axis = 1;     // 0, 1, 2: X, Y, Z
-  int sign = 1;     // +1 or -1
+  int axis = 1;            // 0, 1, 2: X, Y, Z
+  int sign = 1;            // +1 or -1
   float alignment = 0.0f;  // cosine between the measured direction and the axis
 };
 // The signed world axis nearest `direction`.
@@ -173,9 +173,9 @@ void AddKneeBendCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints
 // joint below the ankle, in the sampled frames where the toe is within 5% of `body_size` of its
 // lowest height (a foot kicked back in a run points its toes backwards). Returns the longest
 // ankle -> toe distance seen (0 without toes).
-float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints,
-                const TreeMetric& metric, const GlobalPoses& poses, const std::vector<int>& frames,
-                const Eigen::Vector3f& up, float body_size, Eigen::Vector3f* sum);
+float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints, const TreeMetric& metric,
+                const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up, float body_size,
+                Eigen::Vector3f* sum);
 // Forward (unit, horizontal): the knee and toe cues summed; when their sum is too short to trust
 // (under 10% of the longer of the foot length and 5% of `body_size`), the pelvis' horizontal travel
 // from the first to the last frame. FailedPrecondition when that is under 5% of `body_size` too.
@@ -209,8 +209,8 @@ struct SidedLimbs {
 void AssignGroups(const Skeleton& skeleton, const SidedLimbs& limbs, int pelvis, BodyTopology* topology);
 
 // Mean over both legs of the bone lengths from the hip joint (the leg's top) down to the ankle.
-float LegLength(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints,
-                const TreeMetric& metric, const Eigen::VectorXf& bone);
+float LegLength(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints, const TreeMetric& metric,
+                const Eigen::VectorXf& bone);
 
 struct Heights {
   float standing_pelvis = 0.0f;  // median over all frames of the pelvis height above the lowest leg joint

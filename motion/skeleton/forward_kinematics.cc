@@ -20,14 +20,27 @@ GlobalPoses ForwardKinematics(const Skeleton& skeleton, const LocalMotion& motio
       continue;
     }
     // Plain loops over contiguous columns: the compiler vectorises them.
-    const float* pw = &g.qw(0, p); const float* px = &g.qx(0, p);
-    const float* py = &g.qy(0, p); const float* pz = &g.qz(0, p);
-    const float* ppx = &g.px(0, p); const float* ppy = &g.py(0, p); const float* ppz = &g.pz(0, p);
-    const float* lw = &motion.qw(0, j); const float* lx = &motion.qx(0, j);
-    const float* ly = &motion.qy(0, j); const float* lz = &motion.qz(0, j);
-    const float* tx = &motion.tx(0, j); const float* ty = &motion.ty(0, j); const float* tz = &motion.tz(0, j);
-    float* ow = &g.qw(0, j); float* ox = &g.qx(0, j); float* oy = &g.qy(0, j); float* oz = &g.qz(0, j);
-    float* opx = &g.px(0, j); float* opy = &g.py(0, j); float* opz = &g.pz(0, j);
+    const float* pw = &g.qw(0, p);
+    const float* px = &g.qx(0, p);
+    const float* py = &g.qy(0, p);
+    const float* pz = &g.qz(0, p);
+    const float* ppx = &g.px(0, p);
+    const float* ppy = &g.py(0, p);
+    const float* ppz = &g.pz(0, p);
+    const float* lw = &motion.qw(0, j);
+    const float* lx = &motion.qx(0, j);
+    const float* ly = &motion.qy(0, j);
+    const float* lz = &motion.qz(0, j);
+    const float* tx = &motion.tx(0, j);
+    const float* ty = &motion.ty(0, j);
+    const float* tz = &motion.tz(0, j);
+    float* ow = &g.qw(0, j);
+    float* ox = &g.qx(0, j);
+    float* oy = &g.qy(0, j);
+    float* oz = &g.qz(0, j);
+    float* opx = &g.px(0, j);
+    float* opy = &g.py(0, j);
+    float* opz = &g.pz(0, j);
     for (int f = 0; f < frames; ++f) {
       const float w = pw[f], x = px[f], y = py[f], z = pz[f];
       // Rotate the local translation by the parent's world rotation: v + 2w(u×v) + 2u×(u×v).
@@ -60,10 +73,9 @@ LocalMotion RestMotion(const Skeleton& skeleton) {
 Eigen::VectorXf BoneLengths(const LocalMotion& motion) {
   Eigen::VectorXf lengths(motion.num_joints());
   for (int j = 0; j < motion.num_joints(); ++j) {
-    lengths[j] = j == 0 ? 0.0f
-                        : (motion.tx.col(j).square() + motion.ty.col(j).square() + motion.tz.col(j).square())
-                              .sqrt()
-                              .mean();
+    lengths[j] =
+        j == 0 ? 0.0f
+               : (motion.tx.col(j).square() + motion.ty.col(j).square() + motion.tz.col(j).square()).sqrt().mean();
   }
   return lengths;
 }

@@ -59,13 +59,25 @@ LocalMotion MotionFromChannels(const Skeleton& skeleton, const ChannelMatrix& ch
         const float w = motion.qw(f, j), x = motion.qx(f, j), y = motion.qy(f, j), z = motion.qz(f, j);
         float rw, rx, ry, rz;
         if (axis == 0) {
-          rw = w * co - x * s; rx = x * co + w * s; ry = y * co + z * s; rz = z * co - y * s;
+          rw = w * co - x * s;
+          rx = x * co + w * s;
+          ry = y * co + z * s;
+          rz = z * co - y * s;
         } else if (axis == 1) {
-          rw = w * co - y * s; rx = x * co - z * s; ry = y * co + w * s; rz = z * co + x * s;
+          rw = w * co - y * s;
+          rx = x * co - z * s;
+          ry = y * co + w * s;
+          rz = z * co + x * s;
         } else {
-          rw = w * co - z * s; rx = x * co + y * s; ry = y * co - x * s; rz = z * co + w * s;
+          rw = w * co - z * s;
+          rx = x * co + y * s;
+          ry = y * co - x * s;
+          rz = z * co + w * s;
         }
-        motion.qw(f, j) = rw; motion.qx(f, j) = rx; motion.qy(f, j) = ry; motion.qz(f, j) = rz;
+        motion.qw(f, j) = rw;
+        motion.qx(f, j) = rx;
+        motion.qy(f, j) = ry;
+        motion.qz(f, j) = rz;
       }
     }
   }

@@ -8,19 +8,24 @@ namespace mocap {
 
 std::string_view ChannelName(ChannelType type) {
   switch (type) {
-    case ChannelType::kXposition: return "Xposition";
-    case ChannelType::kYposition: return "Yposition";
-    case ChannelType::kZposition: return "Zposition";
-    case ChannelType::kXrotation: return "Xrotation";
-    case ChannelType::kYrotation: return "Yrotation";
-    case ChannelType::kZrotation: return "Zrotation";
+    case ChannelType::kXposition:
+      return "Xposition";
+    case ChannelType::kYposition:
+      return "Yposition";
+    case ChannelType::kZposition:
+      return "Zposition";
+    case ChannelType::kXrotation:
+      return "Xrotation";
+    case ChannelType::kYrotation:
+      return "Yrotation";
+    case ChannelType::kZrotation:
+      return "Zrotation";
   }
   return "?";
 }
 
 bool IsRotation(ChannelType type) {
-  return type == ChannelType::kXrotation || type == ChannelType::kYrotation ||
-         type == ChannelType::kZrotation;
+  return type == ChannelType::kXrotation || type == ChannelType::kYrotation || type == ChannelType::kZrotation;
 }
 
 int ChannelAxis(ChannelType type) { return static_cast<int>(type) % 3; }
@@ -49,8 +54,7 @@ absl::Status Skeleton::Validate() const {
       return absl::InvalidArgumentError(StrCat("duplicate joint name '", joint.name, "'"));
     }
     if ((i == 0) != (joint.parent == -1) || joint.parent >= i) {
-      return absl::InvalidArgumentError(
-          StrCat("joint '", joint.name, "' has invalid parent index ", joint.parent));
+      return absl::InvalidArgumentError(StrCat("joint '", joint.name, "' has invalid parent index ", joint.parent));
     }
     if (!joint.offset.allFinite()) {
       return absl::InvalidArgumentError(StrCat("joint '", joint.name, "' has a non-finite offset"));
@@ -59,8 +63,7 @@ absl::Status Skeleton::Validate() const {
     for (ChannelType channel : joint.channels) {
       const unsigned bit = 1u << static_cast<unsigned>(channel);
       if (seen & bit) {
-        return absl::InvalidArgumentError(StrCat("joint '", joint.name, "' repeats channel ",
-                                                       ChannelName(channel)));
+        return absl::InvalidArgumentError(StrCat("joint '", joint.name, "' repeats channel ", ChannelName(channel)));
       }
       seen |= bit;
     }

@@ -13,9 +13,7 @@
 
 namespace mocap {
 
-enum class ChannelType : std::uint8_t {
-  kXposition, kYposition, kZposition, kXrotation, kYrotation, kZrotation
-};
+enum class ChannelType : std::uint8_t { kXposition, kYposition, kZposition, kXrotation, kYrotation, kZrotation };
 std::string_view ChannelName(ChannelType type);  // "Xposition", ...
 bool IsRotation(ChannelType type);
 int ChannelAxis(ChannelType type);  // 0, 1 or 2

@@ -14,7 +14,8 @@ TwoBoneTurns SolveTwoBoneIk(const Eigen::Vector3f& a, const Eigen::Vector3f& b, 
   // Middle joint: change the interior angle so that the a-to-c distance equals the reach.
   const Eigen::Vector3f to_root = (a - b) / upper, to_end = (c - b) / lower;
   const float current = std::acos(std::clamp(to_root.dot(to_end), -1.0f, 1.0f));
-  const float wanted = std::acos(std::clamp((upper * upper + lower * lower - reach * reach) / (2 * upper * lower), -1.0f, 1.0f));
+  const float wanted =
+      std::acos(std::clamp((upper * upper + lower * lower - reach * reach) / (2 * upper * lower), -1.0f, 1.0f));
   Eigen::Vector3f axis = to_root.cross(to_end);
   if (axis.norm() < 1e-6f) axis = bend_axis;  // straight chain: the caller's bend plane
   if (axis.norm() < 1e-9f) return turns;

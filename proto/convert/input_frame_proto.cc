@@ -16,32 +16,48 @@ Eigen::Vector3f FromProto(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 absl::StatusOr<LengthUnit> UnitFromProto(v1::LengthUnit unit) {
   switch (unit) {
-    case v1::LENGTH_UNIT_METRE: return LengthUnit::kMetre;
-    case v1::LENGTH_UNIT_CENTIMETRE: return LengthUnit::kCentimetre;
-    case v1::LENGTH_UNIT_MILLIMETRE: return LengthUnit::kMillimetre;
-    case v1::LENGTH_UNIT_INCH: return LengthUnit::kInch;
-    default: return absl::InvalidArgumentError(StrCat("input_frame.unit: unknown value ", static_cast<int>(unit)));
+    case v1::LENGTH_UNIT_METRE:
+      return LengthUnit::kMetre;
+    case v1::LENGTH_UNIT_CENTIMETRE:
+      return LengthUnit::kCentimetre;
+    case v1::LENGTH_UNIT_MILLIMETRE:
+      return LengthUnit::kMillimetre;
+    case v1::LENGTH_UNIT_INCH:
+      return LengthUnit::kInch;
+    default:
+      return absl::InvalidArgumentError(StrCat("input_frame.unit: unknown value ", static_cast<int>(unit)));
   }
 }
 
 absl::StatusOr<UpAxis> UpFromProto(v1::UpAxis up) {
   switch (up) {
-    case v1::UP_AXIS_POS_X: return UpAxis::kPosX;
-    case v1::UP_AXIS_NEG_X: return UpAxis::kNegX;
-    case v1::UP_AXIS_POS_Y: return UpAxis::kPosY;
-    case v1::UP_AXIS_NEG_Y: return UpAxis::kNegY;
-    case v1::UP_AXIS_POS_Z: return UpAxis::kPosZ;
-    case v1::UP_AXIS_NEG_Z: return UpAxis::kNegZ;
-    default: return absl::InvalidArgumentError(StrCat("input_frame.up: unknown value ", static_cast<int>(up)));
+    case v1::UP_AXIS_POS_X:
+      return UpAxis::kPosX;
+    case v1::UP_AXIS_NEG_X:
+      return UpAxis::kNegX;
+    case v1::UP_AXIS_POS_Y:
+      return UpAxis::kPosY;
+    case v1::UP_AXIS_NEG_Y:
+      return UpAxis::kNegY;
+    case v1::UP_AXIS_POS_Z:
+      return UpAxis::kPosZ;
+    case v1::UP_AXIS_NEG_Z:
+      return UpAxis::kNegZ;
+    default:
+      return absl::InvalidArgumentError(StrCat("input_frame.up: unknown value ", static_cast<int>(up)));
   }
 }
 
 v1::LengthUnit ToProto(LengthUnit unit) {
   switch (unit) {
-    case LengthUnit::kMetre: return v1::LENGTH_UNIT_METRE;
-    case LengthUnit::kCentimetre: return v1::LENGTH_UNIT_CENTIMETRE;
-    case LengthUnit::kMillimetre: return v1::LENGTH_UNIT_MILLIMETRE;
-    case LengthUnit::kInch: return v1::LENGTH_UNIT_INCH;
+    case LengthUnit::kMetre:
+      return v1::LENGTH_UNIT_METRE;
+    case LengthUnit::kCentimetre:
+      return v1::LENGTH_UNIT_CENTIMETRE;
+    case LengthUnit::kMillimetre:
+      return v1::LENGTH_UNIT_MILLIMETRE;
+    case LengthUnit::kInch:
+      return v1::LENGTH_UNIT_INCH;
   }
   return v1::LENGTH_UNIT_UNSPECIFIED;
 }
@@ -69,7 +85,8 @@ absl::StatusOr<InputFrame> InputFrameFromProto(const v1::InputFrame& proto) {
   InputFrame frame;
   if (proto.preset() != v1::INPUT_FRAME_PRESET_UNSPECIFIED) {
     std::optional<InputFramePreset> preset = PresetFromProto(proto.preset());
-    if (!preset) return absl::InvalidArgumentError(StrCat("input_frame.preset: unknown value ", static_cast<int>(proto.preset())));
+    if (!preset)
+      return absl::InvalidArgumentError(StrCat("input_frame.preset: unknown value ", static_cast<int>(proto.preset())));
     frame = preset->frame;
   }
   if (proto.unit() != v1::LENGTH_UNIT_UNSPECIFIED) {
@@ -79,10 +96,17 @@ absl::StatusOr<InputFrame> InputFrameFromProto(const v1::InputFrame& proto) {
     MOCAP_ASSIGN_OR_RETURN(frame.convention.up, UpFromProto(proto.up()));
   }
   switch (proto.handedness()) {
-    case v1::HANDEDNESS_UNSPECIFIED: break;
-    case v1::HANDEDNESS_RIGHT: frame.convention.handedness = Handedness::kRight; break;
-    case v1::HANDEDNESS_LEFT: frame.convention.handedness = Handedness::kLeft; break;
-    default: return absl::InvalidArgumentError(StrCat("input_frame.handedness: unknown value ", static_cast<int>(proto.handedness())));
+    case v1::HANDEDNESS_UNSPECIFIED:
+      break;
+    case v1::HANDEDNESS_RIGHT:
+      frame.convention.handedness = Handedness::kRight;
+      break;
+    case v1::HANDEDNESS_LEFT:
+      frame.convention.handedness = Handedness::kLeft;
+      break;
+    default:
+      return absl::InvalidArgumentError(
+          StrCat("input_frame.handedness: unknown value ", static_cast<int>(proto.handedness())));
   }
   if (proto.floor_case() == v1::InputFrame::kFloorHeight) frame.floor = {false, proto.floor_height()};
   if (proto.floor_case() == v1::InputFrame::kCalibrateFloor) frame.floor = {proto.calibrate_floor(), 0.0};

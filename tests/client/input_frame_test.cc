@@ -12,12 +12,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "proto/convert/input_frame_proto.h"
 #include "client/wrist_input/wrist_source.h"
+#include "motion/bvh/bvh_writer.h"
 #include "motion/frames/frame_transform.h"
 #include "motion/frames/input_frame.h"
-#include "motion/bvh/bvh_writer.h"
 #include "motion/preprocess/clip_labels.h"
+#include "proto/convert/input_frame_proto.h"
 #include "tests/support/server_fixture.h"
 #include "tests/support/shared_data.h"
 
@@ -79,20 +79,24 @@ class InputFrameTest : public testing::ServerFixture {
     config.set_include_diagnostics(true);
     return config;
   }
-  v1::ReconstructTrajectoryResponse Reconstruct(const v1::SessionConfig& config, const std::vector<v1::WristSample>& samples) {
+  v1::ReconstructTrajectoryResponse Reconstruct(const v1::SessionConfig& config,
+                                                const std::vector<v1::WristSample>& samples) {
     auto response = client_->ReconstructTrajectory(config, samples);
     EXPECT_TRUE(response.ok()) << response.status();
     return response.ok() ? *response : v1::ReconstructTrajectoryResponse();
   }
   // Every output of `got` (in `transform`'s frame) against the native `expected`.
-  static void ExpectSameMotion(const v1::ReconstructTrajectoryResponse& expected, const v1::ReconstructTrajectoryResponse& got,
-                               const FrameTransform& transform, const std::string& what) {
+  static void ExpectSameMotion(const v1::ReconstructTrajectoryResponse& expected,
+                               const v1::ReconstructTrajectoryResponse& got, const FrameTransform& transform,
+                               const std::string& what) {
     SCOPED_TRACE(what);
     const auto& expected_joints = expected.started().skeleton().joints();
     const auto& got_joints = got.started().skeleton().joints();
     ASSERT_EQ(got_joints.size(), expected_joints.size());
     for (int j = 0; j < expected_joints.size(); ++j) {
-      EXPECT_LT((transform.VectorToNative(FromProto(got_joints[j].offset())) - FromProto(expected_joints[j].offset())).norm(), 1e-5)
+      EXPECT_LT(
+          (transform.VectorToNative(FromProto(got_joints[j].offset())) - FromProto(expected_joints[j].offset())).norm(),
+          1e-5)
           << "joint " << j;
     }
     ASSERT_EQ(got.frames_size(), expected.frames_size());
@@ -101,7 +105,8 @@ class InputFrameTest : public testing::ServerFixture {
       const v1::Frame& e = expected.frames(f);
       const v1::Frame& g = got.frames(f);
       auto position = [&](const v1::Vec3& got_v, const v1::Vec3& expected_v) {
-        worst_position = std::max<double>(worst_position, (transform.PositionToNative(FromProto(got_v)) - FromProto(expected_v)).norm());
+        worst_position = std::max<double>(
+            worst_position, (transform.PositionToNative(FromProto(got_v)) - FromProto(expected_v)).norm());
       };
       position(g.root_position(), e.root_position());
       position(g.pelvis_position(), e.pelvis_position());
@@ -114,10 +119,12 @@ class InputFrameTest : public testing::ServerFixture {
         const Eigen::Quaternionf native = transform.RotationToNative(FromProto(g.rotations(j)));
         worst_angle = std::max<double>(worst_angle, native.angularDistance(FromProto(e.rotations(j))));
       }
-      EXPECT_NEAR(transform.LengthToNative(g.diagnostics().left_wrist_error()), e.diagnostics().left_wrist_error(), 1e-4);
+      EXPECT_NEAR(transform.LengthToNative(g.diagnostics().left_wrist_error()), e.diagnostics().left_wrist_error(),
+                  1e-4);
     }
-    std::cout << "[ input frames ] " << what << ": worst position difference " << worst_position * 1000 << " mm, worst rotation "
-              << worst_angle * 180 / M_PI << " deg over " << expected.frames_size() << " frames\n";
+    std::cout << "[ input frames ] " << what << ": worst position difference " << worst_position * 1000
+              << " mm, worst rotation " << worst_angle * 180 / M_PI << " deg over " << expected.frames_size()
+              << " frames\n";
     EXPECT_LT(worst_position, 1e-3);  // 1 mm
     EXPECT_LT(worst_angle, 2e-3);     // 0.1°
   }
@@ -137,16 +144,17 @@ TEST_F(InputFrameTest, EveryPresetGivesTheNativeReconstruction) {
   calibrated_config.set_output_frame(v1::OUTPUT_FRAME_SERVER);  // relative to the estimated floor
   const v1::ReconstructTrajectoryResponse calibrated = Reconstruct(calibrated_config, query_);
   EXPECT_TRUE(calibrated.input_report().floor_calibrated());
-  std::cout << "[ input frames ] calibrated floor of the held-out clip: " << calibrated.input_report().floor_height() * 100
-            << " cm from the true one\n";
+  std::cout << "[ input frames ] calibrated floor of the held-out clip: "
+            << calibrated.input_report().floor_height() * 100 << " cm from the true one\n";
   EXPECT_LT(std::abs(calibrated.input_report().floor_height()), 0.10);
 
   for (const InputFramePreset& preset : InputFramePresets()) {
     // A floor-relative preset's floor where it says; a calibrated one 1.4 m below the origin (a
     // head-height origin, as OpenXR LOCAL), in the preset's own unit and up axis.
     const FrameConvention& convention = preset.frame.convention;
-    const double floor = preset.frame.floor.calibrate ? -1.4 / MetresPerUnit(convention.unit) * UpAxisSign(convention.up)
-                                                      : preset.frame.floor.height;
+    const double floor = preset.frame.floor.calibrate
+                             ? -1.4 / MetresPerUnit(convention.unit) * UpAxisSign(convention.up)
+                             : preset.frame.floor.height;
     const FrameTransform sent(convention, floor);
     v1::SessionConfig config = Config();
     config.mutable_input_frame()->set_preset(PresetToProto(preset.name));
@@ -156,9 +164,10 @@ TEST_F(InputFrameTest, EveryPresetGivesTheNativeReconstruction) {
     // Frames come back in the preset's frame, positions relative to the floor it reported.
     const FrameTransform back(convention, got.input_report().floor_height());
     if (preset.frame.floor.calibrate) {
-      EXPECT_NEAR(got.input_report().floor_height(), floor + calibrated.input_report().floor_height() *
-                                                                 UpAxisSign(convention.up) / MetresPerUnit(convention.unit),
-                  1e-3 / MetresPerUnit(convention.unit));
+      EXPECT_NEAR(
+          got.input_report().floor_height(),
+          floor + calibrated.input_report().floor_height() * UpAxisSign(convention.up) / MetresPerUnit(convention.unit),
+          1e-3 / MetresPerUnit(convention.unit));
     }
     ExpectSameMotion(preset.frame.floor.calibrate ? calibrated : native, got, back, std::string(preset.name));
     // The resolved frame is echoed field by field.
@@ -209,7 +218,8 @@ TEST_F(InputFrameTest, ExplicitFieldsAndATrackedDeviceGiveTheSameMotion) {
   EXPECT_NE(refused.rejected(0).reason().find("left_orientation"), std::string::npos) << refused.rejected(0).reason();
   // A bad declaration is refused before any work, naming the field.
   frame->mutable_device_offset()->set_z(900);  // 0.9 m
-  EXPECT_NE(client_->ReconstructTrajectory(config, samples).status().message().find("device_offset"), std::string::npos);
+  EXPECT_NE(client_->ReconstructTrajectory(config, samples).status().message().find("device_offset"),
+            std::string::npos);
 }
 
 TEST_F(InputFrameTest, WrongDeclarationsAreNamed) {
@@ -238,8 +248,9 @@ TEST_F(InputFrameTest, WrongDeclarationsAreNamed) {
   EXPECT_EQ(mirrored.input_report().warnings(0).kind(), v1::INPUT_WARNING_KIND_SWAPPED);
   EXPECT_NE(mirrored.input_report().warnings(0).message().find("left and right look swapped"), std::string::npos);
 
-  std::cout << "[ input frames ] messages:\n  " << cm.rejected(0).reason() << "\n  " << below.input_report().warnings(0).message()
-            << "\n  " << mirrored.input_report().warnings(0).message() << "\n";
+  std::cout << "[ input frames ] messages:\n  " << cm.rejected(0).reason() << "\n  "
+            << below.input_report().warnings(0).message() << "\n  " << mirrored.input_report().warnings(0).message()
+            << "\n";
 
   // With strict, a warning ends the call with its message.
   config.set_strict(true);
@@ -283,9 +294,10 @@ TEST_F(InputFrameTest, CliTakesPresetsAndExplicitFlags) {
   SetUpData();
   const fs::path clip = WriteClip("cli_query.bvh", 90);
   auto run = [&](const std::string& name, const std::string& flags) {
-    const std::string command = std::string(MOCAP_CLI_PATH) + " --address " + server_->address() + " --key " + keys_["acme"] +
-                                " reconstruct --database walks --bvh " + clip.string() + " --k1 100 --k2 30 --quiet " + flags +
-                                " -o " + (dir_ / name).string() + " 2>>" + (dir_ / "cli.log").string();
+    const std::string command = std::string(MOCAP_CLI_PATH) + " --address " + server_->address() + " --key " +
+                                keys_["acme"] + " reconstruct --database walks --bvh " + clip.string() +
+                                " --k1 100 --k2 30 --quiet " + flags + " -o " + (dir_ / name).string() + " 2>>" +
+                                (dir_ / "cli.log").string();
     EXPECT_EQ(std::system(command.c_str()), 0) << command;
     std::ifstream in(dir_ / (name + ".json"));
     return nlohmann::json::parse(in, nullptr, false);
@@ -293,8 +305,7 @@ TEST_F(InputFrameTest, CliTakesPresetsAndExplicitFlags) {
   const nlohmann::json native = run("native", "");
   ASSERT_FALSE(native.is_discarded());
   for (const auto& [name, flags] : std::vector<std::pair<std::string, std::string>>{
-           {"unreal", "--input-frame unreal"},
-           {"explicit", "--units in --up=-z --handedness left --floor 12.5"}}) {
+           {"unreal", "--input-frame unreal"}, {"explicit", "--units in --up=-z --handedness left --floor 12.5"}}) {
     const nlohmann::json got = run(name, flags);
     ASSERT_FALSE(got.is_discarded()) << name;
     ASSERT_EQ(got["frames"].size(), native["frames"].size()) << name;

@@ -2,9 +2,9 @@
 // latency percentiles.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <cstdio>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
 #include "client/load/latency_summary.h"
 #include "tests/support/server_fixture.h"

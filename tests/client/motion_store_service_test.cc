@@ -45,7 +45,8 @@ class MotionStoreServiceTest : public testing::ServerFixture {
     }
   };
   std::unique_ptr<RawImport> OpenRawImport(const std::string& tenant) {
-    if (!stub_) stub_ = v1::MotionStore::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
+    if (!stub_)
+      stub_ = v1::MotionStore::NewStub(grpc::CreateChannel(server_->address(), grpc::InsecureChannelCredentials()));
     auto call = std::make_unique<RawImport>();
     call->context.AddMetadata("authorization", "Bearer " + keys_[tenant]);
     call->writer = stub_->ImportBvh(&call->context, &call->response);
@@ -71,11 +72,10 @@ TEST_F(MotionStoreServiceTest, EveryCallSucceeds) {
 
   std::vector<fs::path> files = {WriteClip("dataset-2_walk_normal_001.bvh", 40), WriteClip("b.bvh", 41)};
   int progress_calls = 0;
-  auto imported = client->ImportFiles("walks", files, {.chunk_bytes = 4096},
-                                      [&](const client::ImportProgress& p) {
-                                        ++progress_calls;
-                                        EXPECT_LE(p.bytes_sent, p.bytes_total);
-                                      });
+  auto imported = client->ImportFiles("walks", files, {.chunk_bytes = 4096}, [&](const client::ImportProgress& p) {
+    ++progress_calls;
+    EXPECT_LE(p.bytes_sent, p.bytes_total);
+  });
   ASSERT_TRUE(imported.ok()) << imported.status();
   EXPECT_GT(progress_calls, 2);
   EXPECT_FALSE(imported->created_database());
@@ -126,8 +126,8 @@ TEST_F(MotionStoreServiceTest, EveryCallSucceeds) {
 TEST_F(MotionStoreServiceTest, MalformedFileFailsTheImportAndStoresNothing) {
   StartServer();
   auto client = Connect(keys_["acme"]);
-  std::vector<fs::path> files = {WriteClip("a.bvh", 40), WriteText("bad.bvh", "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0\n"),
-                                 WriteClip("c.bvh", 42)};
+  std::vector<fs::path> files = {
+      WriteClip("a.bvh", 40), WriteText("bad.bvh", "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0\n"), WriteClip("c.bvh", 42)};
   auto failed = client->ImportFiles("walks", files);
   ASSERT_FALSE(failed.ok());
   EXPECT_EQ(failed.status().code(), absl::StatusCode::kInvalidArgument);
@@ -160,8 +160,9 @@ TEST_F(MotionStoreServiceTest, KeysAreRequiredAndTenantsAreIsolated) {
   const auto missing = other->DescribeDatabase("no-such-database").status();
   const auto foreign = other->DescribeDatabase("walks").status();
   EXPECT_EQ(foreign.code(), absl::StatusCode::kNotFound);
-  EXPECT_EQ(std::string(foreign.message()), std::string(missing.message()).replace(
-                                                std::string(missing.message()).find("no-such-database"), 16, "walks"));
+  EXPECT_EQ(
+      std::string(foreign.message()),
+      std::string(missing.message()).replace(std::string(missing.message()).find("no-such-database"), 16, "walks"));
   EXPECT_EQ(other->ListClips("walks").status().code(), absl::StatusCode::kNotFound);
   EXPECT_EQ(other->ExportClip("walks", clip).status().code(), absl::StatusCode::kNotFound);
   EXPECT_EQ(other->DeleteClip("walks", clip).code(), absl::StatusCode::kNotFound);

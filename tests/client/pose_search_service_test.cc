@@ -7,11 +7,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tools/similar_json/similar_json.h"
 #include "mocap/client.h"
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
 #include "tests/support/server_fixture.h"
+#include "tools/similar_json/similar_json.h"
 
 namespace mocap {
 namespace {
@@ -27,7 +27,10 @@ class PoseSearchServiceTest : public testing::ServerFixture {
     ImportWalks(*client_);
     // The query: the same walk on another rig (Z-up root, fingers, twist bones, inches, XYZ).
     query_ = WriteClip("query.bvh", 90,
-                       {.z_up = true, .fingers_and_toes = true, .twist_bones = true, .length_scale = 1.0 / 2.54,
+                       {.z_up = true,
+                        .fingers_and_toes = true,
+                        .twist_bones = true,
+                        .length_scale = 1.0 / 2.54,
                         .rotation_order = "XYZ"});
   }
   v1::FindSimilarPosesRequest Request(int first, int last, int step = 1) {
@@ -57,7 +60,8 @@ class PoseSearchServiceTest : public testing::ServerFixture {
     std::ifstream in(dir_ / "server.log");
     std::string line;
     int builds = 0;
-    while (std::getline(in, line)) builds += line.find("pose index of database") != std::string::npos && line.find(" built ") != std::string::npos;
+    while (std::getline(in, line))
+      builds += line.find("pose index of database") != std::string::npos && line.find(" built ") != std::string::npos;
     return builds;
   }
   std::unique_ptr<client::Client> client_;
@@ -100,14 +104,16 @@ TEST_F(PoseSearchServiceTest, FindsTheSamePoseOnAnotherRigUnaryAndStreamed) {
   EXPECT_EQ(collected.SerializeAsString(), whole->SerializeAsString());
 
   // A reader that stops after the first part cancels the call.
-  absl::Status cancelled = client_->StreamSimilarPoses(request, [](const v1::FindSimilarPosesResponse&) { return false; });
+  absl::Status cancelled =
+      client_->StreamSimilarPoses(request, [](const v1::FindSimilarPosesResponse&) { return false; });
   EXPECT_EQ(cancelled.code(), absl::StatusCode::kCancelled);
 }
 
 TEST_F(PoseSearchServiceTest, PosesSentAsNamedJointPositions) {
   // Frame 20 of the plain synthetic walk, in metres, as named positions (what an app sends).
   const BvhClip clip = testing::MakeWalkingClip({}, 40);
-  const GlobalPoses poses = ForwardKinematics(clip.skeleton, MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
+  const GlobalPoses poses =
+      ForwardKinematics(clip.skeleton, MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
   v1::FindSimilarPosesRequest request;
   request.add_databases("walks");
   for (int frame : {20, 25}) {
@@ -168,19 +174,46 @@ TEST_F(PoseSearchServiceTest, LimitsAreNamedAndCheckedBeforeAnyWork) {
   };
   const std::vector<Case> cases = {
       {"no database", [](auto& r) { r.clear_databases(); }, "databases"},
-      {"nine databases", [](auto& r) { for (int i = 0; i < 8; ++i) r.add_databases("walks" + std::to_string(i)); }, "at most 8"},
+      {"nine databases",
+       [](auto& r) {
+         for (int i = 0; i < 8; ++i) r.add_databases("walks" + std::to_string(i));
+       },
+       "at most 8"},
       {"the same database twice", [](auto& r) { r.add_databases("walks"); }, "same database"},
       {"no query", [](auto& r) { r.clear_bvh(); }, "query"},
       {"top_k 101", [](auto& r) { r.set_top_k(101); }, "top_k"},
       {"even window", [](auto& r) { r.set_window(4); }, "window"},
       {"negative weights", [](auto& r) { r.mutable_weights()->set_left_leg(-1); }, "weights"},
       {"all-zero weights", [](auto& r) { r.mutable_weights(); }, "weights"},
-      {"too many exact frames", [](auto& r) { r.set_exact(true); r.mutable_bvh()->set_frame_step(0); r.mutable_bvh()->set_first_frame(0); r.mutable_bvh()->set_last_frame(100000); }, "at most 200"},
-      {"too many frames", [](auto& r) { r.mutable_bvh()->set_first_frame(0); r.mutable_bvh()->set_last_frame(100000); }, "at most 2000"},
-      {"frames x top_k", [](auto& r) { r.set_top_k(100); r.mutable_bvh()->set_first_frame(0); r.mutable_bvh()->set_last_frame(500); }, "matches; at most 20000"},
+      {"too many exact frames",
+       [](auto& r) {
+         r.set_exact(true);
+         r.mutable_bvh()->set_frame_step(0);
+         r.mutable_bvh()->set_first_frame(0);
+         r.mutable_bvh()->set_last_frame(100000);
+       },
+       "at most 200"},
+      {"too many frames",
+       [](auto& r) {
+         r.mutable_bvh()->set_first_frame(0);
+         r.mutable_bvh()->set_last_frame(100000);
+       },
+       "at most 2000"},
+      {"frames x top_k",
+       [](auto& r) {
+         r.set_top_k(100);
+         r.mutable_bvh()->set_first_frame(0);
+         r.mutable_bvh()->set_last_frame(500);
+       },
+       "matches; at most 20000"},
       {"frames outside the file", [](auto& r) { r.mutable_bvh()->set_last_frame(90); }, "outside"},
       {"not BVH", [](auto& r) { r.mutable_bvh()->set_bvh("HIERARCHY\nnonsense"); }, "query.bvh"},
-      {"window on poses", [](auto& r) { r.mutable_poses()->add_poses(); r.set_window(3); }, "window"},
+      {"window on poses",
+       [](auto& r) {
+         r.mutable_poses()->add_poses();
+         r.set_window(3);
+       },
+       "window"},
   };
   for (const Case& c : cases) {
     v1::FindSimilarPosesRequest request = Request(0, 10);
@@ -227,8 +260,10 @@ TEST_F(PoseSearchServiceTest, IndexBuiltOncePerDatabaseVersionAndRebuiltAfterImp
 }
 
 TEST_F(PoseSearchServiceTest, MocapSimilarPrintsWhatMocapdSimilarPrints) {
-  const std::string common = " --database walks --query " + query_.string() + " --frames 10:40 --step 5 --top 4 --window 3 --json";
-  const Run local = Command(std::string(MOCAPD_PATH) + " similar --store " + store_.string() + " --tenant acme" + common);
+  const std::string common =
+      " --database walks --query " + query_.string() + " --frames 10:40 --step 5 --top 4 --window 3 --json";
+  const Run local =
+      Command(std::string(MOCAPD_PATH) + " similar --store " + store_.string() + " --tenant acme" + common);
   ASSERT_EQ(local.exit_code, 0) << local.out;
   const Run remote = Command(std::string(MOCAP_CLI_PATH) + " similar --address " + server_->address() + " --key " +
                              keys_["acme"] + common);

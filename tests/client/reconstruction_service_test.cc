@@ -5,8 +5,8 @@
 
 #include <atomic>
 #include <chrono>
-#include <iostream>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <thread>
 
@@ -14,9 +14,9 @@
 #include "mocap/v1/reconstruction.grpc.pb.h"
 #include "motion/bvh/bvh_writer.h"
 #include "tests/support/raw_reconstruct.h"
-#include "tests/support/synthetic_clip.h"
 #include "tests/support/server_fixture.h"
 #include "tests/support/stream_events.h"
+#include "tests/support/synthetic_clip.h"
 
 namespace mocap {
 namespace {
@@ -68,7 +68,8 @@ class ReconstructionServiceTest : public testing::ServerFixture {
     return out;
   }
   static double Distance(const v1::Vec3& a, const v1::Vec3& b) {
-    return std::sqrt((a.x() - b.x()) * (a.x() - b.x()) + (a.y() - b.y()) * (a.y() - b.y()) + (a.z() - b.z()) * (a.z() - b.z()));
+    return std::sqrt((a.x() - b.x()) * (a.x() - b.x()) + (a.y() - b.y()) * (a.y() - b.y()) +
+                     (a.z() - b.z()) * (a.z() - b.z()));
   }
 };
 
@@ -327,7 +328,8 @@ TEST_F(ReconstructionServiceTest, PerformerHeightScalesTheWholeSession) {
   config.set_performer_height(plain.started.database_height() * factor);
   Streamed scaled = Stream(*client, config, tall);
   ASSERT_TRUE(scaled.summary.ok()) << scaled.summary.status();
-  EXPECT_NEAR(scaled.started.skeleton().joints(2).offset().y(), plain.started.skeleton().joints(2).offset().y() * factor, 1e-4);
+  EXPECT_NEAR(scaled.started.skeleton().joints(2).offset().y(),
+              plain.started.skeleton().joints(2).offset().y() * factor, 1e-4);
   ASSERT_EQ(scaled.frames.size(), plain.frames.size());
   for (size_t i = 0; i < plain.frames.size(); ++i) {
     EXPECT_NEAR(scaled.frames[i].pelvis_position().y(), plain.frames[i].pelvis_position().y() * factor, 2e-3) << i;
@@ -345,7 +347,8 @@ TEST_F(ReconstructionServiceTest, ATargetRigAnswersEveryFrameOnThatRig) {
   Streamed plain = Stream(*client, Config(0), samples);
   ASSERT_TRUE(plain.summary.ok()) << plain.summary.status();
 
-  const BvhClip avatar = testing::MakeWalkingClip({.z_up = true, .fingers_and_toes = true, .length_scale = 1.25 / 2.54}, 10);
+  const BvhClip avatar =
+      testing::MakeWalkingClip({.z_up = true, .fingers_and_toes = true, .length_scale = 1.25 / 2.54}, 10);
   v1::SessionConfig config = Config(0);
   config.mutable_target_rig()->set_bvh(FormatBvh(avatar));
   Streamed on_avatar = Stream(*client, config, samples);

@@ -22,16 +22,19 @@ class UnavailableStore final : public v1::MotionStore::Service {
     return attempts_[method];
   }
 
-  grpc::Status CreateDatabase(grpc::ServerContext*, const v1::CreateDatabaseRequest*, v1::CreateDatabaseResponse*) override {
+  grpc::Status CreateDatabase(grpc::ServerContext*, const v1::CreateDatabaseRequest*,
+                              v1::CreateDatabaseResponse*) override {
     return Count("CreateDatabase");
   }
-  grpc::Status DeleteDatabase(grpc::ServerContext*, const v1::DeleteDatabaseRequest*, v1::DeleteDatabaseResponse*) override {
+  grpc::Status DeleteDatabase(grpc::ServerContext*, const v1::DeleteDatabaseRequest*,
+                              v1::DeleteDatabaseResponse*) override {
     return Count("DeleteDatabase");
   }
   grpc::Status DeleteClip(grpc::ServerContext*, const v1::DeleteClipRequest*, v1::DeleteClipResponse*) override {
     return Count("DeleteClip");
   }
-  grpc::Status ListDatabases(grpc::ServerContext*, const v1::ListDatabasesRequest*, v1::ListDatabasesResponse*) override {
+  grpc::Status ListDatabases(grpc::ServerContext*, const v1::ListDatabasesRequest*,
+                             v1::ListDatabasesResponse*) override {
     return Count("ListDatabases");
   }
   grpc::Status DescribeDatabase(grpc::ServerContext*, const v1::DescribeDatabaseRequest*,

@@ -19,9 +19,10 @@ class TlsTest : public testing::ServerFixture {
   bool MakeCertificate() {
     cert_ = dir_ / "server.crt";
     key_ = dir_ / "server.key";
-    const std::string command = "openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=localhost "
-                                "-addext subjectAltName=IP:127.0.0.1,DNS:localhost -keyout " +
-                                key_.string() + " -out " + cert_.string() + " >/dev/null 2>&1";
+    const std::string command =
+        "openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=localhost "
+        "-addext subjectAltName=IP:127.0.0.1,DNS:localhost -keyout " +
+        key_.string() + " -out " + cert_.string() + " >/dev/null 2>&1";
     return std::system(command.c_str()) == 0 && fs::exists(cert_);
   }
   static std::string Read(const fs::path& path) {

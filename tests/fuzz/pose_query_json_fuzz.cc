@@ -5,9 +5,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tools/similar_json/similar_json.h"
 #include "motion/similarity/named_pose.h"
 #include "server/named_pose_convert.h"
+#include "tools/similar_json/similar_json.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const nlohmann::json json = nlohmann::json::parse(data, data + size, nullptr, /*allow_exceptions=*/false);

@@ -2,8 +2,8 @@
 // a ReconstructTrajectoryRequest (session config + samples); the SessionDriver validates the
 // config, pushes the samples in the slices the reactors use, and finishes, on a small synthetic
 // database. Any config field and any sample values (NaN, huge, out of order, gaps) are reached.
-#include <cstddef>
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 
 #include "mocap/v1/reconstruction.pb.h"
@@ -13,7 +13,8 @@
 namespace {
 
 const mocap::testing::SyntheticReconstructionSetup& Setup() {
-  static const auto* setup = new mocap::testing::SyntheticReconstructionSetup(mocap::testing::MakeSyntheticReconstructionSetup({}, 30));
+  static const auto* setup =
+      new mocap::testing::SyntheticReconstructionSetup(mocap::testing::MakeSyntheticReconstructionSetup({}, 30));
   return *setup;
 }
 

@@ -14,9 +14,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kTinyBvh = "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition "
-                                 "Zrotation Xrotation Yrotation\n  End Site\n  {\n    OFFSET 0 10 0\n  }\n}\nMOTION\n"
-                                 "Frames: 1\nFrame Time: 0.0333333\n0 0 0 0 0 0\n";
+constexpr const char* kTinyBvh =
+    "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition "
+    "Zrotation Xrotation Yrotation\n  End Site\n  {\n    OFFSET 0 10 0\n  }\n}\nMOTION\n"
+    "Frames: 1\nFrame Time: 0.0333333\n0 0 0 0 0 0\n";
 
 class HtmlReportTest : public ::testing::Test {
  protected:
@@ -30,18 +31,26 @@ class HtmlReportTest : public ::testing::Test {
       ASSERT_TRUE(html_view::WriteTextFile(dir_ / "bvh" / "truth" / name, kTinyBvh).ok());
     }
     ASSERT_TRUE(html_view::WriteTextFile(dir_ / "plots" / "error_by_content.svg", "<svg id=\"chart\"></svg>").ok());
-    auto clip = [](const char* content, double mpjpe) { return nlohmann::json{{"content", content}, {"mpjpe_cm", mpjpe}}; };
-    report_ = {
-        {"database", "a <b> database"},
-        {"test_clips", 5},
-        {"targets", {{"mpjpe_reduction_target", 0.25}}},
-        {"experiments",
-         {{"full", {{"group", "main"}, {"x", 0}, {"overall", {{"mpjpe_cm", 4.5}, {"a_new_metric", 7}}},
-                    {"by_content", {{"walk", {{"mpjpe_cm", 4.0}}}, {"run", {{"mpjpe_cm", 6.0}}}}},
-                    {"clips", {{"walk_1.bvh", clip("walk", 3.0)}, {"walk_2.bvh", clip("walk", 9.0)},
-                               {"walk_3.bvh", clip("walk", 5.0)}, {"walk_4.bvh", clip("walk", 1.0)},
-                               {"run_1.bvh", clip("run", 6.0)}, {"gone.bvh", clip("run", 99.0)}}}}},
-          {"lag_5", {{"group", "lag"}, {"x", 5}, {"overall", {{"mpjpe_cm", 5.5}}}}}}}};
+    auto clip = [](const char* content, double mpjpe) {
+      return nlohmann::json{{"content", content}, {"mpjpe_cm", mpjpe}};
+    };
+    report_ = {{"database", "a <b> database"},
+               {"test_clips", 5},
+               {"targets", {{"mpjpe_reduction_target", 0.25}}},
+               {"experiments",
+                {{"full",
+                  {{"group", "main"},
+                   {"x", 0},
+                   {"overall", {{"mpjpe_cm", 4.5}, {"a_new_metric", 7}}},
+                   {"by_content", {{"walk", {{"mpjpe_cm", 4.0}}}, {"run", {{"mpjpe_cm", 6.0}}}}},
+                   {"clips",
+                    {{"walk_1.bvh", clip("walk", 3.0)},
+                     {"walk_2.bvh", clip("walk", 9.0)},
+                     {"walk_3.bvh", clip("walk", 5.0)},
+                     {"walk_4.bvh", clip("walk", 1.0)},
+                     {"run_1.bvh", clip("run", 6.0)},
+                     {"gone.bvh", clip("run", 99.0)}}}}},
+                 {"lag_5", {{"group", "lag"}, {"x", 5}, {"overall", {{"mpjpe_cm", 5.5}}}}}}}};
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -67,7 +76,7 @@ TEST_F(HtmlReportTest, WritesTablesPlotsAndThePlayerFromAnyReport) {
   ASSERT_TRUE(html.ok());
   EXPECT_NE(html->find("a &lt;b&gt; database"), std::string::npos);
   EXPECT_NE(html->find("<th>MPJPE (cm)</th>"), std::string::npos);
-  EXPECT_NE(html->find("<th>a new metric</th>"), std::string::npos);  // metrics not known in advance
+  EXPECT_NE(html->find("<th>a new metric</th>"), std::string::npos);     // metrics not known in advance
   EXPECT_LT(html->find("<td>full</td>"), html->find("<td>lag_5</td>"));  // main runs first
   EXPECT_NE(html->find("MPJPE (cm) per content type"), std::string::npos);
   EXPECT_NE(html->find("<svg id=\"chart\"></svg>"), std::string::npos);

@@ -63,7 +63,8 @@ TEST_F(MocapdCliTest, InspectPrintsLandmarksAsJson) {
 
 TEST_F(MocapdCliTest, ImportThenListDatabases) {
   const std::string store = (dir_ / "var" / "mocap.db").string();
-  const RunResult imported = RunMocapd("import --quiet --json --store " + store + " --database walks " + (dir_ / "clips").string());
+  const RunResult imported =
+      RunMocapd("import --quiet --json --store " + store + " --database walks " + (dir_ / "clips").string());
   ASSERT_EQ(imported.exit_code, 0) << imported.out;
   const auto summary = nlohmann::json::parse(imported.out);
   EXPECT_EQ(summary["imported"], 3);
@@ -90,7 +91,9 @@ TEST_F(MocapdCliTest, TenantsKeysAndPerTenantDatabases) {
   const std::string key_id = made["key_id"];
   EXPECT_EQ(made["key"].get<std::string>().rfind(key_id, 0), 0u);
 
-  ASSERT_EQ(RunMocapd("import --quiet --tenant acme --database walks " + store + " " + (dir_ / "clips").string()).exit_code, 0);
+  ASSERT_EQ(
+      RunMocapd("import --quiet --tenant acme --database walks " + store + " " + (dir_ / "clips").string()).exit_code,
+      0);
   EXPECT_EQ(nlohmann::json::parse(RunMocapd("databases --json --tenant acme " + store).out).size(), 1u);
   EXPECT_EQ(nlohmann::json::parse(RunMocapd("databases --json " + store).out).size(), 0u);
   EXPECT_NE(RunMocapd("databases --tenant nobody " + store).exit_code, 0);
@@ -109,9 +112,11 @@ TEST_F(MocapdCliTest, TenantsKeysAndPerTenantDatabases) {
 
 TEST_F(MocapdCliTest, BadInputsFailWithNonZeroExit) {
   EXPECT_NE(RunMocapd("inspect " + (dir_ / "missing.bvh").string()).exit_code, 0);
-  EXPECT_NE(RunMocapd("import --store " + (dir_ / "s.db").string() + " --database x " + (dir_ / "missing").string()).exit_code, 0);
+  EXPECT_NE(RunMocapd("import --store " + (dir_ / "s.db").string() + " --database x " + (dir_ / "missing").string())
+                .exit_code,
+            0);
   EXPECT_NE(RunMocapd("databases --store " + (dir_ / "no-store.db").string()).exit_code, 0);
-  EXPECT_FALSE(fs::exists(dir_ / "no-store.db"));  // listing never creates a store
+  EXPECT_FALSE(fs::exists(dir_ / "no-store.db"));            // listing never creates a store
   EXPECT_NE(RunMocapd("import --store x.db").exit_code, 0);  // missing required options
   EXPECT_NE(RunMocapd("").exit_code, 0);
 }

@@ -75,15 +75,16 @@ class ServiceRegressionTest : public testing::ServerFixture {
     return active;
   }
   // Streams `samples` one per message at full speed; the session's wall time in seconds.
-  static double TimedSession(Client& client, const v1::SessionConfig& config, const std::vector<v1::WristSample>& samples,
-                             size_t* frames) {
+  static double TimedSession(Client& client, const v1::SessionConfig& config,
+                             const std::vector<v1::WristSample>& samples, size_t* frames) {
     const Clock::time_point start = Clock::now();
     auto stream = client.OpenReconstruction(config);
     EXPECT_TRUE(stream.ok()) << stream.status();
     if (!stream.ok()) return 1e9;
     for (const v1::WristSample& sample : samples) EXPECT_TRUE((*stream)->Write({sample}).ok());
     *frames = 0;
-    auto summary = (*stream)->Finish([&](const v1::ReconstructResponse& reply) { *frames += reply.frames().frames_size(); });
+    auto summary =
+        (*stream)->Finish([&](const v1::ReconstructResponse& reply) { *frames += reply.frames().frames_size(); });
     EXPECT_TRUE(summary.ok()) << summary.status();
     return std::chrono::duration<double>(Clock::now() - start).count();
   }
@@ -320,7 +321,8 @@ TEST_F(ServiceRegressionTest, StreamsAreAuthenticatedBeforeAnythingIsRead) {
   for (const std::string& key : {std::string(), std::string("not-a-key")}) {
     // First message samples: the answer is about the key, not the message order.
     const grpc::Status status = testing::SamplesBeforeConfig(server_->address(), key, Samples(1)[0]);
-    EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "key '" << key << "': " << status.error_message();
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED)
+        << "key '" << key << "': " << status.error_message();
     // A silent stream is answered at once, not held until the 60 s idle limit.
     const auto start = Clock::now();
     grpc::ClientContext context;
@@ -330,7 +332,8 @@ TEST_F(ServiceRegressionTest, StreamsAreAuthenticatedBeforeAnythingIsRead) {
     v1::ReconstructResponse reply;
     EXPECT_FALSE(stream->Read(&reply));
     const grpc::Status silent = stream->Finish();
-    EXPECT_EQ(silent.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "key '" << key << "': " << silent.error_message();
+    EXPECT_EQ(silent.error_code(), grpc::StatusCode::UNAUTHENTICATED)
+        << "key '" << key << "': " << silent.error_message();
     EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 10.0) << "a keyless silent stream was held";
   }
 }

@@ -44,7 +44,8 @@ TEST(InputFrameConvertTest, AnyRigAndFrameConvertAsOnePose) {
     v1::Joint* joint = skeleton.add_joints();
     joint->set_parent(j - 1);
     Set(offsets[j], joint->mutable_offset());
-    Set(Eigen::Quaternionf(Eigen::AngleAxisf(0.3f * (j + 1), Eigen::Vector3f(1, j, 2).normalized())), frame.add_rotations());
+    Set(Eigen::Quaternionf(Eigen::AngleAxisf(0.3f * (j + 1), Eigen::Vector3f(1, j, 2).normalized())),
+        frame.add_rotations());
   }
   Set({0, 0, 0.12f}, skeleton.mutable_joints(4)->mutable_end_site());
   Set({1, 2, 3}, frame.mutable_left_wrist());

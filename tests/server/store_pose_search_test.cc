@@ -6,9 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include "motion/bvh/bvh_writer.h"
+#include "motion/core/status_macros.h"
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
-#include "motion/core/status_macros.h"
 #include "storage/import_pipeline.h"
 #include "tests/support/synthetic_clip.h"
 #include "tests/support/temp_dir.h"
@@ -41,8 +41,11 @@ class StorePoseSearchTest : public ::testing::Test {
     ASSERT_TRUE(RunImport(import).ok());
     // The query: another rig (twist bones, fingers, Z-up root, inches) of the same walk.
     query_ = dir_ / "query.bvh";
-    ASSERT_TRUE(WriteBvhFile(testing::MakeWalkingClip({.z_up = true, .fingers_and_toes = true, .twist_bones = true,
-                                                       .length_scale = 1.0 / 2.54, .rotation_order = "XYZ"},
+    ASSERT_TRUE(WriteBvhFile(testing::MakeWalkingClip({.z_up = true,
+                                                       .fingers_and_toes = true,
+                                                       .twist_bones = true,
+                                                       .length_scale = 1.0 / 2.54,
+                                                       .rotation_order = "XYZ"},
                                                       90),
                              query_)
                     .ok());
@@ -88,19 +91,26 @@ TEST_F(StorePoseSearchTest, FindsTheSamePoseOnAnotherRig) {
 // frame 20 on the plain rig, in metres, Z up.
 nlohmann::json PoseOfFrame(int frame) {
   const BvhClip clip = testing::MakeWalkingClip({}, 40);
-  const GlobalPoses poses = ForwardKinematics(clip.skeleton, MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
+  const GlobalPoses poses =
+      ForwardKinematics(clip.skeleton, MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
   nlohmann::json joints = nlohmann::json::array();
   for (int j = 0; j < clip.skeleton.num_joints(); ++j) {
     const Eigen::Vector3f p = poses.position(frame, j) * 0.01f;
     const int parent = clip.skeleton.parent(j);
-    joints.push_back({{"name", clip.skeleton.joint(j).name},
-                      {"parent", parent < 0 ? nlohmann::json(nullptr) : nlohmann::json(clip.skeleton.joint(parent).name)},
-                      {"position", {p.x(), -p.z(), p.y()}}});  // Y-up -> Z-up
+    joints.push_back(
+        {{"name", clip.skeleton.joint(j).name},
+         {"parent", parent < 0 ? nlohmann::json(nullptr) : nlohmann::json(clip.skeleton.joint(parent).name)},
+         {"position", {p.x(), -p.z(), p.y()}}});  // Y-up -> Z-up
   }
   return {{"up", "+Z"},
           {"joints", joints},
-          {"landmarks", {{"pelvis", "Hips"}, {"head", "Head"}, {"left_wrist", "LeftHand"}, {"right_wrist", "RightHand"},
-                         {"left_ankle", "LeftFoot"}, {"right_ankle", "RightFoot"}}}};
+          {"landmarks",
+           {{"pelvis", "Hips"},
+            {"head", "Head"},
+            {"left_wrist", "LeftHand"},
+            {"right_wrist", "RightHand"},
+            {"left_ankle", "LeftFoot"},
+            {"right_ankle", "RightFoot"}}}};
 }
 
 TEST_F(StorePoseSearchTest, FindsAPoseSentAsJointPositions) {

@@ -187,8 +187,8 @@ TEST_F(ImportPipelineTest, KillDuringImportLeavesStoreIntact) {
   if (child == 0) {
     const std::string store = store_.string();
     const std::string data = bandai2.string();
-    execl(MOCAPD_PATH, MOCAPD_PATH, "import", "--quiet", "--store", store.c_str(), "--database", "second",
-          data.c_str(), static_cast<char*>(nullptr));
+    execl(MOCAPD_PATH, MOCAPD_PATH, "import", "--quiet", "--store", store.c_str(), "--database", "second", data.c_str(),
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   // Kill once the import has written a good part of its batch to the WAL (not a timing guess: we

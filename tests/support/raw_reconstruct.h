@@ -11,7 +11,8 @@
 namespace mocap::testing {
 
 // `key` empty: no authorization metadata at all.
-inline grpc::Status SamplesBeforeConfig(const std::string& address, const std::string& key, const v1::WristSample& sample) {
+inline grpc::Status SamplesBeforeConfig(const std::string& address, const std::string& key,
+                                        const v1::WristSample& sample) {
   auto stub = v1::Reconstruction::NewStub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
   grpc::ClientContext context;
   if (!key.empty()) context.AddMetadata("authorization", "Bearer " + key);

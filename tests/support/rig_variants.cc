@@ -11,8 +11,8 @@ namespace mocap::testing {
 
 void MoveOnGround(BvhClip& clip, float yaw_degrees, const Eigen::Vector3f& ground_translation) {
   LocalMotion motion = MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time);
-  RotateWorld(motion, Eigen::Quaternionf(Eigen::AngleAxisf(yaw_degrees * static_cast<float>(M_PI / 180.0),
-                                                           Eigen::Vector3f::UnitY())));
+  RotateWorld(motion, Eigen::Quaternionf(
+                          Eigen::AngleAxisf(yaw_degrees * static_cast<float>(M_PI / 180.0), Eigen::Vector3f::UnitY())));
   for (int f = 0; f < motion.num_frames(); ++f) {
     motion.SetTranslation(f, 0, motion.translation(f, 0) + ground_translation);
   }
@@ -64,7 +64,8 @@ absl::Status SplitBone(BvhClip& clip, int child, const std::string& new_name) {
   for (int j = 0; j < skeleton.num_joints(); ++j) {
     if (source[j] < 0) continue;  // zero rotation
     const int count = static_cast<int>(skeleton.joint(j).channels.size());
-    channels.middleCols(skeleton.channel_start(j), count) = clip.channels.middleCols(old.channel_start(source[j]), count);
+    channels.middleCols(skeleton.channel_start(j), count) =
+        clip.channels.middleCols(old.channel_start(source[j]), count);
   }
   // A child with position channels (e.g. Bandai's) carries its offset in them: halve those too.
   const Joint& moved = skeleton.joint(child + 1);
@@ -85,7 +86,9 @@ void ChangeRotationOrder(BvhClip& clip, const std::string& order) {
     if (rotations.empty()) continue;
     joint.channels = positions;
     for (char axis : order) {
-      joint.channels.push_back(axis == 'X' ? ChannelType::kXrotation : axis == 'Y' ? ChannelType::kYrotation : ChannelType::kZrotation);
+      joint.channels.push_back(axis == 'X'   ? ChannelType::kXrotation
+                               : axis == 'Y' ? ChannelType::kYrotation
+                                             : ChannelType::kZrotation);
     }
   }
   clip.skeleton = Skeleton(std::move(joints));
@@ -99,7 +102,8 @@ void ScaleJoint(BvhClip& clip, std::vector<Joint>& joints, int j, float factor) 
   joints[j].offset *= factor;
   if (joints[j].end_site) *joints[j].end_site *= factor;
   for (size_t k = 0; k < joints[j].channels.size(); ++k) {
-    if (!IsRotation(joints[j].channels[k])) clip.channels.col(clip.skeleton.channel_start(j) + static_cast<int>(k)) *= factor;
+    if (!IsRotation(joints[j].channels[k]))
+      clip.channels.col(clip.skeleton.channel_start(j) + static_cast<int>(k)) *= factor;
   }
 }
 
@@ -126,11 +130,19 @@ void ScaleProportions(BvhClip& clip, const BodyTopology& topology, const Proport
     float factor = proportions.spine;
     switch (topology.group_of_joint[j]) {
       case BodyGroup::kLeftLeg:
-      case BodyGroup::kRightLeg: factor = proportions.legs; break;
+      case BodyGroup::kRightLeg:
+        factor = proportions.legs;
+        break;
       case BodyGroup::kLeftArm:
-      case BodyGroup::kRightArm: factor = proportions.arms; break;
-      case BodyGroup::kHead: factor = proportions.head; break;
-      case BodyGroup::kSpine: factor = proportions.spine; break;
+      case BodyGroup::kRightArm:
+        factor = proportions.arms;
+        break;
+      case BodyGroup::kHead:
+        factor = proportions.head;
+        break;
+      case BodyGroup::kSpine:
+        factor = proportions.spine;
+        break;
     }
     if (carries_body[j]) factor = proportions.legs;
     ScaleJoint(clip, joints, j, factor);

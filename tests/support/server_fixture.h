@@ -45,7 +45,8 @@ class ServerFixture : public ::testing::Test {
     EXPECT_TRUE(client.ok());
     return std::move(client).value();
   }
-  std::filesystem::path WriteClip(const std::string& name, int frames, const SyntheticRigOptions& rig = {.extra_root = true}) {
+  std::filesystem::path WriteClip(const std::string& name, int frames,
+                                  const SyntheticRigOptions& rig = {.extra_root = true}) {
     const std::filesystem::path path = dir_ / "clips" / name;
     EXPECT_TRUE(WriteBvhFile(MakeWalkingClip(rig, frames), path).ok());
     return path;

@@ -41,7 +41,8 @@ ServerProcess::ServerProcess(const std::string& mocapd, const std::filesystem::p
   if (stream != nullptr && fgets(line, sizeof(line), stream) != nullptr) {
     std::string text(line);
     const std::string prefix = "listening on ";
-    if (text.rfind(prefix, 0) == 0) address_ = text.substr(prefix.size(), text.find_last_not_of("\r\n") + 1 - prefix.size());
+    if (text.rfind(prefix, 0) == 0)
+      address_ = text.substr(prefix.size(), text.find_last_not_of("\r\n") + 1 - prefix.size());
   }
   if (stream != nullptr) fclose(stream);
 }

@@ -14,7 +14,9 @@ std::optional<std::filesystem::path> SharedDataSet(std::string_view name, std::s
   return datasets::UnpackedSet(location, name, why);
 }
 
-std::vector<std::filesystem::path> BvhFilesIn(const std::filesystem::path& folder) { return datasets::BvhFilesIn(folder); }
+std::vector<std::filesystem::path> BvhFilesIn(const std::filesystem::path& folder) {
+  return datasets::BvhFilesIn(folder);
+}
 
 std::filesystem::path TestDataDir() { return MOCAP_TESTDATA_DIR; }
 

@@ -24,10 +24,10 @@ std::filesystem::path TestDataDir();
 
 // Declares `var` as the set's folder or skips the test with a clear message.
 #define MOCAP_REQUIRE_SHARED_DATA(var, name)                                         \
-  std::filesystem::path var;                                                          \
-  {                                                                                   \
-    std::string mocap_why;                                                            \
-    auto mocap_dir = ::mocap::testing::SharedDataSet(name, &mocap_why);               \
+  std::filesystem::path var;                                                         \
+  {                                                                                  \
+    std::string mocap_why;                                                           \
+    auto mocap_dir = ::mocap::testing::SharedDataSet(name, &mocap_why);              \
     if (!mocap_dir) GTEST_SKIP() << "shared motion data unavailable: " << mocap_why; \
-    var = *mocap_dir;                                                                 \
+    var = *mocap_dir;                                                                \
   }

@@ -20,11 +20,11 @@ using Eigen::Quaterniond;
 using Eigen::Vector3d;
 
 constexpr double kDegree = M_PI / 180.0;
-constexpr double kHipYaw = 4.0;          // degrees
-constexpr double kArmLowering = 75.0;    // degrees from the T-pose
-constexpr double kArmSwing = 18.0;       // degrees
-constexpr double kHipJointDrop = 6.0;    // Hips -> hip joint, cm down
-constexpr double kHipJointSide = 9.0;    // Hips -> hip joint, cm sideways
+constexpr double kHipYaw = 4.0;        // degrees
+constexpr double kArmLowering = 75.0;  // degrees from the T-pose
+constexpr double kArmSwing = 18.0;     // degrees
+constexpr double kHipJointDrop = 6.0;  // Hips -> hip joint, cm down
+constexpr double kHipJointSide = 9.0;  // Hips -> hip joint, cm sideways
 // Half the distance the foot travels relative to the hips during stance (stance = half a cycle).
 constexpr double kHalfStep = kSyntheticWalkSpeed * kSyntheticGaitCycle / 4.0;
 
@@ -35,8 +35,8 @@ Quaterniond Rotation(int axis, double degrees) {
 struct RigJoint {
   std::string name;
   int parent = -1;
-  Vector3d offset = Vector3d::Zero();      // cm, Y-up axes
-  Vector3d end_site = Vector3d::Zero();   // used when the joint is a leaf
+  Vector3d offset = Vector3d::Zero();    // cm, Y-up axes
+  Vector3d end_site = Vector3d::Zero();  // used when the joint is a leaf
 };
 
 // Indices of the joints the walk animates; side 0 = left (+X), 1 = right (-X).
@@ -96,16 +96,14 @@ Body BuildBody(const SyntheticRigOptions& options) {
   for (int side = 0; side < 2; ++side) {
     const double s = side == 0 ? 1.0 : -1.0;
     const std::string prefix = side == 0 ? "Left" : "Right";
-    const int upleg = body.upleg[side] =
-        body.Add(prefix + "UpLeg", pelvis, {kHipJointSide * s, -kHipJointDrop, 0});
+    const int upleg = body.upleg[side] = body.Add(prefix + "UpLeg", pelvis, {kHipJointSide * s, -kHipJointDrop, 0});
     const int leg = body.leg[side] = body.Add(prefix + "Leg", upleg, {0, -kSyntheticThighLength, 0});
     const int foot = body.foot[side] = body.Add(prefix + "Foot", leg, {0, -kSyntheticShinLength, 0});
-    const int toe_base = body.Add(prefix + "ToeBase", foot,
-                                  {0, kSyntheticToeHeight - kSyntheticAnkleHeight, 13}, {0, 0, 6});
+    const int toe_base =
+        body.Add(prefix + "ToeBase", foot, {0, kSyntheticToeHeight - kSyntheticAnkleHeight, 13}, {0, 0, 6});
     if (options.fingers_and_toes) {
       for (int k = 0; k < 5; ++k) {
-        body.Add(prefix + "Toe" + std::to_string(k + 1), toe_base, {s * (-3 + 1.5 * k), 0, 2.5 - 0.3 * k},
-                 {0, 0, 2});
+        body.Add(prefix + "Toe" + std::to_string(k + 1), toe_base, {s * (-3 + 1.5 * k), 0, 2.5 - 0.3 * k}, {0, 0, 2});
       }
     }
     if (options.twist_bones) {

@@ -33,12 +33,12 @@
 // Motion: a walk with gait cycle kSyntheticGaitCycle seconds (left heel strike at t = 0, right at
 // half a cycle; 60 cm steps). Each stance foot is flat and planted (it does not slide) with the
 // ankle exactly at kSyntheticAnkleHeight and the toe base at kSyntheticToeHeight (the landing foot
-// touches down from < 0.5 cm above); at every instant one foot is down. The hips rise and fall by ~5 cm (highest at mid-stance, ~92 cm on average);
-// hip flexion (thigh angle from vertical, forward positive) stays within about -18..+29 deg; knees
-// bend 5-15 deg in stance and up to 60 deg early in swing, the swing foot clearing the floor; the
-// arms hang (lowered 75 deg from the T-pose) and swing +-18 deg opposite to the legs with the
-// elbows bent 20-30 deg; the pelvis yaws +-4 deg and the spine counter-rotates so that the head
-// keeps facing +Z exactly. Twist joints roll +-3 deg about their bone.
+// touches down from < 0.5 cm above); at every instant one foot is down. The hips rise and fall by ~5 cm (highest at
+// mid-stance, ~92 cm on average); hip flexion (thigh angle from vertical, forward positive) stays within about -18..+29
+// deg; knees bend 5-15 deg in stance and up to 60 deg early in swing, the swing foot clearing the floor; the arms hang
+// (lowered 75 deg from the T-pose) and swing +-18 deg opposite to the legs with the elbows bent 20-30 deg; the pelvis
+// yaws +-4 deg and the spine counter-rotates so that the head keeps facing +Z exactly. Twist joints roll +-3 deg about
+// their bone.
 //
 // Channel values follow the BVH semantics of MotionFromChannels (motion/skeleton/local_motion.h):
 // root translation = OFFSET + position channels; a position channel on any other joint replaces
@@ -55,27 +55,27 @@
 
 namespace mocap::testing {
 
-inline constexpr double kSyntheticWalkSpeed = 120.0;     // cm/s along +Z
-inline constexpr double kSyntheticGaitCycle = 1.0;       // seconds per two steps
-inline constexpr double kSyntheticAnkleHeight = 5.0;     // cm, ankle of a planted foot
-inline constexpr double kSyntheticToeHeight = 0.5;       // cm, toe base of a planted foot
-inline constexpr double kSyntheticRestHipsHeight = 96.0; // cm, Hips OFFSET
-inline constexpr double kSyntheticLegLength = 85.0;      // cm, hip joint -> ankle
+inline constexpr double kSyntheticWalkSpeed = 120.0;      // cm/s along +Z
+inline constexpr double kSyntheticGaitCycle = 1.0;        // seconds per two steps
+inline constexpr double kSyntheticAnkleHeight = 5.0;      // cm, ankle of a planted foot
+inline constexpr double kSyntheticToeHeight = 0.5;        // cm, toe base of a planted foot
+inline constexpr double kSyntheticRestHipsHeight = 96.0;  // cm, Hips OFFSET
+inline constexpr double kSyntheticLegLength = 85.0;       // cm, hip joint -> ankle
 inline constexpr double kSyntheticThighLength = 43.0;
 inline constexpr double kSyntheticShinLength = 42.0;
 
 struct SyntheticRigOptions {
-  bool extra_root = false;        // static node "Root" above "Hips" (like Bandai's joint_Root: zero
-                                  // offset, 6 channels all zero; Hips then carries the motion in
-                                  // its position channels)
-  bool z_up = false;              // hierarchy authored Z-up under "RL_BoneRoot"; its rotation of
-                                  // -90 deg about X makes the world Y-up (like some cmu-cc files)
-  bool fingers_and_toes = false;  // 5 fingers (3 joints each) on each hand, 5 toes on each foot
-  bool twist_bones = false;       // CC-like extras: twist joints with mid-bone children, ShareBone
-                                  // leaves at knee and elbow, a zero-length Pelvis joint
+  bool extra_root = false;                    // static node "Root" above "Hips" (like Bandai's joint_Root: zero
+                                              // offset, 6 channels all zero; Hips then carries the motion in
+                                              // its position channels)
+  bool z_up = false;                          // hierarchy authored Z-up under "RL_BoneRoot"; its rotation of
+                                              // -90 deg about X makes the world Y-up (like some cmu-cc files)
+  bool fingers_and_toes = false;              // 5 fingers (3 joints each) on each hand, 5 toes on each foot
+  bool twist_bones = false;                   // CC-like extras: twist joints with mid-bone children, ShareBone
+                                              // leaves at knee and elbow, a zero-length Pelvis joint
   bool position_channels_everywhere = false;  // 6 channels on every joint (Bandai)
-  double length_scale = 1.0;      // 1.0: centimetres; 0.01: metres; 1 / 2.54: inches
-  std::string rotation_order = "ZXY";  // Euler channel order of every joint (a permutation of XYZ)
+  double length_scale = 1.0;                  // 1.0: centimetres; 0.01: metres; 1 / 2.54: inches
+  std::string rotation_order = "ZXY";         // Euler channel order of every joint (a permutation of XYZ)
 };
 
 // The walking clip described above; `frames` frames, `frame_time` seconds apart.
@@ -83,7 +83,6 @@ struct SyntheticRigOptions {
 // 16 position_channels_everywhere), for tests that sweep every combination.
 SyntheticRigOptions SyntheticRigFromBits(int bits, const std::string& rotation_order = "ZXY");
 
-BvhClip MakeWalkingClip(const SyntheticRigOptions& options = {}, int frames = 60,
-                        double frame_time = 1.0 / 30.0);
+BvhClip MakeWalkingClip(const SyntheticRigOptions& options = {}, int frames = 60, double frame_time = 1.0 / 30.0);
 
 }  // namespace mocap::testing

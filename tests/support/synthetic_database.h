@@ -20,7 +20,8 @@ struct SyntheticReconstructionSetup {
   GlobalPoses truth;       // its forward kinematics (metres, Y up)
 };
 
-SyntheticReconstructionSetup MakeSyntheticReconstructionSetup(const SyntheticRigOptions& options = {}, int test_frames = 75);
+SyntheticReconstructionSetup MakeSyntheticReconstructionSetup(const SyntheticRigOptions& options = {},
+                                                              int test_frames = 75);
 
 // The test clip's wrists as timestamped samples (database rate, starting at `start_time`).
 std::vector<WristSample> WristSamplesOf(const SyntheticReconstructionSetup& setup, double start_time = 0.0);

@@ -18,9 +18,18 @@ struct Tool {
     CLI::App* describe = db->add_subcommand("describe");
     CLI::App* tenant = app.add_subcommand("tenant");
     CLI::App* create = tenant->add_subcommand("create");
-    registry.Add(describe, [this] { ran = "db describe"; return 0; });  // registered before its parent
-    registry.Add(db, [this] { ran = "db"; return 0; });
-    registry.Add(create, [this] { ran = "tenant create"; return 3; });
+    registry.Add(describe, [this] {
+      ran = "db describe";
+      return 0;
+    });  // registered before its parent
+    registry.Add(db, [this] {
+      ran = "db";
+      return 0;
+    });
+    registry.Add(create, [this] {
+      ran = "tenant create";
+      return 3;
+    });
   }
   int Run(std::vector<std::string> args) {
     std::vector<const char*> argv{"tool"};

@@ -6,7 +6,7 @@ namespace mocap {
 namespace {
 
 nlohmann::json GroupsJson(const v1::GroupValues& values) {
-  return {{"spine", values.spine()},       {"head", values.head()},         {"left_arm", values.left_arm()},
+  return {{"spine", values.spine()},         {"head", values.head()},         {"left_arm", values.left_arm()},
           {"right_arm", values.right_arm()}, {"left_leg", values.left_leg()}, {"right_leg", values.right_leg()}};
 }
 
@@ -24,13 +24,15 @@ nlohmann::json SimilarResultsJson(const std::string& query, const v1::FindSimila
                          {"database_frame", match.database_frame()},
                          {"distance", match.distance()},
                          {"group_distances", GroupsJson(match.group_distances())},
-                         {"alignment", {{"yaw_degrees", match.alignment().yaw_degrees()},
-                                        {"x_body_scales", match.alignment().x_body_scales()},
-                                        {"z_body_scales", match.alignment().z_body_scales()}}}});
+                         {"alignment",
+                          {{"yaw_degrees", match.alignment().yaw_degrees()},
+                           {"x_body_scales", match.alignment().x_body_scales()},
+                           {"z_body_scales", match.alignment().z_body_scales()}}}});
     }
     results.push_back({{"query_frame", frame.query_frame()}, {"matches", std::move(matches)}});
   }
-  return {{"query", query}, {"window", response.window()}, {"exact", response.exact()}, {"results", std::move(results)}};
+  return {
+      {"query", query}, {"window", response.window()}, {"exact", response.exact()}, {"results", std::move(results)}};
 }
 
 absl::StatusOr<std::pair<int, int>> ParseFrameRange(const std::string& text) {
@@ -65,7 +67,8 @@ absl::StatusOr<v1::NamedPose> NamedPoseFromJson(const nlohmann::json& pose) {
     for (const auto& entry : pose.at("joints")) {
       v1::NamedJoint* joint = out.add_joints();
       joint->set_name(entry.at("name").get<std::string>());
-      if (entry.contains("parent") && !entry.at("parent").is_null()) joint->set_parent(entry.at("parent").get<std::string>());
+      if (entry.contains("parent") && !entry.at("parent").is_null())
+        joint->set_parent(entry.at("parent").get<std::string>());
       const auto& p = entry.at("position");
       joint->mutable_position()->set_x(p.at(0).get<float>());
       joint->mutable_position()->set_y(p.at(1).get<float>());

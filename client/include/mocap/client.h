@@ -112,7 +112,8 @@ absl::StatusOr<v1::BvhQuery> ReadBvhQuery(const std::filesystem::path& path);
 class Client {
  public:
   // InvalidArgument for an empty address.
-  static absl::StatusOr<std::unique_ptr<Client>> Connect(const std::string& address, const ConnectOptions& options = {});
+  static absl::StatusOr<std::unique_ptr<Client>> Connect(const std::string& address,
+                                                         const ConnectOptions& options = {});
   ~Client();
   Client(const Client&) = delete;
   Client& operator=(const Client&) = delete;

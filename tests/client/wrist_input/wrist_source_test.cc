@@ -76,10 +76,11 @@ TEST_F(WristSourceTest, CsvAcceptsNanAndConfidences) {
 }
 
 TEST_F(WristSourceTest, CsvReadsTrackedDevicesOrientations) {
-  const fs::path path = Write("w.csv", std::string(kHeaderWithConfidence).substr(0, std::strlen(kHeaderWithConfidence) - 1) +
-                                           ",left_qw,left_qx,left_qy,left_qz,right_qw,right_qx,right_qy,right_qz\n"
-                                           "0.0,0,1,0,0.4,1,0,,,0.7071,0,0.7071,0,1,0,0,0\n"
-                                           "0.1,0,1,0,0.4,1,0,,,,,,,,,,\n");
+  const fs::path path =
+      Write("w.csv", std::string(kHeaderWithConfidence).substr(0, std::strlen(kHeaderWithConfidence) - 1) +
+                         ",left_qw,left_qx,left_qy,left_qz,right_qw,right_qx,right_qy,right_qz\n"
+                         "0.0,0,1,0,0.4,1,0,,,0.7071,0,0.7071,0,1,0,0,0\n"
+                         "0.1,0,1,0,0.4,1,0,,,,,,,,,,\n");
   auto samples = WristsFromCsv(path);
   ASSERT_TRUE(samples.ok()) << samples.status();
   ASSERT_EQ(samples->size(), 2u);
@@ -88,9 +89,10 @@ TEST_F(WristSourceTest, CsvReadsTrackedDevicesOrientations) {
   EXPECT_FLOAT_EQ((*samples)[0].right_orientation().w(), 1.0f);
   EXPECT_FALSE((*samples)[1].has_left_orientation());  // the server refuses it for a tracked device
   // A quaternion is not a confidence: no 0..1 limit.
-  EXPECT_TRUE(WristsFromCsv(Write("q.csv", "time,left_x,left_y,left_z,right_x,right_y,right_z,left_confidence,"
-                                           "right_confidence,left_qw,left_qx,left_qy,left_qz,right_qw,right_qx,right_qy,"
-                                           "right_qz\n0,0,1,0,0,1,0,,,-1,0,0,0,-1,0,0,0\n"))
+  EXPECT_TRUE(WristsFromCsv(Write("q.csv",
+                                  "time,left_x,left_y,left_z,right_x,right_y,right_z,left_confidence,"
+                                  "right_confidence,left_qw,left_qx,left_qy,left_qz,right_qw,right_qx,right_qy,"
+                                  "right_qz\n0,0,1,0,0,1,0,,,-1,0,0,0,-1,0,0,0\n"))
                   .ok());
 }
 
@@ -120,7 +122,8 @@ TEST_F(WristSourceTest, CsvErrorsNameTheLine) {
     ASSERT_FALSE(samples.ok()) << c.text;
     EXPECT_EQ(samples.status().code(), absl::StatusCode::kInvalidArgument) << c.text;
     EXPECT_NE(samples.status().message().find(c.expected), std::string::npos)
-        << "input:\n" << c.text << "message: " << samples.status().message();
+        << "input:\n"
+        << c.text << "message: " << samples.status().message();
   }
 }
 
@@ -138,7 +141,8 @@ TEST_F(WristSourceTest, BvhGivesTheWristJointsInMetres) {
 
   auto clip = ReadBvhFile(path);
   ASSERT_TRUE(clip.ok());
-  const GlobalPoses truth = ForwardKinematics(clip->skeleton, MotionFromChannels(clip->skeleton, clip->channels, clip->frame_time));
+  const GlobalPoses truth =
+      ForwardKinematics(clip->skeleton, MotionFromChannels(clip->skeleton, clip->channels, clip->frame_time));
   const int left = clip->skeleton.Find("LeftHand");
   const int right = clip->skeleton.Find("RightHand");
   ASSERT_GE(left, 0);
@@ -165,7 +169,8 @@ TEST_F(WristSourceTest, BvhUnitsAndUpAxisDoNotMatter) {
   auto plain = WristsFromBvh(WriteClip("plain.bvh", {}), 0.0, 1);
   ASSERT_TRUE(plain.ok()) << plain.status();
   for (const testing::SyntheticRigOptions& options :
-       {testing::SyntheticRigOptions{.z_up = true}, testing::SyntheticRigOptions{.extra_root = true, .position_channels_everywhere = true},
+       {testing::SyntheticRigOptions{.z_up = true},
+        testing::SyntheticRigOptions{.extra_root = true, .position_channels_everywhere = true},
         testing::SyntheticRigOptions{.length_scale = 0.01}}) {
     auto other = WristsFromBvh(WriteClip("other.bvh", options), 0.0, 1);
     ASSERT_TRUE(other.ok()) << other.status();
@@ -217,7 +222,8 @@ TEST_F(WristSourceTest, BvhErrors) {
   auto parsed = WristsFromBvh(bad, 0.0, 1);
   ASSERT_FALSE(parsed.ok());
   EXPECT_EQ(parsed.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(parsed.status().message().find("bad.bvh:5: expected a finite number for OFFSET"), std::string::npos) << parsed.status();
+  EXPECT_NE(parsed.status().message().find("bad.bvh:5: expected a finite number for OFFSET"), std::string::npos)
+      << parsed.status();
   EXPECT_EQ(WristsFromBvh(WriteClip("walk.bvh", {}), -1.0, 1).status().code(), absl::StatusCode::kInvalidArgument);
 }
 

@@ -61,14 +61,14 @@ TEST(BvhInspectionTest, AxisNames) {
 
 INSTANTIATE_TEST_SUITE_P(
     AllSets, InspectSharedDataTest,
-    ::testing::Values(
-        ExpectedNames{"bandai-namco-1", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head"},
-        ExpectedNames{"bandai-namco-2", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head"},
-        ExpectedNames{"cmu-cc", "CC_Base_Hip", "CC_Base_L_Hand", "CC_Base_R_Hand", "CC_Base_L_Foot",
-                      "CC_Base_R_Foot", "CC_Base_Head"}),
+    ::testing::Values(ExpectedNames{"bandai-namco-1", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head"},
+                      ExpectedNames{"bandai-namco-2", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head"},
+                      ExpectedNames{"cmu-cc", "CC_Base_Hip", "CC_Base_L_Hand", "CC_Base_R_Hand", "CC_Base_L_Foot",
+                                    "CC_Base_R_Foot", "CC_Base_Head"}),
     [](const auto& info) {
       std::string name = info.param.set;
-      for (char& c : name) if (c == '-') c = '_';
+      for (char& c : name)
+        if (c == '-') c = '_';
       return name;
     });
 

@@ -133,7 +133,9 @@ std::string JointChain(int depth) {
 
 // A root with `children` leaf joints.
 std::string WideHierarchy(int children) {
-  std::string text = "HIERARCHY\nROOT Root\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n";
+  std::string text =
+      "HIERARCHY\nROOT Root\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation "
+      "Yrotation\n";
   for (int i = 0; i < children; ++i) {
     text += "  JOINT Leaf" + std::to_string(i) + "\n  {\n    OFFSET " + std::to_string(i) +
             " 1 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    End Site\n    {\n      OFFSET 0 1 0\n    }\n  }\n";
@@ -404,8 +406,8 @@ TEST_P(BvhReaderSharedDataTest, ParsesEveryFile) {
     const bool good = joints >= set.min_joints && joints <= set.max_joints &&
                       std::abs(clip->frame_rate() - set.fps) < 0.01 && clip->num_frames() > 0 &&
                       clip->channels.allFinite();
-    EXPECT_TRUE(good) << path << ": " << joints << " joints, " << clip->frame_rate() << " fps, "
-                      << clip->num_frames() << " frames, finite " << clip->channels.allFinite();
+    EXPECT_TRUE(good) << path << ": " << joints << " joints, " << clip->frame_rate() << " fps, " << clip->num_frames()
+                      << " frames, finite " << clip->channels.allFinite();
     if (!good && ++failures > 10) break;
     frames += clip->num_frames();
   }

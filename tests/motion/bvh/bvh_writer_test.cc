@@ -19,9 +19,7 @@ namespace {
 
 // Float values equal up to float rounding (the writer prints the shortest round-trip form, so in
 // practice they are identical).
-bool CloseFloat(float a, float b) {
-  return std::abs(a - b) <= 1e-6f * std::max({1.0f, std::abs(a), std::abs(b)});
-}
+bool CloseFloat(float a, float b) { return std::abs(a - b) <= 1e-6f * std::max({1.0f, std::abs(a), std::abs(b)}); }
 
 ::testing::AssertionResult SameClip(const BvhClip& expected, const BvhClip& actual) {
   const Skeleton& a = expected.skeleton;
@@ -37,8 +35,8 @@ bool CloseFloat(float a, float b) {
     }
     for (int axis = 0; axis < 3; ++axis) {
       if (!CloseFloat(x.offset[axis], y.offset[axis])) {
-        return ::testing::AssertionFailure() << "OFFSET of " << x.name << ": " << x.offset.transpose()
-                                             << " became " << y.offset.transpose();
+        return ::testing::AssertionFailure()
+               << "OFFSET of " << x.name << ": " << x.offset.transpose() << " became " << y.offset.transpose();
       }
     }
     if (x.end_site.has_value() != y.end_site.has_value()) {
@@ -54,8 +52,9 @@ bool CloseFloat(float a, float b) {
     return ::testing::AssertionFailure() << "frame time " << expected.frame_time << " became " << actual.frame_time;
   }
   if (expected.channels.rows() != actual.channels.rows() || expected.channels.cols() != actual.channels.cols()) {
-    return ::testing::AssertionFailure() << expected.channels.rows() << "x" << expected.channels.cols() << " channels became "
-                                         << actual.channels.rows() << "x" << actual.channels.cols();
+    return ::testing::AssertionFailure() << expected.channels.rows() << "x" << expected.channels.cols()
+                                         << " channels became " << actual.channels.rows() << "x"
+                                         << actual.channels.cols();
   }
   for (int f = 0; f < expected.channels.rows(); ++f) {
     for (int c = 0; c < expected.channels.cols(); ++c) {
@@ -166,8 +165,11 @@ TEST(BvhWriterTest, JointsWithoutChannelsKeepNoChannels) {
   std::vector<Joint> joints(3);
   joints[0] = Joint{.name = "Root", .parent = -1, .channels = {ChannelType::kYposition, ChannelType::kYrotation}};
   joints[1] = Joint{.name = "Static", .parent = 0, .offset = Eigen::Vector3f(0, 1, 0)};
-  joints[2] = Joint{.name = "Tip", .parent = 1, .offset = Eigen::Vector3f(0, 1, 0),
-                    .channels = {ChannelType::kXrotation}, .end_site = Eigen::Vector3f(0, 0.5f, 0)};
+  joints[2] = Joint{.name = "Tip",
+                    .parent = 1,
+                    .offset = Eigen::Vector3f(0, 1, 0),
+                    .channels = {ChannelType::kXrotation},
+                    .end_site = Eigen::Vector3f(0, 0.5f, 0)};
   BvhClip clip;
   clip.skeleton = Skeleton(std::move(joints));
   clip.frame_time = 0.01;
@@ -184,14 +186,23 @@ TEST(BvhWriterTest, NonDepthFirstJointOrderKeepsValuesWithTheirJoints) {
   std::vector<Joint> joints;
   const std::vector<ChannelType> rotations = {ChannelType::kZrotation, ChannelType::kXrotation,
                                               ChannelType::kYrotation};
-  joints.push_back(Joint{.name = "Hips", .parent = -1, .offset = Eigen::Vector3f(0, 90, 0),
+  joints.push_back(Joint{.name = "Hips",
+                         .parent = -1,
+                         .offset = Eigen::Vector3f(0, 90, 0),
                          .channels = {ChannelType::kXposition, ChannelType::kYposition, ChannelType::kZposition,
                                       ChannelType::kZrotation, ChannelType::kXrotation, ChannelType::kYrotation}});
   joints.push_back(Joint{.name = "LeftUpLeg", .parent = 0, .offset = Eigen::Vector3f(9, -6, 0), .channels = rotations});
-  joints.push_back(Joint{.name = "RightUpLeg", .parent = 0, .offset = Eigen::Vector3f(-9, -6, 0), .channels = rotations});
-  joints.push_back(Joint{.name = "LeftLeg", .parent = 1, .offset = Eigen::Vector3f(0, -43, 0), .channels = rotations,
+  joints.push_back(
+      Joint{.name = "RightUpLeg", .parent = 0, .offset = Eigen::Vector3f(-9, -6, 0), .channels = rotations});
+  joints.push_back(Joint{.name = "LeftLeg",
+                         .parent = 1,
+                         .offset = Eigen::Vector3f(0, -43, 0),
+                         .channels = rotations,
                          .end_site = Eigen::Vector3f(0, -42, 0)});
-  joints.push_back(Joint{.name = "RightLeg", .parent = 2, .offset = Eigen::Vector3f(0, -43, 0), .channels = rotations,
+  joints.push_back(Joint{.name = "RightLeg",
+                         .parent = 2,
+                         .offset = Eigen::Vector3f(0, -43, 0),
+                         .channels = rotations,
                          .end_site = Eigen::Vector3f(0, -42, 0)});
   BvhClip clip;
   clip.skeleton = Skeleton(std::move(joints));

@@ -6,8 +6,8 @@ namespace mocap {
 namespace {
 
 TEST(UnitsTest, DetectsUnitsFromLegLength) {
-  EXPECT_EQ(DetectUnitFromLegLength(80.0), LengthUnit::kCentimetre);   // Bandai-like rig
-  EXPECT_EQ(DetectUnitFromLegLength(97.5), LengthUnit::kCentimetre);   // CC rig (tall character)
+  EXPECT_EQ(DetectUnitFromLegLength(80.0), LengthUnit::kCentimetre);  // Bandai-like rig
+  EXPECT_EQ(DetectUnitFromLegLength(97.5), LengthUnit::kCentimetre);  // CC rig (tall character)
   EXPECT_EQ(DetectUnitFromLegLength(0.82), LengthUnit::kMetre);
   EXPECT_EQ(DetectUnitFromLegLength(33.0), LengthUnit::kInch);
   EXPECT_EQ(DetectUnitFromLegLength(850.0), LengthUnit::kMillimetre);

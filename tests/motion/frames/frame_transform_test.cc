@@ -15,7 +15,8 @@ namespace mocap {
 namespace {
 
 constexpr UpAxis kUps[] = {UpAxis::kPosX, UpAxis::kNegX, UpAxis::kPosY, UpAxis::kNegY, UpAxis::kPosZ, UpAxis::kNegZ};
-constexpr LengthUnit kUnits[] = {LengthUnit::kMetre, LengthUnit::kCentimetre, LengthUnit::kMillimetre, LengthUnit::kInch};
+constexpr LengthUnit kUnits[] = {LengthUnit::kMetre, LengthUnit::kCentimetre, LengthUnit::kMillimetre,
+                                 LengthUnit::kInch};
 
 std::vector<FrameConvention> AllConventions() {
   std::vector<FrameConvention> all;
@@ -108,7 +109,8 @@ TEST(FrameTransformTest, RotationsAreConjugatedAndStayProperAlsoAcrossHandedness
 }
 
 // A chain given by a root position, local rotations and offsets, as a skeleton and frame are.
-std::vector<Eigen::Vector3f> ChainPositions(const Eigen::Vector3f& root, const std::vector<Eigen::Quaternionf>& rotations,
+std::vector<Eigen::Vector3f> ChainPositions(const Eigen::Vector3f& root,
+                                            const std::vector<Eigen::Quaternionf>& rotations,
                                             const std::vector<Eigen::Vector3f>& offsets) {
   std::vector<Eigen::Vector3f> positions = {root};
   Eigen::Quaternionf global = rotations[0];
@@ -175,8 +177,9 @@ TEST(InputFrameTest, DeclarationsOutOfRangeAreRefusedNamingTheField) {
   frame.convention.unit = LengthUnit::kCentimetre;
   frame.device_offset = {0, 0, 30};  // 0.3 m
   EXPECT_TRUE(ValidateInputFrame(frame).ok());
-  EXPECT_TRUE(DeviceToWrist({1, 1, 1}, Eigen::Quaternionf(Eigen::AngleAxisf(M_PI / 2, Eigen::Vector3f::UnitY())), {0, 0, 1})
-                  .isApprox(Eigen::Vector3f(2, 1, 1)));
+  EXPECT_TRUE(
+      DeviceToWrist({1, 1, 1}, Eigen::Quaternionf(Eigen::AngleAxisf(M_PI / 2, Eigen::Vector3f::UnitY())), {0, 0, 1})
+          .isApprox(Eigen::Vector3f(2, 1, 1)));
 }
 
 TEST(InputFrameTest, AxisAndHandednessNamesParse) {

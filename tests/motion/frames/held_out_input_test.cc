@@ -20,7 +20,7 @@ namespace {
 
 struct ClipWrists {
   std::string name;
-  float height = 0;  // standing height of the set's first clip (as the server takes the database's), metres
+  float height = 0;      // standing height of the set's first clip (as the server takes the database's), metres
   bool travels = false;  // walk, walk-turn-*, run
   std::vector<WristSample> samples;
 };
@@ -65,11 +65,11 @@ const std::vector<ClipWrists>& HeldOutClips(const std::filesystem::path& folder)
     EXPECT_TRUE(prepared.ok()) << prepared.status();
     if (!clip.ok() || !prepared.ok()) continue;
     const GlobalPoses poses = ForwardKinematics(prepared->skeleton, prepared->motion);
-    ClipWrists wrists{name, height,
-                      name.find("_walk") != std::string::npos || name.find("_run_") != std::string::npos, {}};
+    ClipWrists wrists{
+        name, height, name.find("_walk") != std::string::npos || name.find("_run_") != std::string::npos, {}};
     for (int f = 0; f < poses.num_frames(); ++f) {
-      wrists.samples.push_back(
-          {f * prepared->motion.frame_time, poses.position(f, landmarks.left_wrist), poses.position(f, landmarks.right_wrist)});
+      wrists.samples.push_back({f * prepared->motion.frame_time, poses.position(f, landmarks.left_wrist),
+                                poses.position(f, landmarks.right_wrist)});
     }
     clips.push_back(std::move(wrists));
   }
@@ -122,9 +122,11 @@ TEST(HeldOutInputTest, RightDeclarationsRaiseNothingAndTheFloorCalibrates) {
   // do not, so only their median is held to a bound.
   std::vector<float> floor_errors[2], hang_fractions[2], separations;
   for (const ClipWrists& clip : clips) {
-    for (const InputWarning& warning : Check(clip.samples, clip.height, false)) ADD_FAILURE() << clip.name << ": " << warning.message;
+    for (const InputWarning& warning : Check(clip.samples, clip.height, false))
+      ADD_FAILURE() << clip.name << ": " << warning.message;
     float floor = 0;
-    for (const InputWarning& warning : Check(clip.samples, clip.height, true, &floor)) ADD_FAILURE() << clip.name << ": " << warning.message;
+    for (const InputWarning& warning : Check(clip.samples, clip.height, true, &floor))
+      ADD_FAILURE() << clip.name << ": " << warning.message;
     floor_errors[clip.travels].push_back(std::abs(floor));
     std::vector<float> heights;
     for (const WristSample& s : clip.samples) {
@@ -140,11 +142,12 @@ TEST(HeldOutInputTest, RightDeclarationsRaiseNothingAndTheFloorCalibrates) {
               << " held-out clips: wrists' median height over the first second / body height: median "
               << Percentile(hang_fractions[travels], 0.5f) << " (5%: " << Percentile(hang_fractions[travels], 0.05f)
               << ", 95%: " << Percentile(hang_fractions[travels], 0.95f) << "); calibrated floor error: median "
-              << Percentile(floor_errors[travels], 0.5f) * 100 << " cm, 95% " << Percentile(floor_errors[travels], 0.95f) * 100
-              << " cm, max " << Percentile(floor_errors[travels], 1.0f) * 100 << " cm\n";
+              << Percentile(floor_errors[travels], 0.5f) * 100 << " cm, 95% "
+              << Percentile(floor_errors[travels], 0.95f) * 100 << " cm, max "
+              << Percentile(floor_errors[travels], 1.0f) * 100 << " cm\n";
   }
-  std::cout << "[ input frames ] wrist separation over every frame: 1% " << Percentile(separations, 0.01f) << " m, median "
-            << Percentile(separations, 0.5f) << " m, max " << Percentile(separations, 1.0f) << " m\n";
+  std::cout << "[ input frames ] wrist separation over every frame: 1% " << Percentile(separations, 0.01f)
+            << " m, median " << Percentile(separations, 0.5f) << " m, max " << Percentile(separations, 1.0f) << " m\n";
   EXPECT_NEAR(Percentile(hang_fractions[1], 0.5f), kWristHangFraction, 0.01f);
   EXPECT_NEAR(Percentile(hang_fractions[0], 0.5f), kWristHangFraction, 0.01f);
   EXPECT_LT(Percentile(floor_errors[1], 0.5f), 0.05f);
@@ -161,27 +164,31 @@ TEST(HeldOutInputTest, WrongDeclarationsAreNamed) {
   for (const ClipWrists& clip : clips) {
     const float h = clip.height;
     // Metres declared as centimetres: a hundredth of the size.
-    EXPECT_TRUE(Has(Check(Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(0.01f * p); }), h, true,
-                          nullptr, {LengthUnit::kCentimetre}),
+    EXPECT_TRUE(Has(Check(Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(0.01f * p); }), h,
+                          true, nullptr, {LengthUnit::kCentimetre}),
                     InputWarning::Kind::kUnits, "metres declared as centimetres?"))
         << clip.name;
     // Centimetres declared as metres: a hundred times the size, refused sample by sample.
     for (const WristSample& s : clip.samples) {
-      const std::optional<std::string> problem = WristSeparationProblem(100.0 * (s.left - s.right).norm(), LengthUnit::kMetre);
+      const std::optional<std::string> problem =
+          WristSeparationProblem(100.0 * (s.left - s.right).norm(), LengthUnit::kMetre);
       ++samples;
       refused += problem.has_value();
       refused_hinting_cm += problem && problem->find("centimetres") != std::string::npos;
     }
     // Y down declared as Y up (or the up axis's sign wrong): heads under feet.
-    EXPECT_TRUE(Has(Check(Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p.x(), -p.y(), p.z()); }),
-                          h, false),
-                    InputWarning::Kind::kBelowFloor, "wrists below the floor"))
+    EXPECT_TRUE(
+        Has(Check(Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p.x(), -p.y(), p.z()); }),
+                  h, false),
+            InputWarning::Kind::kBelowFloor, "wrists below the floor"))
         << clip.name;
     // A head-origin space (OpenXR LOCAL) declared as a floor-origin one: said unless the hands
     // start raised to the head (then the wrists are at the floor, which is no contradiction).
-    const bool local = Has(Check(Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p - 1.6f * Eigen::Vector3f::UnitY()); }),
-                                 h, false),
-                           InputWarning::Kind::kBelowFloor, "wrists below the floor");
+    const bool local =
+        Has(Check(Mapped(clip.samples,
+                         [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p - 1.6f * Eigen::Vector3f::UnitY()); }),
+                  h, false),
+            InputWarning::Kind::kBelowFloor, "wrists below the floor");
     local_named += local;
     if (!clip.travels) continue;
     EXPECT_TRUE(local) << clip.name;
@@ -190,12 +197,13 @@ TEST(HeldOutInputTest, WrongDeclarationsAreNamed) {
     for (WristSample& s : swapped) std::swap(s.left, s.right);
     swaps_named += Has(Check(swapped, h, false), InputWarning::Kind::kSwapped, "left and right look swapped");
     // A left-handed frame declared right-handed: the world mirrored.
-    mirrors_named += Has(Check(Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p.x(), p.y(), -p.z()); }),
-                               h, false),
-                         InputWarning::Kind::kSwapped, "left and right look swapped");
+    mirrors_named +=
+        Has(Check(Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p.x(), p.y(), -p.z()); }),
+                  h, false),
+            InputWarning::Kind::kSwapped, "left and right look swapped");
   }
-  std::cout << "[ input frames ] a head-origin space declared floor-origin named in " << local_named << " of " << clips.size()
-            << " clips\n";
+  std::cout << "[ input frames ] a head-origin space declared floor-origin named in " << local_named << " of "
+            << clips.size() << " clips\n";
   EXPECT_GE(local_named, 0.85 * static_cast<double>(clips.size()));
   std::cout << "[ input frames ] swapped sides named in " << swaps_named << " of " << travelling
             << " travelling clips, mirrored frames in " << mirrors_named << "; cm declared as m: " << refused << " of "

@@ -14,7 +14,8 @@ constexpr double kRate = 30.0;
 
 // A performer walking at `speed` m/s along `direction` (horizontal, unit), wrists hanging around
 // the hang fraction and swinging, the left wrist on the left of the direction; `floor` added to y.
-std::vector<WristSample> Walk(int frames, float speed, Eigen::Vector3f direction, float floor = 0.0f, bool swapped = false) {
+std::vector<WristSample> Walk(int frames, float speed, Eigen::Vector3f direction, float floor = 0.0f,
+                              bool swapped = false) {
   const Eigen::Vector3f left_side(direction.z(), 0.0f, -direction.x());  // up × direction
   std::vector<WristSample> samples;
   for (int f = 0; f < frames; ++f) {
@@ -100,7 +101,8 @@ TEST(InputMonitorTest, MetresDeclaredAsCentimetresAreNamed) {
 TEST(InputMonitorTest, WristsBelowOrFarAboveADeclaredFloorAreNamed) {
   Outcome below = Monitor(Walk(60, 1.2f, {0, 0, 1}, -1.6f), false);  // a head-origin space declared as floor-origin
   ASSERT_TRUE(Has(below, InputWarning::Kind::kBelowFloor));
-  EXPECT_NE(below.warnings.front().message.find("wrists below the floor"), std::string::npos) << below.warnings.front().message;
+  EXPECT_NE(below.warnings.front().message.find("wrists below the floor"), std::string::npos)
+      << below.warnings.front().message;
   Outcome above = Monitor(Walk(60, 1.2f, {0, 0, 1}, +1.6f), false);  // the floor declared 1.6 m too low
   EXPECT_TRUE(Has(above, InputWarning::Kind::kAboveFloor));
   // A calibrated floor is right by construction: nothing to say.
@@ -126,7 +128,8 @@ TEST(WristSeparationProblemTest, NamesTheUnitThatMakesTheWristsABodys) {
   EXPECT_NE(cm->find("wrist samples 180 units apart"), std::string::npos) << *cm;
   EXPECT_NE(cm->find("centimetres"), std::string::npos) << *cm;
   EXPECT_NE(cm->find(" declared as metres?"), std::string::npos) << *cm;
-  const std::optional<std::string> mm = WristSeparationProblem(0.45 * 1000 * 0.01, LengthUnit::kCentimetre);  // 450 "cm"
+  const std::optional<std::string> mm =
+      WristSeparationProblem(0.45 * 1000 * 0.01, LengthUnit::kCentimetre);  // 450 "cm"
   ASSERT_TRUE(mm);
   EXPECT_NE(mm->find(": millimetres declared as centimetres?"), std::string::npos) << *mm;
   // Nothing a unit explains: no guess.

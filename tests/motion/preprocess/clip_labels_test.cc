@@ -48,10 +48,8 @@ INSTANTIATE_TEST_SUITE_P(
         LabelCase{"7_12.bvh", {{"subject", "7"}, {"trial", "12"}}},
         LabelCase{"001_08.BVH", {{"subject", "001"}, {"trial", "08"}}},
         // Free-form names: the stem, folders and extension dropped.
-        LabelCase{"my_walk.bvh", {{"name", "my_walk"}}},
-        LabelCase{"captures/2024/Take 7.bvh", {{"name", "Take 7"}}},
-        LabelCase{"walk", {{"name", "walk"}}},
-        LabelCase{"001_08_extra.bvh", {{"name", "001_08_extra"}}},
+        LabelCase{"my_walk.bvh", {{"name", "my_walk"}}}, LabelCase{"captures/2024/Take 7.bvh", {{"name", "Take 7"}}},
+        LabelCase{"walk", {{"name", "walk"}}}, LabelCase{"001_08_extra.bvh", {{"name", "001_08_extra"}}},
         LabelCase{"dataset-2_walk.bvh", {{"name", "dataset-2_walk"}}},
         LabelCase{"dataset-2_walk_normal_take1.bvh", {{"name", "dataset-2_walk_normal_take1"}}},
         LabelCase{"a_b_c_001.bvh", {{"name", "a_b_c_001"}}},
@@ -103,17 +101,16 @@ class ClipLabelsCsvTest : public ::testing::Test {
 };
 
 TEST_F(ClipLabelsCsvTest, ReadsQuotedFieldsCrlfAndLeadingZeros) {
-  const std::filesystem::path path = Write(
-      "clip_labels_test_descriptions.csv",
-      "\"Subject\",\"Trial #\",\"Motion Description\",\"framerate\"\r\n"
-      "1,1,\"playground - forward jumps, turn around\",120\r\n"
-      "\"02\",\"01\",\"walk\",120\r\n"
-      "5,010,\"say \"\"hi\"\", then wave\",120\r\n"
-      "\r\n"
-      "7,3,plain words\r\n"
-      "8,2\r\n"            // too short: skipped
-      ",4,\"no subject\"\r\n"  // no subject: skipped
-      "9,5,\"last line, no newline\"");
+  const std::filesystem::path path = Write("clip_labels_test_descriptions.csv",
+                                           "\"Subject\",\"Trial #\",\"Motion Description\",\"framerate\"\r\n"
+                                           "1,1,\"playground - forward jumps, turn around\",120\r\n"
+                                           "\"02\",\"01\",\"walk\",120\r\n"
+                                           "5,010,\"say \"\"hi\"\", then wave\",120\r\n"
+                                           "\r\n"
+                                           "7,3,plain words\r\n"
+                                           "8,2\r\n"                // too short: skipped
+                                           ",4,\"no subject\"\r\n"  // no subject: skipped
+                                           "9,5,\"last line, no newline\"");
   const std::map<std::string, std::string> table = ReadTrialDescriptions(path);
   const std::map<std::string, std::string> expected = {
       {"1_1", "playground - forward jumps, turn around"},

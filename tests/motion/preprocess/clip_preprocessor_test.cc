@@ -6,8 +6,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
@@ -21,7 +21,6 @@ using testing::kPi;
 
 using testing::MakeWalkingClip;
 using testing::SyntheticRigOptions;
-
 
 // Largest coefficient difference of two quaternions, q and -q being equal.
 float QuaternionDistance(const Eigen::Quaternionf& a, const Eigen::Quaternionf& b) {
@@ -80,7 +79,8 @@ TEST(ClipPreprocessorTest, SixtyFpsBecomesThirtyWithMatchingPoses) {
   float worst_rotation = 0, worst_translation = 0;
   for (int k = 0; k < 31; ++k) {
     for (int j = 0; j < source.num_joints(); ++j) {
-      worst_rotation = std::max(worst_rotation, QuaternionDistance(p.clip.motion.rotation(k, j), source.rotation(2 * k, j)));
+      worst_rotation =
+          std::max(worst_rotation, QuaternionDistance(p.clip.motion.rotation(k, j), source.rotation(2 * k, j)));
     }
     worst_translation =
         std::max(worst_translation, (p.clip.motion.translation(k, 0) - 0.01f * source.translation(2 * k, 0)).norm());
@@ -110,11 +110,10 @@ TEST(ClipPreprocessorTest, FrameCountsAtOtherRates) {
     double rate;
     int expected;
   };
-  for (const Case& c : {Case{60, 1.0 / 60, 30, 30},   // 59/60 s: 0 .. 29/30
-                        Case{30, 1.0 / 30, 30, 30},   // already at the rate
-                        Case{30, 1.0 / 30, 60, 59},   // upsampled: 29/30 s at 60 fps
-                        Case{120, 1.0 / 120, 30, 30},
-                        Case{2, 1.0 / 30, 30, 2}}) {
+  for (const Case& c : {Case{60, 1.0 / 60, 30, 30},  // 59/60 s: 0 .. 29/30
+                        Case{30, 1.0 / 30, 30, 30},  // already at the rate
+                        Case{30, 1.0 / 30, 60, 59},  // upsampled: 29/30 s at 60 fps
+                        Case{120, 1.0 / 120, 30, 30}, Case{2, 1.0 / 30, 30, 2}}) {
     SCOPED_TRACE(::testing::PrintToString(std::vector<double>{double(c.frames), c.frame_time, c.rate}));
     PreprocessOptions options;
     options.frame_rate = c.rate;
@@ -328,7 +327,8 @@ TEST(ClipPreprocessorTest, AnimatedJointsCarryTheirOwnTranslations) {
   EXPECT_EQ(p.clip.animated_joints, std::vector<int>{hips});
   // Decoding takes non-root translations from the offsets: the store must put the animated
   // joints' translations back, and then the clip is whole again.
-  LocalMotion decoded = DecodePoses(EncodePoses(p.clip.motion, p.rig), p.clip.skeleton, p.rig, p.clip.motion.frame_time);
+  LocalMotion decoded =
+      DecodePoses(EncodePoses(p.clip.motion, p.rig), p.clip.skeleton, p.rig, p.clip.motion.frame_time);
   EXPECT_GT(MaxPositionDifference(ForwardKinematics(p.clip.skeleton, decoded), Fk(p.clip)), 0.5f);
   for (int f = 0; f < decoded.num_frames(); ++f) {
     for (int j : p.clip.animated_joints) decoded.SetTranslation(f, j, p.clip.motion.translation(f, j));
@@ -433,7 +433,9 @@ TEST(ClipPreprocessorTest, BuildRigModelRefusesNonHumanoid) {
   BvhClip chain;
   std::vector<Joint> joints;
   for (int j = 0; j < 5; ++j) {
-    joints.push_back(Joint{.name = "J" + std::to_string(j), .parent = j - 1, .offset = Eigen::Vector3f(0, 20, 0),
+    joints.push_back(Joint{.name = "J" + std::to_string(j),
+                           .parent = j - 1,
+                           .offset = Eigen::Vector3f(0, 20, 0),
                            .channels = {ChannelType::kZrotation, ChannelType::kXrotation, ChannelType::kYrotation}});
   }
   chain.skeleton = Skeleton(std::move(joints));

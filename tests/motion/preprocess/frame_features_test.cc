@@ -6,8 +6,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/skeleton/forward_kinematics.h"
@@ -25,9 +25,7 @@ using testing::kPi;
 using testing::MakeWalkingClip;
 using testing::SyntheticRigOptions;
 
-
 Eigen::Vector3f Vec(const float v[3]) { return Eigen::Vector3f(v[0], v[1], v[2]); }
-
 
 // a - b wrapped into (-pi, pi].
 float AngleDifference(float a, float b) { return std::remainder(a - b, 2 * kPi); }
@@ -115,8 +113,8 @@ TEST(FrameFeaturesTest, WristReferenceFrameFallsBackWhenWristsAreVerticallyAlign
 // ComputeFrameFeatures on hand-made poses.
 
 // Joints: 0 pelvis, 1 left wrist, 2 right wrist, 3 left ankle, 4 right ankle.
-constexpr BodyLandmarks kHandLandmarks = {.pelvis = 0, .head = -1, .left_wrist = 1, .right_wrist = 2,
-                                          .left_ankle = 3, .right_ankle = 4};
+constexpr BodyLandmarks kHandLandmarks = {
+    .pelvis = 0, .head = -1, .left_wrist = 1, .right_wrist = 2, .left_ankle = 3, .right_ankle = 4};
 
 GlobalPoses HandPoses(const std::vector<std::vector<Eigen::Vector3f>>& positions,
                       const std::vector<Eigen::Quaternionf>& pelvis_rotations) {
@@ -191,9 +189,9 @@ TEST(FrameFeaturesTest, HandMadePosesHeadingFallbackAndPelvis) {
   EXPECT_NEAR(features[1].pelvis_tilt, 30 * kDegree, 1e-5f);
   EXPECT_NEAR(features[2].pelvis_tilt, 0.0f, 1e-3f);  // yaw is not tilt
   EXPECT_NEAR(features[3].pelvis_tilt, 30 * kDegree, 1e-5f);
-  EXPECT_LT((Vec(features[1].pelvis_position) - Eigen::Vector3f(0.1f * h - (-0.3f) * h, 0.9f, 0.1f * h + -0.3f * h))
-                .norm(),
-            1e-6f);
+  EXPECT_LT(
+      (Vec(features[1].pelvis_position) - Eigen::Vector3f(0.1f * h - (-0.3f) * h, 0.9f, 0.1f * h + -0.3f * h)).norm(),
+      1e-6f);
   for (int f = 0; f < 4; ++f) {
     const float* q = features[f].pelvis_rotation;
     EXPECT_GE(q[0], 0.0f);
@@ -329,12 +327,12 @@ TEST(FrameFeaturesTest, VelocityIsRotatedFiniteDifferenceOfWorldPositions) {
     EXPECT_LT((Vec(prepared.features[f].ankle_velocity[1]) - local_velocity(l.right_ankle)).norm(), 1e-4f);
     // And the positions.
     const Eigen::Vector3f origin(prepared.features[f].ref_origin_x, 0, prepared.features[f].ref_origin_z);
-    EXPECT_LT((Vec(prepared.features[f].wrist_position[0]) - to_local * (poses.position(f, l.left_wrist) - origin))
-                  .norm(),
-              1e-5f);
-    EXPECT_LT((Vec(prepared.features[f].ankle_position[1]) - to_local * (poses.position(f, l.right_ankle) - origin))
-                  .norm(),
-              1e-5f);
+    EXPECT_LT(
+        (Vec(prepared.features[f].wrist_position[0]) - to_local * (poses.position(f, l.left_wrist) - origin)).norm(),
+        1e-5f);
+    EXPECT_LT(
+        (Vec(prepared.features[f].ankle_position[1]) - to_local * (poses.position(f, l.right_ankle) - origin)).norm(),
+        1e-5f);
   }
   // A swinging foot moves: the features are not all zero.
   float fastest = 0;
@@ -349,9 +347,9 @@ TEST(FrameFeaturesTest, InvariantUnderRotationAboutVerticalAndGroundTranslation)
   const PreparedClip& prepared = walk.prepared;
   ASSERT_EQ(prepared.num_frames(), 60);
   const BodyLandmarks& landmarks = walk.rig.topology.landmarks;
-  const std::vector<FrameFeatures> base = ComputeFrameFeatures(
-      ForwardKinematics(prepared.skeleton, prepared.motion), landmarks, walk.rig.pelvis_up_local,
-      prepared.motion.frame_time);
+  const std::vector<FrameFeatures> base =
+      ComputeFrameFeatures(ForwardKinematics(prepared.skeleton, prepared.motion), landmarks, walk.rig.pelvis_up_local,
+                           prepared.motion.frame_time);
   // PrepareClip's own features are these.
   ASSERT_EQ(base.size(), prepared.features.size());
   for (size_t f = 0; f < base.size(); ++f) {
@@ -364,9 +362,8 @@ TEST(FrameFeaturesTest, InvariantUnderRotationAboutVerticalAndGroundTranslation)
     LocalMotion moved = prepared.motion;
     RotateWorld(moved, rotation);
     for (int f = 0; f < moved.num_frames(); ++f) moved.SetTranslation(f, 0, moved.translation(f, 0) + shift);
-    const std::vector<FrameFeatures> other = ComputeFrameFeatures(ForwardKinematics(prepared.skeleton, moved),
-                                                                  landmarks, walk.rig.pelvis_up_local,
-                                                                  moved.frame_time);
+    const std::vector<FrameFeatures> other = ComputeFrameFeatures(
+        ForwardKinematics(prepared.skeleton, moved), landmarks, walk.rig.pelvis_up_local, moved.frame_time);
     ASSERT_EQ(other.size(), base.size());
     float worst_position = 0, worst_velocity = 0, worst_scalar = 0, worst_rotation = 0;
     for (size_t f = 0; f < base.size(); ++f) {
@@ -379,14 +376,14 @@ TEST(FrameFeaturesTest, InvariantUnderRotationAboutVerticalAndGroundTranslation)
                                    (Vec(a.ankle_velocity[side]) - Vec(b.ankle_velocity[side])).norm()});
       }
       worst_position = std::max(worst_position, (Vec(a.pelvis_position) - Vec(b.pelvis_position)).norm());
-      worst_scalar = std::max({worst_scalar, std::abs(a.pelvis_height - b.pelvis_height),
-                               std::abs(a.pelvis_tilt - b.pelvis_tilt)});
-      worst_rotation = std::max(
-          worst_rotation,
-          static_cast<float>(AngleBetween(
-              Eigen::Quaternionf(a.pelvis_rotation[0], a.pelvis_rotation[1], a.pelvis_rotation[2], a.pelvis_rotation[3]),
-              Eigen::Quaternionf(b.pelvis_rotation[0], b.pelvis_rotation[1], b.pelvis_rotation[2],
-                                 b.pelvis_rotation[3]))));
+      worst_scalar = std::max(
+          {worst_scalar, std::abs(a.pelvis_height - b.pelvis_height), std::abs(a.pelvis_tilt - b.pelvis_tilt)});
+      worst_rotation =
+          std::max(worst_rotation,
+                   static_cast<float>(AngleBetween(Eigen::Quaternionf(a.pelvis_rotation[0], a.pelvis_rotation[1],
+                                                                      a.pelvis_rotation[2], a.pelvis_rotation[3]),
+                                                   Eigen::Quaternionf(b.pelvis_rotation[0], b.pelvis_rotation[1],
+                                                                      b.pelvis_rotation[2], b.pelvis_rotation[3]))));
       // The reference frame moved with the clip.
       EXPECT_NEAR(AngleDifference(b.ref_heading, a.ref_heading + yaw), 0.0f, 1e-4f) << f;
       const Eigen::Vector3f origin = rotation * Eigen::Vector3f(a.ref_origin_x, 0, a.ref_origin_z) + shift;

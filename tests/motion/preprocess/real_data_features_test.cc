@@ -41,7 +41,7 @@ TEST_P(RealDataFeaturesTest, WalkFeaturesArePlausible) {
     EXPECT_NEAR(f.wrist_position[0][0], -f.wrist_position[1][0], 1e-4f);
     EXPECT_NEAR(f.wrist_position[0][2], 0.0f, 1e-4f);
   }
-  EXPECT_GT(Median(left_x), 0.1f);   // x axis points from the right wrist to the left one
+  EXPECT_GT(Median(left_x), 0.1f);  // x axis points from the right wrist to the left one
   EXPECT_LT(Median(right_x), -0.1f);
   EXPECT_GT(Median(forward_speed), 0.5f);  // walking forward: +z in the wrist frame, m/s
   EXPECT_LT(Median(forward_speed), 2.5f);
@@ -56,7 +56,7 @@ INSTANTIATE_TEST_SUITE_P(Walks, RealDataFeaturesTest,
                          ::testing::Values(std::pair{"bandai-namco-2", "dataset-2_walk_normal_001.bvh"},
                                            std::pair{"bandai-namco-2", "dataset-2_walk_elderly_005.bvh"},
                                            std::pair{"bandai-namco-1", "dataset-1_walk_normal_001.bvh"},
-                                           std::pair{"cmu-cc", "002_01.bvh"},    // Z-up root, 60 fps
+                                           std::pair{"cmu-cc", "002_01.bvh"},  // Z-up root, 60 fps
                                            std::pair{"cmu-cc", "007_01.bvh"}));
 
 }  // namespace

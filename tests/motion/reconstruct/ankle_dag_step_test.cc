@@ -28,7 +28,8 @@ std::vector<float> ExpectSameStep(const std::vector<AnkleCandidate>& previous, c
   std::vector<float> cost, reference_cost;
   std::vector<int> from, reference_from;
   AnkleDagStep(previous, previous_cost, current, kFrameTime, options, &cost, &from);
-  testing::ReferenceAnkleDagStep(previous, previous_cost, current, kFrameTime, options, &reference_cost, &reference_from);
+  testing::ReferenceAnkleDagStep(previous, previous_cost, current, kFrameTime, options, &reference_cost,
+                                 &reference_from);
   EXPECT_EQ(cost.size(), current.size());
   EXPECT_EQ(from.size(), current.size());
   int differing = 0;

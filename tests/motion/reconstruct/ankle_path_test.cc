@@ -24,11 +24,13 @@ std::vector<std::vector<AnkleCandidate>> CloudsAroundTruth(int frames, int distr
     truth.position[1] = Eigen::Vector3f(-0.1f, 0.13f + 0.05f * std::sin(0.3f * t), 0.3f);
     truth.velocity[0] = Eigen::Vector3f::Zero();
     // Forward difference, so that position + Δt·velocity lands exactly on the next frame.
-    truth.velocity[1] = Eigen::Vector3f(0.0f, 0.05f * (std::sin(0.3f * (t + 1)) - std::sin(0.3f * t)) / kFrameSeconds, 0.0f);
+    truth.velocity[1] =
+        Eigen::Vector3f(0.0f, 0.05f * (std::sin(0.3f * (t + 1)) - std::sin(0.3f * t)) / kFrameSeconds, 0.0f);
     for (int i = 0; i < distractors; ++i) {
       AnkleCandidate d = truth;
       d.row = i;
-      for (int side = 0; side < 2; ++side) d.position[side] += Eigen::Vector3f(offset(random), offset(random) * 0.3f, offset(random));
+      for (int side = 0; side < 2; ++side)
+        d.position[side] += Eigen::Vector3f(offset(random), offset(random) * 0.3f, offset(random));
       clouds[t].push_back(d);
     }
     const int at = slot(random);
@@ -107,7 +109,8 @@ TEST(AnklePathTest, SmoothingKeepsLinesAndDampsJitter) {
 
 TEST(AnklePathTest, RejectsEmptyInput) {
   EXPECT_EQ(SolveAnkleWindow({}, std::nullopt, kFrameSeconds, {}).status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_EQ(SolveAnkleWindow({{}}, std::nullopt, kFrameSeconds, {}).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(SolveAnkleWindow({{}}, std::nullopt, kFrameSeconds, {}).status().code(),
+            absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

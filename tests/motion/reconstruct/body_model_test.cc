@@ -44,14 +44,14 @@ TEST(BodyModelTest, ADatabaseFrameRebuiltFromItsFeaturesMatchesItsCapture) {
     for (int axis = 0; axis < 3; ++axis) q.push_back(encoded[10 * stride + 3 + 3 * j + axis]);
   }
   const BodyLandmarks& l = setup.rig.topology.landmarks;
-  const BodyPose pose = db.body().Pose(setup.truth.rotation(10, l.pelvis), setup.truth.position(10, l.pelvis), q.data());
+  const BodyPose pose =
+      db.body().Pose(setup.truth.rotation(10, l.pelvis), setup.truth.position(10, l.pelvis), q.data());
   std::vector<Eigen::Quaternionf> rotations;
   std::vector<Eigen::Vector3f> positions;
   db.body().WorldTransforms(pose, &rotations, &positions);
   EXPECT_LT((positions[l.left_wrist] - setup.truth.position(10, l.left_wrist)).norm(), 1e-4f);
   EXPECT_LT((positions[l.right_ankle] - setup.truth.position(10, l.right_ankle)).norm(), 1e-4f);
 }
-
 
 TEST(BodyModelTest, RestPoseHeightIsTheStandingHeightOnEveryRigVariant) {
   // The synthetic performer stands about 1.7 m tall (floor to the head's end site), whatever the

@@ -28,7 +28,8 @@ TEST(FootskateCleanupTest, LegIkReachesTheTargetAndKeepsTheFootOrientation) {
     EXPECT_LT(r1[ankle].angularDistance(r0[ankle]), 1e-3f);
     const int knee = db.body().skeleton().parent(ankle);
     EXPECT_NEAR((p1[knee] - p1[ankle]).norm(), (p0[knee] - p0[ankle]).norm(), 1e-5f);  // bones keep their lengths
-    EXPECT_LT((p1[setup.rig.topology.landmarks.right_ankle] - p0[setup.rig.topology.landmarks.right_ankle]).norm(), 1e-6f);
+    EXPECT_LT((p1[setup.rig.topology.landmarks.right_ankle] - p0[setup.rig.topology.landmarks.right_ankle]).norm(),
+              1e-6f);
   }
 }
 
@@ -61,7 +62,8 @@ TEST(FootskateCleanupTest, APlantedFootStaysWhereItLandedAndIsReleasedSmoothly) 
     BodyPose pose = PoseOfRow(db, 20);
     pose.root_position.z() += 0.01f * f;
     BodyPose free = pose;
-    const auto contact = cleaner.Process({Eigen::Vector3f(0.1f, 0.4f, 0.0f), Eigen::Vector3f(-0.1f, 0.5f, 0.0f)}, nullptr, &pose);
+    const auto contact =
+        cleaner.Process({Eigen::Vector3f(0.1f, 0.4f, 0.0f), Eigen::Vector3f(-0.1f, 0.5f, 0.0f)}, nullptr, &pose);
     EXPECT_FALSE(contact[0]);
     db.body().WorldTransforms(pose, &rotations, &positions);
     std::vector<Eigen::Quaternionf> free_rotations;
@@ -73,7 +75,6 @@ TEST(FootskateCleanupTest, APlantedFootStaysWhereItLandedAndIsReleasedSmoothly) 
   }
   EXPECT_LT(previous_offset, 1e-5f);
 }
-
 
 TEST(FootskateCleanupTest, ContactsCanComeFromTheChosenDatabaseFrame) {
   const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <random>
 
-#include <Eigen/QR>
 #include <gtest/gtest.h>
+#include <Eigen/QR>
 
 namespace mocap {
 namespace {
@@ -29,7 +29,8 @@ TEST(LocalPoseModelTest, RecoversTheSubspaceAndVariances) {
   std::normal_distribution<float> normal(0.0f, 1.0f);
   Eigen::MatrixXf raw(20, 3);
   for (int i = 0; i < raw.size(); ++i) raw.data()[i] = normal(random);
-  const Eigen::MatrixXf basis = Eigen::HouseholderQR<Eigen::MatrixXf>(raw).householderQ() * Eigen::MatrixXf::Identity(20, 3);
+  const Eigen::MatrixXf basis =
+      Eigen::HouseholderQR<Eigen::MatrixXf>(raw).householderQ() * Eigen::MatrixXf::Identity(20, 3);
   Eigen::VectorXf mean(20);
   for (int d = 0; d < 20; ++d) mean[d] = 0.1f * d;
   const Eigen::MatrixXf examples = ExamplesFromModel(basis, mean, 200, 2);

@@ -37,11 +37,13 @@ TEST_F(PoseSolverTest, ReachesTheControlPointsFromAPerturbedStart) {
     const LocalPoseModel model = ModelAt(f);
     SolvedPose initial;
     initial.pose_feature = model.mean;
-    initial.pelvis_rotation = setup_.truth.rotation(f, l.pelvis) * Eigen::Quaternionf(Eigen::AngleAxisf(0.2f, Eigen::Vector3f::UnitY()));
+    initial.pelvis_rotation =
+        setup_.truth.rotation(f, l.pelvis) * Eigen::Quaternionf(Eigen::AngleAxisf(0.2f, Eigen::Vector3f::UnitY()));
     initial.pelvis_position = setup_.truth.position(f, l.pelvis) + Eigen::Vector3f(0.08f, -0.05f, 0.06f);
     auto solved = SolvePose(setup_.database->body(), model, TargetsAt(f), initial, nullptr, nullptr, {});
     ASSERT_TRUE(solved.ok()) << solved.status();
-    for (int c = 0; c < kNumControlPoints; ++c) EXPECT_LT(solved->control_error[c], 0.02f) << "frame " << f << " point " << c;
+    for (int c = 0; c < kNumControlPoints; ++c)
+      EXPECT_LT(solved->control_error[c], 0.02f) << "frame " << f << " point " << c;
     EXPECT_LT((solved->pelvis_position - setup_.truth.position(f, l.pelvis)).norm(), 0.03f);
     EXPECT_NEAR(solved->pelvis_rotation.norm(), 1.0f, 1e-5f);
   }
@@ -60,7 +62,8 @@ TEST_F(PoseSolverTest, SmoothnessPullsTowardsTheHistory) {
   auto free = SolvePose(setup_.database->body(), model, TargetsAt(f), history, nullptr, nullptr, {});
   auto held = SolvePose(setup_.database->body(), model, TargetsAt(f), history, &history, &history, strong);
   ASSERT_TRUE(free.ok() && held.ok());
-  EXPECT_LT((held->pelvis_position - history.pelvis_position).norm(), (free->pelvis_position - history.pelvis_position).norm());
+  EXPECT_LT((held->pelvis_position - history.pelvis_position).norm(),
+            (free->pelvis_position - history.pelvis_position).norm());
 }
 
 TEST_F(PoseSolverTest, RefusesNonFiniteTargetsAndMismatchedModels) {

@@ -32,14 +32,16 @@ TEST(ReconstructionExportTest, TheBvhReadsBackAsTheReconstructedMotion) {
     std::vector<Eigen::Vector3f> positions;
     // Every body joint; nodes above the pelvis are held still (see the next test).
     std::vector<bool> above_pelvis(read_back.num_joints(), false);
-    for (int j = setup.rig.skeleton.parent(setup.rig.topology.landmarks.pelvis); j >= 0; j = setup.rig.skeleton.parent(j)) {
+    for (int j = setup.rig.skeleton.parent(setup.rig.topology.landmarks.pelvis); j >= 0;
+         j = setup.rig.skeleton.parent(j)) {
       above_pelvis[j] = true;
     }
     for (int f : {0, 17, 39}) {
       setup.database->body().WorldTransforms((*frames)[f].pose, &rotations, &positions);
       for (int j = 0; j < read_back.num_joints(); ++j) {
         if (above_pelvis[j]) continue;
-        EXPECT_LT((read_back.position(f, j) - positions[j]).norm(), 2e-4f) << "rig bits " << bits << " frame " << f << " joint " << j;
+        EXPECT_LT((read_back.position(f, j) - positions[j]).norm(), 2e-4f)
+            << "rig bits " << bits << " frame " << f << " joint " << j;
       }
     }
   }
@@ -59,11 +61,13 @@ TEST(ReconstructionExportTest, AStaticRootStaysStillAndAboveTheFloor) {
   ASSERT_EQ(clip.skeleton.joint(0).name, "Root");
   const int root_channels = static_cast<int>(clip.skeleton.joint(0).channels.size());
   for (int f = 0; f < clip.num_frames(); ++f) {
-    for (int c = 0; c < root_channels; ++c) EXPECT_NEAR(clip.channels(f, c), 0.0f, 1e-3f) << "frame " << f << " channel " << c;
+    for (int c = 0; c < root_channels; ++c)
+      EXPECT_NEAR(clip.channels(f, c), 0.0f, 1e-3f) << "frame " << f << " channel " << c;
   }
   auto parsed = ParseBvh(FormatBvh(clip), "reconstruction.bvh");
   ASSERT_TRUE(parsed.ok()) << parsed.status();
-  const GlobalPoses poses = ForwardKinematics(parsed->skeleton, MotionFromChannels(parsed->skeleton, parsed->channels, parsed->frame_time));
+  const GlobalPoses poses =
+      ForwardKinematics(parsed->skeleton, MotionFromChannels(parsed->skeleton, parsed->channels, parsed->frame_time));
   for (int f = 0; f < poses.num_frames(); ++f) {
     EXPECT_GE(poses.position(f, 0).y(), -1e-3f) << "root below the floor at frame " << f;
     EXPECT_GT(poses.position(f, 1).y(), 0.2f) << "pelvis not above the root at frame " << f;

@@ -48,9 +48,10 @@ TEST_F(ReconstructionSessionTest, OfflineReconstructionFollowsTheCapturedWalk) {
     if (getenv("DEBUG_SESSION")) {
       const int f = frame.frame_in_segment;
       const int row = frame.diagnostics.ankle_source_row;
-      std::cerr << f << " truth " << setup_.truth.position(f, l.left_ankle).transpose() << " est " << frame.ankles[0].transpose()
-                << " row " << row << " clip " << setup_.database->clip_of(row) << ":" << setup_.database->frame_in_clip(row)
-                << " wd " << frame.diagnostics.wrist_neighbour_distance << " contact " << frame.diagnostics.contact[0] << "\n";
+      std::cerr << f << " truth " << setup_.truth.position(f, l.left_ankle).transpose() << " est "
+                << frame.ankles[0].transpose() << " row " << row << " clip " << setup_.database->clip_of(row) << ":"
+                << setup_.database->frame_in_clip(row) << " wd " << frame.diagnostics.wrist_neighbour_distance
+                << " contact " << frame.diagnostics.contact[0] << "\n";
     }
     EXPECT_LT((frame.pelvis_position - setup_.truth.position(frame.frame_in_segment, l.pelvis)).norm(), 0.08);
     EXPECT_LT((frame.ankles[0] - setup_.truth.position(frame.frame_in_segment, l.left_ankle)).norm(), 0.15);
@@ -106,7 +107,8 @@ TEST_F(ReconstructionSessionTest, FixedLagEmitsFrameTMinusDWhenFrameTArrives) {
     const auto samples = testing::WristSamplesOf(setup_);
     for (size_t t = 0; t < samples.size(); ++t) {
       ASSERT_TRUE((*session)->Push(samples[t], &out).ok());
-      ASSERT_EQ(static_cast<int>(out.size()), std::max(0, static_cast<int>(t) - lag + 1)) << "lag " << lag << " t " << t;
+      ASSERT_EQ(static_cast<int>(out.size()), std::max(0, static_cast<int>(t) - lag + 1))
+          << "lag " << lag << " t " << t;
     }
     ASSERT_TRUE((*session)->Finish(&out).ok());
     EXPECT_EQ(out.size(), samples.size());

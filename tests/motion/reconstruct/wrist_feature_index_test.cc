@@ -26,8 +26,8 @@ std::vector<FrameFeatures> RandomFrames(int count, unsigned seed) {
 
 TEST(WristFeatureIndexTest, FeatureFoldsTheEquation2Weights) {
   FrameFeatures a{}, b{};
-  a.wrist_position[0][1] = 1.0f;   // position differs by 1 m on one axis
-  b.wrist_velocity[1][2] = 1.0f;   // velocity differs by 1 m/s on one axis
+  a.wrist_position[0][1] = 1.0f;  // position differs by 1 m on one axis
+  b.wrist_velocity[1][2] = 1.0f;  // velocity differs by 1 m/s on one axis
   float fa[kWristFeatureDims], fb[kWristFeatureDims], zero[kWristFeatureDims];
   WristFeature(a, {}, fa);
   WristFeature(b, {}, fb);

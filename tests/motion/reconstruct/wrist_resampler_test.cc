@@ -9,7 +9,8 @@ namespace {
 
 WristSample At(double t) {
   // Wrists moving linearly: interpolation must be exact.
-  return {t, Eigen::Vector3f(static_cast<float>(t), 1.0f, 0.0f), Eigen::Vector3f(-static_cast<float>(t), 1.0f, 2.0f * static_cast<float>(t))};
+  return {t, Eigen::Vector3f(static_cast<float>(t), 1.0f, 0.0f),
+          Eigen::Vector3f(-static_cast<float>(t), 1.0f, 2.0f * static_cast<float>(t))};
 }
 
 TEST(WristResamplerTest, AnyInputRateLandsOnTheDatabaseGrid) {
@@ -65,7 +66,8 @@ TEST(WristResamplerTest, RefusesNonFiniteSamplesAndTimeGoingBackwardsAndCarriesO
   EXPECT_EQ(resampler.Push(inf, &out).code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(resampler.Push(At(-1.0), &out).code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(resampler.Push(At(0.0), &out).code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_EQ(resampler.Push(At(std::numeric_limits<double>::quiet_NaN()), &out).code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(resampler.Push(At(std::numeric_limits<double>::quiet_NaN()), &out).code(),
+            absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(out.size(), 1u);
   ASSERT_TRUE(resampler.Push(At(1 / 30.0), &out).ok());
   EXPECT_EQ(out.size(), 2u);

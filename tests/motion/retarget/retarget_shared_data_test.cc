@@ -39,7 +39,7 @@ void TurnZUp(BvhClip& clip) {
 }
 
 struct Figures {
-  double landmark_error[4] = {0, 0, 0, 0};  // wrists, ankles, head, pelvis: leg lengths
+  double landmark_error[4] = {0, 0, 0, 0};    // wrists, ankles, head, pelvis: leg lengths
   double skate_source = 0, skate_target = 0;  // cm per contact frame, at the database's scale
   long frames = 0, contact_frames = 0;
 };
@@ -60,7 +60,8 @@ TEST(RetargetSharedDataTest, HeldOutClipsOnTheCmuRigAndOnReRiggedCopies) {
     if (TakeOf(name) % 10 == 3) {
       for (const char* content : {"_walk_", "_run_", "_raise-up-both-hands_"}) {
         if (name.find(content) != std::string::npos && queries.size() < 3 &&
-            std::none_of(queries.begin(), queries.end(), [&](const auto& q) { return q.filename().string().find(content) != std::string::npos; })) {
+            std::none_of(queries.begin(), queries.end(),
+                         [&](const auto& q) { return q.filename().string().find(content) != std::string::npos; })) {
           queries.push_back(file);
         }
       }
@@ -109,15 +110,18 @@ TEST(RetargetSharedDataTest, HeldOutClipsOnTheCmuRigAndOnReRiggedCopies) {
     for (int f = 0; f < truth.num_frames(); ++f) {
       WristSample sample;
       sample.time = f * prepared->motion.frame_time;
-      sample.left = truth.position(f, rig->topology.landmarks.left_wrist) + Eigen::Vector3f(noise(random), noise(random), noise(random));
-      sample.right = truth.position(f, rig->topology.landmarks.right_wrist) + Eigen::Vector3f(noise(random), noise(random), noise(random));
+      sample.left = truth.position(f, rig->topology.landmarks.left_wrist) +
+                    Eigen::Vector3f(noise(random), noise(random), noise(random));
+      sample.right = truth.position(f, rig->topology.landmarks.right_wrist) +
+                     Eigen::Vector3f(noise(random), noise(random), noise(random));
       samples.push_back(sample);
     }
     auto frames = ReconstructOffline(*database, {}, samples);
     ASSERT_TRUE(frames.ok()) << frames.status();
     const std::string stem = query.stem().string();
     if (out_dir) {
-      std::ofstream(std::filesystem::path(out_dir) / (stem + "_database-rig.bvh")) << FormatBvh(ReconstructionToBvh(**database, *frames));
+      std::ofstream(std::filesystem::path(out_dir) / (stem + "_database-rig.bvh"))
+          << FormatBvh(ReconstructionToBvh(**database, *frames));
     }
     for (size_t t = 0; t < targets.size(); ++t) {
       auto target = TargetRigFromBvh(targets[t].second);
@@ -126,8 +130,14 @@ TEST(RetargetSharedDataTest, HeldOutClipsOnTheCmuRigAndOnReRiggedCopies) {
       ASSERT_TRUE(retargeter.ok()) << retargeter.status();
       const BodyLandmarks& sl = source->topology.landmarks;
       const BodyLandmarks& tl = target->topology.landmarks;
-      const std::array<std::array<int, 2>, 4> source_marks{{{sl.left_wrist, sl.right_wrist}, {sl.left_ankle, sl.right_ankle}, {sl.head, sl.head}, {sl.pelvis, sl.pelvis}}};
-      const std::array<std::array<int, 2>, 4> target_marks{{{tl.left_wrist, tl.right_wrist}, {tl.left_ankle, tl.right_ankle}, {tl.head, tl.head}, {tl.pelvis, tl.pelvis}}};
+      const std::array<std::array<int, 2>, 4> source_marks{{{sl.left_wrist, sl.right_wrist},
+                                                            {sl.left_ankle, sl.right_ankle},
+                                                            {sl.head, sl.head},
+                                                            {sl.pelvis, sl.pelvis}}};
+      const std::array<std::array<int, 2>, 4> target_marks{{{tl.left_wrist, tl.right_wrist},
+                                                            {tl.left_ankle, tl.right_ankle},
+                                                            {tl.head, tl.head},
+                                                            {tl.pelvis, tl.pelvis}}};
       const float k = retargeter->scale();
       std::vector<BodyPose> poses;
       std::vector<Eigen::Quaternionf> rotations;
@@ -143,7 +153,8 @@ TEST(RetargetSharedDataTest, HeldOutClipsOnTheCmuRigAndOnReRiggedCopies) {
         for (int m = 0; m < 4; ++m) {
           for (int side = 0; side < 2; ++side) {
             fig.landmark_error[m] += 0.5 * (target_positions[target_marks[m][side]] / target->leg_length -
-                                            positions[source_marks[m][side]] / source->leg_length).norm();
+                                            positions[source_marks[m][side]] / source->leg_length)
+                                               .norm();
           }
         }
         ++fig.frames;
@@ -151,10 +162,17 @@ TEST(RetargetSharedDataTest, HeldOutClipsOnTheCmuRigAndOnReRiggedCopies) {
         if (f > 0) {
           const ReconstructedFrame& before = (*frames)[f - 1];
           for (int side = 0; side < 2; ++side) {
-            if (!frame.diagnostics.contact[side] || !before.diagnostics.contact[side] || frame.segment != before.segment) continue;
+            if (!frame.diagnostics.contact[side] || !before.diagnostics.contact[side] ||
+                frame.segment != before.segment)
+              continue;
             auto ground = [](const Eigen::Vector3f& v) { return Eigen::Vector2f(v.x(), v.z()); };
-            fig.skate_source += 100 * (ground(positions[source_marks[1][side]]) - ground(previous_source[source_marks[1][side]])).norm();
-            fig.skate_target += 100 / k * (ground(target_positions[target_marks[1][side]]) - ground(previous_target[target_marks[1][side]])).norm();
+            fig.skate_source +=
+                100 *
+                (ground(positions[source_marks[1][side]]) - ground(previous_source[source_marks[1][side]])).norm();
+            fig.skate_target +=
+                100 / k *
+                (ground(target_positions[target_marks[1][side]]) - ground(previous_target[target_marks[1][side]]))
+                    .norm();
             ++fig.contact_frames;
           }
         }
@@ -172,11 +190,12 @@ TEST(RetargetSharedDataTest, HeldOutClipsOnTheCmuRigAndOnReRiggedCopies) {
     Figures& fig = figures[t];
     for (double& e : fig.landmark_error) e /= static_cast<double>(fig.frames);
     const double contacts = std::max<long>(1, fig.contact_frames);
-    std::cout << "[figures] target " << targets[t].first << ": landmark error in leg lengths (database-rig result): wrists "
-              << fig.landmark_error[0] << ", ankles " << fig.landmark_error[1] << ", head " << fig.landmark_error[2]
-              << ", pelvis " << fig.landmark_error[3] << "; foot skate on " << fig.contact_frames
-              << " contact frames: target " << fig.skate_target / contacts << " cm/frame vs database rig "
-              << fig.skate_source / contacts << " cm/frame (" << fig.frames << " frames)\n";
+    std::cout << "[figures] target " << targets[t].first
+              << ": landmark error in leg lengths (database-rig result): wrists " << fig.landmark_error[0]
+              << ", ankles " << fig.landmark_error[1] << ", head " << fig.landmark_error[2] << ", pelvis "
+              << fig.landmark_error[3] << "; foot skate on " << fig.contact_frames << " contact frames: target "
+              << fig.skate_target / contacts << " cm/frame vs database rig " << fig.skate_source / contacts
+              << " cm/frame (" << fig.frames << " frames)\n";
     // Ankles and pelvis follow exactly (scaled), hands to the reach scaled by arm length.
     EXPECT_LT(fig.landmark_error[1], 0.01) << targets[t].first;
     EXPECT_LT(fig.landmark_error[3], 0.01) << targets[t].first;

@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <functional>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -129,11 +129,13 @@ std::vector<Variant> Variants() {
       {"fingers_toes_twist_bones", {.fingers_and_toes = true, .twist_bones = true}, nullptr},
       {"z_up_inches", {.z_up = true, .length_scale = 1.0 / 2.54}, nullptr},
       {"extra_root_metres", {.extra_root = true, .position_channels_everywhere = true, .length_scale = 0.01}, nullptr},
-      {"long_legs_short_arms", {},
+      {"long_legs_short_arms",
+       {},
        [](BvhClip& c, const BodyTopology& t) {
          testing::ScaleProportions(c, t, {.legs = 1.2f, .arms = 0.8f, .spine = 1.15f, .head = 0.9f});
        }},
-      {"a_pose_split_forearm", {},
+      {"a_pose_split_forearm",
+       {},
        [](BvhClip& c, const BodyTopology& t) {
          ArmsDownAtRest(c, t, 45.0f);
          ASSERT_TRUE(testing::SplitBone(c, c.skeleton.Find("LeftHand"), "LeftForeArmSplit").ok());
@@ -183,10 +185,12 @@ TEST(RetargeterTest, LandmarksFollowTheSourceOnEveryVariantRig) {
       EXPECT_LT(head_error, 0.12f) << "frame " << f;
       if (f > 0) {
         for (int j = 0; j < source.rig.skeleton.num_joints(); ++j) {
-          largest_source_step = std::max(largest_source_step, AngleBetween(source.rotations[f][j], source.rotations[f - 1][j]));
+          largest_source_step =
+              std::max(largest_source_step, AngleBetween(source.rotations[f][j], source.rotations[f - 1][j]));
         }
         for (int j = 0; j < target->skeleton.num_joints(); ++j) {
-          largest_target_step = std::max(largest_target_step, AngleBetween(result.rotations[f][j], result.rotations[f - 1][j]));
+          largest_target_step =
+              std::max(largest_target_step, AngleBetween(result.rotations[f][j], result.rotations[f - 1][j]));
         }
       }
     }
@@ -256,7 +260,8 @@ TEST(RetargeterTest, TheBvhIsWrittenInTheTargetFilesOwnUnitsAxesAndChannels) {
 // joint of the target rig. Skipped, with a message, where blender is not installed
 // (scripts/setup.sh installs it).
 TEST(RetargeterTest, BlenderImportsTheWrittenBvhWithOneBonePerJoint) {
-  if (std::system("command -v blender >/dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed (apt-get install blender)";
+  if (std::system("command -v blender >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "blender is not installed (apt-get install blender)";
   const Source& source = TheSource();
   testing::ScopedTempDir dir;
   std::map<std::string, int> expected;  // file -> joints
@@ -305,8 +310,9 @@ TEST(RetargeterTest, AHierarchyWithoutFramesIsARigWhenItsRestPoseStands) {
   ASSERT_TRUE(hierarchy_only.ok()) << hierarchy_only.status();
   const BodyLandmarks& a = with_frames->topology.landmarks;
   const BodyLandmarks& b = hierarchy_only->topology.landmarks;
-  EXPECT_EQ(std::tie(a.pelvis, a.head, a.left_wrist, a.right_wrist, a.left_ankle, a.right_ankle, a.left_elbow, a.left_knee),
-            std::tie(b.pelvis, b.head, b.left_wrist, b.right_wrist, b.left_ankle, b.right_ankle, b.left_elbow, b.left_knee));
+  EXPECT_EQ(
+      std::tie(a.pelvis, a.head, a.left_wrist, a.right_wrist, a.left_ankle, a.right_ankle, a.left_elbow, a.left_knee),
+      std::tie(b.pelvis, b.head, b.left_wrist, b.right_wrist, b.left_ankle, b.right_ankle, b.left_elbow, b.left_knee));
   EXPECT_NEAR(with_frames->leg_length, 0.85f, 1e-3f);
   EXPECT_NEAR(hierarchy_only->leg_length, 0.85f, 1e-3f);
 }

@@ -517,11 +517,14 @@ TEST(PoseIndexTest, PerChainScalingFactorsOutBodyProportions) {
   auto chain_length = [&](const GlobalPoses& poses, BodyGroup group) {
     const std::vector<int>& chain = chains.joints[static_cast<int>(group)];
     float length = 0;
-    for (size_t i = 1; i < chain.size(); ++i) length += (poses.position(10, chain[i]) - poses.position(10, chain[i - 1])).norm();
+    for (size_t i = 1; i < chain.size(); ++i)
+      length += (poses.position(10, chain[i]) - poses.position(10, chain[i - 1])).norm();
     return length;
   };
-  EXPECT_NEAR(chain_length(poses_after, BodyGroup::kLeftLeg) / chain_length(poses_before, BodyGroup::kLeftLeg), 1.2f, 1e-3f);
-  EXPECT_NEAR(chain_length(poses_after, BodyGroup::kRightArm) / chain_length(poses_before, BodyGroup::kRightArm), 0.8f, 1e-3f);
+  EXPECT_NEAR(chain_length(poses_after, BodyGroup::kLeftLeg) / chain_length(poses_before, BodyGroup::kLeftLeg), 1.2f,
+              1e-3f);
+  EXPECT_NEAR(chain_length(poses_after, BodyGroup::kRightArm) / chain_length(poses_before, BodyGroup::kRightArm), 0.8f,
+              1e-3f);
 
   float worst_per_chain = 0, best_body_scale = 1e9f;
   for (ChainScaling scaling : {ChainScaling::kPerChain, ChainScaling::kBodyScale}) {

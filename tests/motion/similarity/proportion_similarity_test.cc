@@ -33,10 +33,9 @@ namespace {
 using testing::PointsOf;
 using testing::QueryPoints;
 
-constexpr int kVariantDatabaseStride = 2;   // every other clip of a set in its database
-constexpr int kQueryStride = 10;     // every 10th clip queried (all of them in the database)
-constexpr int kFrameStride = 6;      // query frames
-
+constexpr int kVariantDatabaseStride = 2;  // every other clip of a set in its database
+constexpr int kQueryStride = 10;           // every 10th clip queried (all of them in the database)
+constexpr int kFrameStride = 6;            // query frames
 
 struct Rate {
   int queries = 0, same_pose = 0, same_content = 0;
@@ -70,13 +69,14 @@ SetResult MeasureSet(const std::filesystem::path& folder, const BodyPointOptions
                                 : std::map<std::string, std::string>{};
   const std::vector<std::filesystem::path> files = testing::BvhFilesIn(folder);
   PoseIndex index(options);
-  std::vector<std::string> content;            // per database clip
+  std::vector<std::string> content;              // per database clip
   std::vector<std::pair<int, BvhClip>> queried;  // database clip index, the clip as read
   std::vector<RigModel> rigs;
   for (size_t i = 0; i < files.size(); i += kVariantDatabaseStride) {
     absl::StatusOr<BvhClip> clip = ReadBvhFile(files[i]);
     if (!clip.ok()) return {.error = clip.status().ToString()};
-    auto rig = std::find_if(rigs.begin(), rigs.end(), [&](const RigModel& r) { return r.skeleton.SameRigAs(clip->skeleton); });
+    auto rig =
+        std::find_if(rigs.begin(), rigs.end(), [&](const RigModel& r) { return r.skeleton.SameRigAs(clip->skeleton); });
     if (rig == rigs.end()) {
       absl::StatusOr<RigModel> built = BuildRigModel(*clip, {});
       if (!built.ok()) return {.error = StrCat(files[i].filename().string(), ": ", built.status().ToString())};
@@ -154,8 +154,9 @@ TEST_P(ProportionSimilarityTest, SamePoseFirstOnRerigsAndOtherProportions) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scalings, ProportionSimilarityTest,
-                         ::testing::Values(ChainScaling::kPerChain, ChainScaling::kBodyScale),
-                         [](const auto& info) { return info.param == ChainScaling::kPerChain ? "PerChain" : "BodyScale"; });
+                         ::testing::Values(ChainScaling::kPerChain, ChainScaling::kBodyScale), [](const auto& info) {
+                           return info.param == ChainScaling::kPerChain ? "PerChain" : "BodyScale";
+                         });
 
 }  // namespace
 }  // namespace mocap

@@ -32,10 +32,14 @@ using testing::PointsOf;
 
 // One in kSharedDatabaseStride clips of each content, to keep the test to a few seconds.
 constexpr int kSharedDatabaseStride = 8;
-const std::set<std::string> kDatabaseContents = {
-    "walk", "run", "wave-both-hands", "wave-left-hand", "wave-right-hand",
-    "raise-up-both-hands", "raise-up-left-hand", "raise-up-right-hand"};
-
+const std::set<std::string> kDatabaseContents = {"walk",
+                                                 "run",
+                                                 "wave-both-hands",
+                                                 "wave-left-hand",
+                                                 "wave-right-hand",
+                                                 "raise-up-both-hands",
+                                                 "raise-up-left-hand",
+                                                 "raise-up-right-hand"};
 
 struct Database {
   PoseIndex index;
@@ -48,43 +52,44 @@ struct Database {
 const Database& GetDatabase(const std::filesystem::path& folder, const BodyPointOptions& options) {
   static std::map<std::pair<PointSampling, ChainScaling>, std::unique_ptr<Database>> cache;
   std::unique_ptr<Database>& database = cache[{options.sampling, options.scaling}];
-  if (!database) database = [&] {
-    auto db = std::make_unique<Database>();
-    db->index = PoseIndex(options);
-    const auto start = std::chrono::steady_clock::now();
-    std::map<std::string, int> seen;
-    std::unique_ptr<RigModel> rig;
-    for (const std::filesystem::path& file : testing::BvhFilesIn(folder)) {
-      const std::string content = LabelValue(ParseClipLabels(file.filename().string()), "content");
-      if (!kDatabaseContents.count(content) || seen[content]++ % kSharedDatabaseStride != 0) continue;
-      absl::StatusOr<BvhClip> clip = ReadBvhFile(file);
-      if (!clip.ok()) {
-        db->error = clip.status().ToString();
-        break;
-      }
-      if (!rig) {
-        absl::StatusOr<RigModel> built = BuildRigModel(*clip, {});
-        if (!built.ok()) {
-          db->error = built.status().ToString();
+  if (!database)
+    database = [&] {
+      auto db = std::make_unique<Database>();
+      db->index = PoseIndex(options);
+      const auto start = std::chrono::steady_clock::now();
+      std::map<std::string, int> seen;
+      std::unique_ptr<RigModel> rig;
+      for (const std::filesystem::path& file : testing::BvhFilesIn(folder)) {
+        const std::string content = LabelValue(ParseClipLabels(file.filename().string()), "content");
+        if (!kDatabaseContents.count(content) || seen[content]++ % kSharedDatabaseStride != 0) continue;
+        absl::StatusOr<BvhClip> clip = ReadBvhFile(file);
+        if (!clip.ok()) {
+          db->error = clip.status().ToString();
           break;
         }
-        rig = std::make_unique<RigModel>(*std::move(built));
+        if (!rig) {
+          absl::StatusOr<RigModel> built = BuildRigModel(*clip, {});
+          if (!built.ok()) {
+            db->error = built.status().ToString();
+            break;
+          }
+          rig = std::make_unique<RigModel>(*std::move(built));
+        }
+        absl::StatusOr<ClipPoints> points = PointsOf(*clip, *rig, options);
+        if (!points.ok()) {
+          db->error = StrCat(file.filename().string(), ": ", points.status().ToString());
+          break;
+        }
+        points->name = file.filename().string();
+        db->index.AddClip(*std::move(points));
+        db->content.push_back(content);
       }
-      absl::StatusOr<ClipPoints> points = PointsOf(*clip, *rig, options);
-      if (!points.ok()) {
-        db->error = StrCat(file.filename().string(), ": ", points.status().ToString());
-        break;
+      if (db->error.empty()) {
+        if (absl::Status built = db->index.Build(); !built.ok()) db->error = built.ToString();
       }
-      points->name = file.filename().string();
-      db->index.AddClip(*std::move(points));
-      db->content.push_back(content);
-    }
-    if (db->error.empty()) {
-      if (absl::Status built = db->index.Build(); !built.ok()) db->error = built.ToString();
-    }
-    db->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return db;
-  }();
+      db->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return db;
+    }();
   return *database;
 }
 
@@ -95,7 +100,8 @@ struct Query {
 };
 
 // cmu-cc clips described as walking or running, each with its own rig model.
-std::vector<Query> LoadQueries(const std::filesystem::path& folder, const BodyPointOptions& options, std::string* error) {
+std::vector<Query> LoadQueries(const std::filesystem::path& folder, const BodyPointOptions& options,
+                               std::string* error) {
   const std::map<std::string, std::string> descriptions = ReadTrialDescriptions(folder / "cmu-descriptions.csv");
   std::vector<Query> queries;
   for (const std::filesystem::path& file : testing::BvhFilesIn(folder)) {
@@ -107,7 +113,8 @@ std::vector<Query> LoadQueries(const std::filesystem::path& folder, const BodyPo
     if (label.empty()) continue;
     absl::StatusOr<BvhClip> clip = ReadBvhFile(file);
     absl::StatusOr<RigModel> rig = clip.ok() ? BuildRigModel(*clip, {}) : absl::StatusOr<RigModel>(clip.status());
-    absl::StatusOr<ClipPoints> points = rig.ok() ? PointsOf(*clip, *rig, options) : absl::StatusOr<ClipPoints>(rig.status());
+    absl::StatusOr<ClipPoints> points =
+        rig.ok() ? PointsOf(*clip, *rig, options) : absl::StatusOr<ClipPoints>(rig.status());
     if (!points.ok()) {
       *error = StrCat(file.filename().string(), ": ", points.status().ToString());
       return {};
@@ -192,16 +199,16 @@ TEST_P(SharedDataSimilarityTest, CmuWalksAndRunsFindBandaiWalksAndRuns) {
   EXPECT_GE(by_label["run"].mean(), 0.5);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    WindowsAndSamplings, SharedDataSimilarityTest,
-    ::testing::Combine(::testing::Values(1, 5),
-                       ::testing::Values(PointSampling::kResampleChains, PointSampling::kDropNearestEndEffector),
-                       ::testing::Values(ChainScaling::kPerChain, ChainScaling::kBodyScale)),
-    [](const auto& info) {
-      return "Window" + std::to_string(std::get<0>(info.param)) +
-             (std::get<1>(info.param) == PointSampling::kResampleChains ? "Resample" : "Drop") +
-             (std::get<2>(info.param) == ChainScaling::kPerChain ? "PerChain" : "BodyScale");
-    });
+INSTANTIATE_TEST_SUITE_P(WindowsAndSamplings, SharedDataSimilarityTest,
+                         ::testing::Combine(::testing::Values(1, 5),
+                                            ::testing::Values(PointSampling::kResampleChains,
+                                                              PointSampling::kDropNearestEndEffector),
+                                            ::testing::Values(ChainScaling::kPerChain, ChainScaling::kBodyScale)),
+                         [](const auto& info) {
+                           return "Window" + std::to_string(std::get<0>(info.param)) +
+                                  (std::get<1>(info.param) == PointSampling::kResampleChains ? "Resample" : "Drop") +
+                                  (std::get<2>(info.param) == ChainScaling::kPerChain ? "PerChain" : "BodyScale");
+                         });
 
 }  // namespace
 }  // namespace mocap

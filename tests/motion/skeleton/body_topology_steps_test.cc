@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 
 #include "motion/bvh/bvh_clip.h"
 #include "motion/skeleton/forward_kinematics.h"

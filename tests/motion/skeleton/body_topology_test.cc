@@ -9,8 +9,8 @@
 #include <tuple>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "motion/bvh/bvh_reader.h"
 #include "motion/core/units.h"
@@ -121,8 +121,8 @@ TEST_P(BodyTopologyRigTest, FindsLandmarksGroupsUpAndUnit) {
   EXPECT_EQ(NameOf(skeleton, topology.group_top[static_cast<int>(BodyGroup::kHead)]), "Neck");
   EXPECT_EQ(NameOf(skeleton, topology.group_end[static_cast<int>(BodyGroup::kHead)]), "Head");
   // Each limb group's end lies in that group.
-  for (BodyGroup g : {BodyGroup::kHead, BodyGroup::kLeftArm, BodyGroup::kRightArm, BodyGroup::kLeftLeg,
-                      BodyGroup::kRightLeg}) {
+  for (BodyGroup g :
+       {BodyGroup::kHead, BodyGroup::kLeftArm, BodyGroup::kRightArm, BodyGroup::kLeftLeg, BodyGroup::kRightLeg}) {
     const int end = topology.group_end[static_cast<int>(g)];
     ASSERT_GE(end, 0);
     ASSERT_LT(end, skeleton.num_joints());
@@ -351,8 +351,7 @@ TEST(BodyTopologyTest, SingleRestFrameOfAPlainRig) {
   EXPECT_GT(topology->forward.z(), 0.99f);
   // Rest pose: ankles 5 cm up, toes 0.5 cm, hips at 96 cm.
   EXPECT_NEAR(topology->floor_height, testing::kSyntheticToeHeight, 1e-3);
-  EXPECT_NEAR(topology->standing_pelvis_height, testing::kSyntheticRestHipsHeight - testing::kSyntheticToeHeight,
-              1e-3);
+  EXPECT_NEAR(topology->standing_pelvis_height, testing::kSyntheticRestHipsHeight - testing::kSyntheticToeHeight, 1e-3);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -361,7 +360,8 @@ TEST(BodyTopologyTest, SingleRestFrameOfAPlainRig) {
 Skeleton ChainSkeleton(int joints) {
   std::vector<Joint> out;
   for (int j = 0; j < joints; ++j) {
-    out.push_back(Joint{.name = "Bone" + std::to_string(j), .parent = j - 1,
+    out.push_back(Joint{.name = "Bone" + std::to_string(j),
+                        .parent = j - 1,
                         .offset = j == 0 ? Eigen::Vector3f(0, 90, 0) : Eigen::Vector3f(0, 20, 0)});
   }
   return Skeleton(std::move(out));
@@ -418,7 +418,7 @@ TEST(BodyTopologyTest, StandingStillWithoutToesCannotTellLeftFromRight) {
   ASSERT_TRUE(skeleton.Validate().ok());
   const absl::StatusOr<BodyTopology> topology = AnalyseBody(skeleton, RestMotion(skeleton));
   ASSERT_FALSE(topology.ok()) << "forward " << topology->forward.transpose() << ", left wrist "
-                               << NameOf(skeleton, topology->landmarks.left_wrist);
+                              << NameOf(skeleton, topology->landmarks.left_wrist);
   EXPECT_EQ(topology.status().code(), absl::StatusCode::kFailedPrecondition) << topology.status();
   EXPECT_NE(topology.status().message().find("left from right"), std::string_view::npos) << topology.status();
 }
@@ -462,26 +462,25 @@ TEST_P(BodyTopologySharedDataTest, StandingHeightAndFloor) {
   EXPECT_EQ(std::unique(all.begin(), all.end()), all.end());
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Files, BodyTopologySharedDataTest,
-    ::testing::Values(RealClip{"bandai-namco-2", "dataset-2_walk_normal_001.bvh"},
-                      RealClip{"bandai-namco-2", "dataset-2_raise-up-both-hands_active_001.bvh"},
-                      RealClip{"bandai-namco-1", "dataset-1_bow_active_001.bvh"},
-                      RealClip{"cmu-cc", "002_01.bvh"}, RealClip{"cmu-cc", "007_01.bvh"},
-                      RealClip{"cmu-cc", "005_01.bvh"}),
-    [](const ::testing::TestParamInfo<RealClip>& info) {
-      std::string name = info.param.set + "_" + info.param.file;
-      for (char& c : name) {
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-      }
-      return name;
-    });
+INSTANTIATE_TEST_SUITE_P(Files, BodyTopologySharedDataTest,
+                         ::testing::Values(RealClip{"bandai-namco-2", "dataset-2_walk_normal_001.bvh"},
+                                           RealClip{"bandai-namco-2", "dataset-2_raise-up-both-hands_active_001.bvh"},
+                                           RealClip{"bandai-namco-1", "dataset-1_bow_active_001.bvh"},
+                                           RealClip{"cmu-cc", "002_01.bvh"}, RealClip{"cmu-cc", "007_01.bvh"},
+                                           RealClip{"cmu-cc", "005_01.bvh"}),
+                         [](const ::testing::TestParamInfo<RealClip>& info) {
+                           std::string name = info.param.set + "_" + info.param.file;
+                           for (char& c : name) {
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           }
+                           return name;
+                         });
 
 TEST(BodyTopologySharedDataTest, AnklesAreLowestLandmarksOnBandaiWalks) {
   MOCAP_REQUIRE_SHARED_DATA(folder, "bandai-namco-2");
   int files = 0;
-  for (const char* name : {"dataset-2_walk_normal_001.bvh", "dataset-2_walk_elderly_001.bvh",
-                           "dataset-2_walk-turn-left_active_001.bvh"}) {
+  for (const char* name :
+       {"dataset-2_walk_normal_001.bvh", "dataset-2_walk_elderly_001.bvh", "dataset-2_walk-turn-left_active_001.bvh"}) {
     SCOPED_TRACE(name);
     const absl::StatusOr<BvhClip> clip = ReadBvhFile(folder / name);
     if (!clip.ok()) continue;  // a held-out take

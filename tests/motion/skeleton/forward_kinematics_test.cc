@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "motion/skeleton/local_motion.h"
 #include "tests/support/rotation_checks.h"
@@ -17,8 +17,6 @@ namespace {
 
 using testing::AngleBetween;
 using testing::kDegree;
-
-
 
 Eigen::Quaternionf AxisAngle(float degrees, const Eigen::Vector3f& axis) {
   return Eigen::Quaternionf(Eigen::AngleAxisf(degrees * kDegree, axis.normalized()));
@@ -56,8 +54,8 @@ TEST(ForwardKinematicsTest, ThreeJointChainByHand) {
   // Ry(45) (0, 0, 2) = (sqrt2, 0, sqrt2); Rx(-90) (0, 0, 1) = (0, 1, 0), which Ry leaves alone.
   EXPECT_LT((poses.position(0, 1) - Eigen::Vector3f(r, 0, r)).norm(), 1e-6f);
   EXPECT_LT((poses.position(0, 2) - Eigen::Vector3f(r, 1, r)).norm(), 1e-6f);
-  EXPECT_LT(AngleBetween(poses.rotation(0, 2), AxisAngle(45, Eigen::Vector3f::UnitY()) *
-                                                   AxisAngle(-90, Eigen::Vector3f::UnitX())),
+  EXPECT_LT(AngleBetween(poses.rotation(0, 2),
+                         AxisAngle(45, Eigen::Vector3f::UnitY()) * AxisAngle(-90, Eigen::Vector3f::UnitX())),
             1e-6);
 }
 
@@ -65,10 +63,14 @@ TEST(ForwardKinematicsTest, ChainThroughBvhChannels) {
   // Root at OFFSET (0, 10, 0) + channels (5, 0, 0), rotated 90 deg about Y (ZXY order);
   // child 2 along +X rotated 90 deg about Z; grandchild 3 along +X.
   std::vector<Joint> joints;
-  joints.push_back(Joint{.name = "Root", .parent = -1, .offset = Eigen::Vector3f(0, 10, 0),
+  joints.push_back(Joint{.name = "Root",
+                         .parent = -1,
+                         .offset = Eigen::Vector3f(0, 10, 0),
                          .channels = {ChannelType::kXposition, ChannelType::kYposition, ChannelType::kZposition,
                                       ChannelType::kZrotation, ChannelType::kXrotation, ChannelType::kYrotation}});
-  joints.push_back(Joint{.name = "Arm", .parent = 0, .offset = Eigen::Vector3f(2, 0, 0),
+  joints.push_back(Joint{.name = "Arm",
+                         .parent = 0,
+                         .offset = Eigen::Vector3f(2, 0, 0),
                          .channels = {ChannelType::kZrotation, ChannelType::kXrotation, ChannelType::kYrotation}});
   joints.push_back(Joint{.name = "Hand", .parent = 1, .offset = Eigen::Vector3f(3, 0, 0)});
   const Skeleton skeleton(std::move(joints));
@@ -82,7 +84,8 @@ TEST(ForwardKinematicsTest, ChainThroughBvhChannels) {
 }
 
 // Forward kinematics straight from the BVH channels with Eigen transforms, one frame at a time.
-std::vector<Eigen::Affine3f> NaiveForwardKinematics(const Skeleton& skeleton, const ChannelMatrix& channels, int frame) {
+std::vector<Eigen::Affine3f> NaiveForwardKinematics(const Skeleton& skeleton, const ChannelMatrix& channels,
+                                                    int frame) {
   std::vector<Eigen::Affine3f> world(skeleton.num_joints());
   for (int j = 0; j < skeleton.num_joints(); ++j) {
     const Joint& joint = skeleton.joint(j);
@@ -127,8 +130,14 @@ std::vector<RigCase> RigCases() {
       {"OrderYXZ", {.rotation_order = "YXZ"}},
       {"OrderYZX", {.rotation_order = "YZX"}},
       {"OrderZYX", {.rotation_order = "ZYX"}},
-      {"Everything", {.extra_root = true, .z_up = true, .fingers_and_toes = true, .twist_bones = true,
-                      .position_channels_everywhere = true, .length_scale = 0.01, .rotation_order = "YXZ"}},
+      {"Everything",
+       {.extra_root = true,
+        .z_up = true,
+        .fingers_and_toes = true,
+        .twist_bones = true,
+        .position_channels_everywhere = true,
+        .length_scale = 0.01,
+        .rotation_order = "YXZ"}},
   };
 }
 
@@ -208,9 +217,9 @@ GlobalPoses Poses(const BvhClip& clip) {
 TEST(SyntheticClipTest, PlainRigJointNames) {
   const BvhClip clip = testing::MakeWalkingClip();
   const std::vector<std::string> expected = {
-      "Hips", "Spine", "Chest", "Neck", "Head", "LeftShoulder", "LeftArm", "LeftForeArm", "LeftHand",
-      "RightShoulder", "RightArm", "RightForeArm", "RightHand", "LeftUpLeg", "LeftLeg", "LeftFoot",
-      "LeftToeBase", "RightUpLeg", "RightLeg", "RightFoot", "RightToeBase"};
+      "Hips",        "Spine",    "Chest",         "Neck",       "Head",         "LeftShoulder", "LeftArm",
+      "LeftForeArm", "LeftHand", "RightShoulder", "RightArm",   "RightForeArm", "RightHand",    "LeftUpLeg",
+      "LeftLeg",     "LeftFoot", "LeftToeBase",   "RightUpLeg", "RightLeg",     "RightFoot",    "RightToeBase"};
   ASSERT_EQ(clip.skeleton.num_joints(), static_cast<int>(expected.size()));
   for (int j = 0; j < clip.skeleton.num_joints(); ++j) EXPECT_EQ(clip.skeleton.joint(j).name, expected[j]);
   EXPECT_EQ(clip.num_frames(), 60);

@@ -19,8 +19,6 @@ namespace {
 using testing::AngleBetween;
 using testing::kDegree;
 
-
-
 ChannelType Rotation(char axis) {
   return axis == 'X' ? ChannelType::kXrotation : axis == 'Y' ? ChannelType::kYrotation : ChannelType::kZrotation;
 }
@@ -123,8 +121,8 @@ INSTANTIATE_TEST_SUITE_P(LocalMotionOrders, LocalMotionOrderTest, ::testing::Val
 TEST(LocalMotionTest, SingleRotationChannel) {
   std::vector<Joint> joints;
   joints.push_back(Joint{.name = "Root", .parent = -1, .channels = {ChannelType::kYrotation}});
-  joints.push_back(Joint{.name = "Knee", .parent = 0, .offset = Eigen::Vector3f(1, 0, 0),
-                         .channels = {ChannelType::kXrotation}});
+  joints.push_back(
+      Joint{.name = "Knee", .parent = 0, .offset = Eigen::Vector3f(1, 0, 0), .channels = {ChannelType::kXrotation}});
   const Skeleton skeleton(std::move(joints));
   ChannelMatrix channels(3, 2);
   channels << 30, 10, -120, 135, 179, -170;
@@ -149,7 +147,9 @@ TEST(LocalMotionTest, SingleRotationChannel) {
 TEST(LocalMotionTest, TwoRotationChannelsRoundTrip) {
   std::vector<Joint> joints;
   joints.push_back(Joint{.name = "Root", .parent = -1});
-  joints.push_back(Joint{.name = "Elbow", .parent = 0, .offset = Eigen::Vector3f(1, 0, 0),
+  joints.push_back(Joint{.name = "Elbow",
+                         .parent = 0,
+                         .offset = Eigen::Vector3f(1, 0, 0),
                          .channels = {ChannelType::kXrotation, ChannelType::kZrotation}});
   const Skeleton skeleton(std::move(joints));
   ChannelMatrix channels(4, 2);
@@ -170,14 +170,20 @@ TEST(LocalMotionTest, TwoRotationChannelsRoundTrip) {
 TEST(LocalMotionTest, TranslationSemantics) {
   std::vector<Joint> joints;
   // Root: OFFSET + position channels.
-  joints.push_back(Joint{.name = "Root", .parent = -1, .offset = Eigen::Vector3f(1, 2, 3),
+  joints.push_back(Joint{.name = "Root",
+                         .parent = -1,
+                         .offset = Eigen::Vector3f(1, 2, 3),
                          .channels = {ChannelType::kZposition, ChannelType::kXposition, ChannelType::kYposition,
                                       ChannelType::kZrotation, ChannelType::kXrotation, ChannelType::kYrotation}});
   // Non-root with all three position channels: they replace the OFFSET.
-  joints.push_back(Joint{.name = "Full", .parent = 0, .offset = Eigen::Vector3f(5, 6, 7),
+  joints.push_back(Joint{.name = "Full",
+                         .parent = 0,
+                         .offset = Eigen::Vector3f(5, 6, 7),
                          .channels = {ChannelType::kXposition, ChannelType::kYposition, ChannelType::kZposition}});
   // Non-root with only Yposition: replaces that component only.
-  joints.push_back(Joint{.name = "Partial", .parent = 1, .offset = Eigen::Vector3f(8, 9, 10),
+  joints.push_back(Joint{.name = "Partial",
+                         .parent = 1,
+                         .offset = Eigen::Vector3f(8, 9, 10),
                          .channels = {ChannelType::kYposition, ChannelType::kXrotation}});
   // No channels: OFFSET and identity.
   joints.push_back(Joint{.name = "Still", .parent = 2, .offset = Eigen::Vector3f(11, 12, 13)});
@@ -372,8 +378,8 @@ TEST(LocalMotionTest, ScaleTranslationsScalesPositionsNotRotations) {
   // Same as building the rig in metres.
   testing::SyntheticRigOptions options{.twist_bones = true, .length_scale = 0.01};
   const BvhClip clip_m = testing::MakeWalkingClip(options, 15);
-  const std::vector<Eigen::Vector3f> built =
-      AllPositions(ForwardKinematics(clip_m.skeleton, MotionFromChannels(clip_m.skeleton, clip_m.channels, clip_m.frame_time)));
+  const std::vector<Eigen::Vector3f> built = AllPositions(
+      ForwardKinematics(clip_m.skeleton, MotionFromChannels(clip_m.skeleton, clip_m.channels, clip_m.frame_time)));
   for (size_t i = 0; i < built.size(); ++i) EXPECT_LT((built[i] - m[i]).norm(), 1e-5f) << i;
 }
 
@@ -382,8 +388,12 @@ TEST(LocalMotionTest, SyntheticClipsRoundTripThroughChannels) {
   std::vector<testing::SyntheticRigOptions> rigs;
   for (const std::string& order : kOrders) {
     rigs.push_back({.rotation_order = order});
-    rigs.push_back({.extra_root = true, .z_up = true, .fingers_and_toes = true, .twist_bones = true,
-                    .position_channels_everywhere = true, .rotation_order = order});
+    rigs.push_back({.extra_root = true,
+                    .z_up = true,
+                    .fingers_and_toes = true,
+                    .twist_bones = true,
+                    .position_channels_everywhere = true,
+                    .rotation_order = order});
     rigs.push_back({.z_up = true, .rotation_order = order});
   }
   for (const testing::SyntheticRigOptions& rig : rigs) {
