@@ -17,7 +17,6 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
   MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session,
                          ReconstructionSession::Create(database, options));
   std::unique_ptr<SessionDriver> driver(new SessionDriver(metrics));
-  metrics.SessionStarted();
   driver->session_ = std::move(session);
   driver->session_->SetCancelFlag(cancel);
   driver->config_ = config;
@@ -48,10 +47,15 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
   *started.mutable_config() = EffectiveConfig(config, options);
   *started.mutable_config()->mutable_input_frame() = ToProto(input_frame, config.input_frame().preset());
   started.mutable_config()->clear_target_rig();  // the rig itself is `skeleton`; no echo of its text
+  // Counted once every check has passed: a session refused here never started.
+  metrics.SessionStarted();
+  driver->counted_ = true;
   return driver;
 }
 
-SessionDriver::~SessionDriver() { metrics_.SessionEnded(); }
+SessionDriver::~SessionDriver() {
+  if (counted_) metrics_.SessionEnded();
+}
 
 absl::Status SessionDriver::Reject(long index, double time, const std::string& reason,
                                    std::vector<v1::ReconstructResponse>* replies) {

@@ -65,6 +65,7 @@ class SessionDriver {
   long samples_rejected() const { return rejected_; }
 
  private:
+  bool counted_ = false;  // in the session metrics (SessionStarted called)
   explicit SessionDriver(ServerMetrics& metrics) : metrics_(metrics) {}
   void AppendFrames(std::vector<v1::ReconstructResponse>* replies);
   absl::Status Reject(long index, double time, const std::string& reason,

@@ -1,5 +1,7 @@
 #include "storage/rig_codec.h"
 
+#include <optional>
+
 #include <nlohmann/json.hpp>
 
 namespace mocap::storage {
@@ -88,11 +90,12 @@ absl::StatusOr<RigModel> DecodeRig(const std::string& text) {
       if (entry.contains("end_site")) joint.end_site = ToVec(entry.at("end_site"));
       rig.reference_rotations.push_back(ToQuat(entry.at("reference_rotation")));
       const std::string group = entry.at("group").get<std::string>();
-      BodyGroup body_group = BodyGroup::kSpine;
+      std::optional<BodyGroup> body_group;
       for (int g = 0; g < kNumBodyGroups; ++g) {
         if (BodyGroupName(static_cast<BodyGroup>(g)) == group) body_group = static_cast<BodyGroup>(g);
       }
-      rig.topology.group_of_joint.push_back(body_group);
+      if (!body_group) return absl::DataLossError("rig has an unknown body group");
+      rig.topology.group_of_joint.push_back(*body_group);
       joints.push_back(std::move(joint));
     }
     rig.skeleton = Skeleton(std::move(joints));
@@ -132,6 +135,18 @@ absl::StatusOr<RigModel> DecodeRig(const std::string& text) {
     rig.topology.standing_pelvis_height = in.at("standing_pelvis_height");
     rig.topology.floor_height = in.at("floor_height");
     rig.topology.unit_detected = in.at("unit_detected");
+    // Indices other code trusts (BodyTopology::up() indexes a 3-vector by the axis).
+    const auto axis_ok = [](int axis, int sign) { return axis >= 0 && axis < 3 && (sign == 1 || sign == -1); };
+    if (!axis_ok(rig.topology.up_axis, rig.topology.up_sign) ||
+        !axis_ok(rig.topology.rest_up_axis, rig.topology.rest_up_sign)) {
+      return absl::DataLossError("rig has an invalid up axis");
+    }
+    for (const auto* joints_of_groups : {&rig.topology.group_top, &rig.topology.group_end}) {
+      for (int joint : *joints_of_groups) {
+        if (joint < -1 || joint >= rig.skeleton.num_joints())
+          return absl::DataLossError("rig group joint out of range");
+      }
+    }
     return rig;
   } catch (const nlohmann::json::exception& error) {
     return absl::DataLossError(std::string("stored rig is unreadable: ") + error.what());

@@ -53,7 +53,7 @@ absl::Status Skeleton::Validate() const {
     if (!names.insert(joint.name).second) {
       return absl::InvalidArgumentError(StrCat("duplicate joint name '", joint.name, "'"));
     }
-    if ((i == 0) != (joint.parent == -1) || joint.parent >= i) {
+    if ((i == 0) != (joint.parent == -1) || joint.parent < -1 || joint.parent >= i) {
       return absl::InvalidArgumentError(StrCat("joint '", joint.name, "' has invalid parent index ", joint.parent));
     }
     if (!joint.offset.allFinite()) {

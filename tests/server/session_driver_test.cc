@@ -146,11 +146,10 @@ TEST_F(SessionDriverTest, ABadConfigIsRefusedNamingTheField) {
   EXPECT_EQ(Metric(metrics_, "mocap_sessions_active"), 0);
 }
 
-// BUG (SessionDriver::Create): the target rig is analysed after metrics.SessionStarted(), so a
-// session refused for its target_rig (INVALID_ARGUMENT, never started) still counts in
-// mocap_sessions_total ("Reconstruction sessions started"). Enable once the counting happens
-// after the last check.
-TEST_F(SessionDriverTest, DISABLED_ASessionRefusedForItsTargetRigIsNotCounted) {
+// A session refused for its target_rig (INVALID_ARGUMENT, never started) is not counted in
+// mocap_sessions_total ("Reconstruction sessions started"): it was, when the rig was analysed after
+// the count.
+TEST_F(SessionDriverTest, ASessionRefusedForItsTargetRigIsNotCounted) {
   v1::SessionConfig config = Config(0);
   config.mutable_target_rig()->set_unit("cm");  // neither bvh nor joints
   auto driver = Create(config);

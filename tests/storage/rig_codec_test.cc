@@ -249,10 +249,9 @@ TEST(RigCodecTest, MalformedRigsAreRefusedWithDataLoss) {
   }
 }
 
-// BUG (DecodeRig): a group name this build does not know is read as "spine" instead of refused, so
-// a rig written by a newer build (or a corrupted one) silently gets a wrong body topology although
-// unknown channels and units are refused. Enable once DecodeRig refuses it with DataLoss.
-TEST(RigCodecTest, DISABLED_UnknownBodyGroupsAreRefused) {
+// A group name this build does not know is refused (it was read as "spine": a rig written by a newer
+// build, or a corrupted one, silently got a wrong body topology), like unknown channels and units.
+TEST(RigCodecTest, UnknownBodyGroupsAreRefused) {
   json broken = json::parse(EncodeRig(HandMadeRig()));
   broken["joints"][3]["group"] = "tail";
   auto decoded = DecodeRig(broken.dump());
@@ -260,12 +259,10 @@ TEST(RigCodecTest, DISABLED_UnknownBodyGroupsAreRefused) {
       << "joint 3 read as group " << (decoded.ok() ? BodyGroupName(decoded->topology.group_of_joint[3]) : "");
 }
 
-// BUG (DecodeRig): the topology's axes and group joints are not range-checked as the landmarks
-// are: up.axis 3 is accepted and BodyTopology::up() then writes v[3] of a 3-vector; group_top and
-// group_end may name joints the rig does not have. And a joint whose parent is -2 passes
-// Skeleton::Validate (it checks `parent >= i` and "-1 only at 0", not parent >= -1), so DecodeRig
-// accepts a hierarchy that indexes joints[-2]. Enable once DecodeRig refuses them.
-TEST(RigCodecTest, DISABLED_OutOfRangeTopologyIsRefused) {
+// The topology's axes and group joints are range-checked like the landmarks (up.axis 3 was accepted
+// and BodyTopology::up() then wrote v[3] of a 3-vector), and a parent index below -1 fails
+// Skeleton::Validate (it indexed joints[-2]).
+TEST(RigCodecTest, OutOfRangeTopologyIsRefused) {
   const json good = json::parse(EncodeRig(HandMadeRig()));
   const std::vector<Breakage> breakages = {
       {"up axis 3", [](json& j) { j["up"]["axis"] = 3; }},
