@@ -16,6 +16,7 @@
 #include "eval/quick_thresholds.h"
 #include "eval/report.h"
 #include "eval/standard_split.h"
+#include "motion/bvh/bvh_files.h"
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
 
@@ -23,16 +24,16 @@ namespace {
 
 constexpr int kExitRegression = 1, kExitError = 2, kExitNoData = 77;
 
-std::vector<std::filesystem::path> BvhFiles(const std::vector<std::string>& paths) {
-  std::vector<std::filesystem::path> files;
-  for (const std::string& p : paths) {
-    if (std::filesystem::is_directory(p)) {
-      for (const auto& f : mocap::datasets::BvhFilesIn(p)) files.push_back(f);
-    } else {
-      files.emplace_back(p);
-    }
+// The BVH files of the given files and folders (motion/bvh/bvh_files.h); false, with the error
+// printed, when an input is missing or holds none.
+bool CollectInto(const std::vector<std::string>& inputs, std::vector<std::filesystem::path>* files) {
+  absl::StatusOr<std::vector<std::filesystem::path>> collected = mocap::CollectBvhFiles(inputs);
+  if (!collected.ok()) {
+    std::cerr << "mocap-eval: " << collected.status().message() << "\n";
+    return false;
   }
-  return files;
+  *files = *std::move(collected);
+  return true;
 }
 
 // --quick: the first held-out take of every content type, cut short.
@@ -124,7 +125,11 @@ int main(int argc, char** argv) {
       return kExitNoData;
     }
     database_files = split->database_files;
-    test_files = test_paths.empty() ? split->test_files : BvhFiles(test_paths);
+    if (test_paths.empty()) {
+      test_files = split->test_files;
+    } else if (!CollectInto(test_paths, &test_files)) {
+      return kExitError;
+    }
     context["database"] = development ? "bandai-namco-2 takes not ≡ 3 or 5 (mod 10) (development split)"
                                       : "bandai-namco-2 takes not ≡ 3 (mod 10) (standard split)";
     context["test_set"] = !test_paths.empty() ? "named on the command line"
@@ -135,8 +140,7 @@ int main(int argc, char** argv) {
       std::cerr << "mocap-eval: --database-dir needs --test (the clips to reconstruct)\n";
       return kExitError;
     }
-    database_files = BvhFiles(database_dirs);
-    test_files = BvhFiles(test_paths);
+    if (!CollectInto(database_dirs, &database_files) || !CollectInto(test_paths, &test_files)) return kExitError;
     std::string folders;
     for (const std::string& d : database_dirs) folders += (folders.empty() ? "" : ", ") + d;
     context["database"] = folders;  // one string: the report prints it
