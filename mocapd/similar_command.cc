@@ -15,7 +15,7 @@ namespace mocap {
 void RegisterSimilarCommand(CLI::App& app, CommandRegistry& registry) {
   struct Options {
     SimilarOptions similar;
-    std::string store, query, pose_file, frames, weights = "uniform", sampling = "resample", scaling = "per-chain";
+    std::string store, query, pose_file, frames, weights = "uniform", sampling = "resample", scaling = "bone-directions";
     bool json = false;
   };
   auto options = std::make_shared<Options>();
@@ -44,8 +44,9 @@ void RegisterSimilarCommand(CLI::App& app, CommandRegistry& registry) {
       ->check(CLI::IsMember({"resample", "drop"}));
   command
       ->add_option("--scaling", options->scaling,
-                   "Body points: each chain by its own length (posture only) or all by the leg length (the seed's)")
-      ->check(CLI::IsMember({"per-chain", "body-scale"}));
+                   "Body points: joint directions on a canonical body (posture only), each chain by its own "
+                   "length, or all by the leg length (the seed's)")
+      ->check(CLI::IsMember({"bone-directions", "per-chain", "body-scale"}));
   command->add_option("--suppress", options->similar.search.suppress_within_frames,
                       "Drop matches within N frames of a better match in the same clip");
   command->add_flag("--exact", options->similar.search.exact, "Compare with every frame (no prefilter)");
@@ -80,7 +81,7 @@ void RegisterSimilarCommand(CLI::App& app, CommandRegistry& registry) {
                                                                 : GroupWeights::Uniform();
     similar.points.sampling =
         options->sampling == "drop" ? PointSampling::kDropNearestEndEffector : PointSampling::kResampleChains;
-    similar.points.scaling = options->scaling == "body-scale" ? ChainScaling::kBodyScale : ChainScaling::kPerChain;
+    similar.points.scaling = ParseChainScaling(options->scaling).value_or(ChainScaling::kBoneDirections);
     auto response = FindSimilarPosesInStore(similar);
     if (!response.ok()) return ReportError(response.status());
     const nlohmann::json result = SimilarResultsJson(similar.pose ? "pose" : options->query, *response);

@@ -51,7 +51,11 @@ std::string EncodeRig(const RigModel& rig) {
         {"left_elbow", l.left_elbow},
         {"right_elbow", l.right_elbow},
         {"left_knee", l.left_knee},
-        {"right_knee", l.right_knee}}},
+        {"right_knee", l.right_knee},
+        {"left_shoulder", l.left_shoulder},
+        {"right_shoulder", l.right_shoulder},
+        {"left_hip", l.left_hip},
+        {"right_hip", l.right_hip}}},
       {"group_top", t.group_top},
       {"group_end", t.group_end},
       {"up", {{"axis", t.up_axis}, {"sign", t.up_sign}, {"alignment", t.up_alignment}}},
@@ -116,10 +120,12 @@ absl::StatusOr<RigModel> DecodeRig(const std::string& text) {
                       landmarks.left_ankle, landmarks.right_ankle}) {
       if (joint < 0 || joint >= rig.skeleton.num_joints()) return absl::DataLossError("rig landmark out of range");
     }
-    // Elbows and knees: stored since issue #12 (-1 in older rigs).
+    // Elbows and knees: stored since issue #12, shoulders and hips since #11 (-1 in older rigs).
     for (auto [key, joint] :
          {std::pair{"left_elbow", &landmarks.left_elbow}, std::pair{"right_elbow", &landmarks.right_elbow},
-          std::pair{"left_knee", &landmarks.left_knee}, std::pair{"right_knee", &landmarks.right_knee}}) {
+          std::pair{"left_knee", &landmarks.left_knee}, std::pair{"right_knee", &landmarks.right_knee},
+          std::pair{"left_shoulder", &landmarks.left_shoulder}, std::pair{"right_shoulder", &landmarks.right_shoulder},
+          std::pair{"left_hip", &landmarks.left_hip}, std::pair{"right_hip", &landmarks.right_hip}}) {
       *joint = l.value(key, -1);
       if (*joint < -1 || *joint >= rig.skeleton.num_joints()) return absl::DataLossError("rig landmark out of range");
     }

@@ -9,6 +9,7 @@
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "motion/skeleton/forward_kinematics.h"
+#include "motion/skeleton/limb_segments.h"
 
 namespace mocap {
 namespace {
@@ -27,23 +28,11 @@ float LengthAlong(const RetargetRig& rig, const std::vector<int>& chain, int fro
   return length;
 }
 
-// The shoulder (hip) on a limb chain, from lengths alone: the joint above the elbow (knee) whose
-// distance to it along the chain is nearest the lower segment's length (upper arm ≈ forearm,
-// thigh ≈ shin), so a clavicle, a hip offset or a split upper arm do not take its place.
-int UpperSegmentStart(const RetargetRig& rig, const std::vector<int>& chain, int middle) {
-  const float lower = LengthAlong(rig, chain, middle, static_cast<int>(chain.size()) - 1);
-  int best = 0;
-  float best_error = std::numeric_limits<float>::infinity();
-  for (int i = 0; i < middle; ++i) {
-    const float upper = LengthAlong(rig, chain, i, middle);
-    if (upper <= 1e-6f || lower <= 1e-6f) continue;
-    const float error = std::abs(std::log(upper / lower));
-    if (error < best_error) {
-      best_error = error;
-      best = i;
-    }
-  }
-  return best;
+// The shoulder (hip) on a limb chain from its rest lengths (motion/skeleton/limb_segments.h).
+int RestUpperSegmentStart(const RetargetRig& rig, const std::vector<int>& chain, int middle) {
+  std::vector<float> cumulative(chain.size(), 0.0f);
+  for (int i = 1; i < static_cast<int>(chain.size()); ++i) cumulative[i] = cumulative[i - 1] + LengthAlong(rig, chain, i - 1, i);
+  return UpperSegmentStart(cumulative, middle);
 }
 
 Skeleton ScaledSkeleton(const Skeleton& skeleton, float factor) {
@@ -95,7 +84,7 @@ absl::StatusOr<RetargetRig> MakeRetargetRig(const Skeleton& skeleton_in_metres, 
       return absl::FailedPreconditionError(
           StrCat("the ", BodyGroupName(kLimbs[limb]), " has no elbow or knee between its top and its end"));
     }
-    rig.anchors[group] = {UpperSegmentStart(rig, chain, middle), middle};
+    rig.anchors[group] = {RestUpperSegmentStart(rig, chain, middle), middle};
   }
   auto limb_length = [&](BodyGroup group) {
     const std::vector<int>& chain = rig.chains.joints[static_cast<int>(group)];

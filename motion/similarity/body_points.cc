@@ -1,9 +1,11 @@
 #include "motion/similarity/body_points.h"
 
 #include <algorithm>
+#include <span>
 #include <tuple>
 
 #include "motion/core/str_cat.h"
+#include "motion/skeleton/limb_segments.h"
 
 namespace mocap {
 namespace {
@@ -21,6 +23,25 @@ std::vector<int> ChainBetween(const Skeleton& skeleton, int top, int end) {
 
 }  // namespace
 
+std::string_view ChainScalingName(ChainScaling scaling) {
+  switch (scaling) {
+    case ChainScaling::kBoneDirections:
+      return "bone-directions";
+    case ChainScaling::kPerChain:
+      return "per-chain";
+    case ChainScaling::kBodyScale:
+      return "body-scale";
+  }
+  return "unknown";
+}
+
+std::optional<ChainScaling> ParseChainScaling(std::string_view name) {
+  for (ChainScaling scaling : {ChainScaling::kBoneDirections, ChainScaling::kPerChain, ChainScaling::kBodyScale}) {
+    if (name == ChainScalingName(scaling)) return scaling;
+  }
+  return std::nullopt;
+}
+
 BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology) {
   BodyChains chains;
   const BodyLandmarks& l = topology.landmarks;
@@ -35,6 +56,25 @@ BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology
   chains.joints[static_cast<int>(BodyGroup::kLeftLeg)] = ChainBetween(skeleton, top(BodyGroup::kLeftLeg), l.left_ankle);
   chains.joints[static_cast<int>(BodyGroup::kRightLeg)] =
       ChainBetween(skeleton, top(BodyGroup::kRightLeg), l.right_ankle);
+  for (auto [group, root, bend] : {std::tuple{BodyGroup::kLeftArm, l.left_shoulder, l.left_elbow},
+                                    std::tuple{BodyGroup::kRightArm, l.right_shoulder, l.right_elbow},
+                                    std::tuple{BodyGroup::kLeftLeg, l.left_hip, l.left_knee},
+                                    std::tuple{BodyGroup::kRightLeg, l.right_hip, l.right_knee}}) {
+    const int g = static_cast<int>(group);
+    const std::vector<int>& chain = chains.joints[g];
+    auto index_of = [&](int joint) {
+      const auto it = std::find(chain.begin(), chain.end(), joint);
+      return it == chain.end() ? -1 : static_cast<int>(it - chain.begin());
+    };
+    // Only an inner joint of the chain bends it, and only a joint above the bend starts the upper
+    // bone (rigs stored before these landmarks were kept have none: length rules stand in).
+    const int bend_index = index_of(bend);
+    if (bend_index > 0 && bend_index + 1 < static_cast<int>(chain.size())) {
+      chains.bend[g] = bend_index;
+      const int root_index = index_of(root);
+      if (root_index >= 0 && root_index < bend_index) chains.root[g] = root_index;
+    }
+  }
   return chains;
 }
 
@@ -127,6 +167,101 @@ float SampleChain(const GlobalPoses& poses, int frame, const std::vector<int>& c
   return length;
 }
 
+// Lengths along `chain` from its first joint, in this frame (rotation-invariant).
+void CumulativeLengths(const GlobalPoses& poses, int frame, const std::vector<int>& chain, float* cumulative) {
+  cumulative[0] = 0.0f;
+  for (size_t i = 1; i < chain.size(); ++i) {
+    cumulative[i] = cumulative[i - 1] + (poses.position(frame, chain[i]) - poses.position(frame, chain[i - 1])).norm();
+  }
+}
+
+// `v` scaled to unit length; zero when it has none (a bone of zero length has no direction).
+Eigen::Vector3f Direction(const Eigen::Vector3f& v) {
+  const float norm = v.norm();
+  return norm > 1e-8f ? Eigen::Vector3f(v / norm) : Eigen::Vector3f::Zero();
+}
+
+// `v` without its part along the unit vector `axis`, as a direction.
+Eigen::Vector3f DirectionAcross(const Eigen::Vector3f& v, const Eigen::Vector3f& axis) {
+  return Direction(v - axis * axis.dot(v));
+}
+
+// n points at equal fractions of the polyline start -> start + a·d1 -> ... + b·d2.
+void SampleTwoBones(const Eigen::Vector3f& start, const Eigen::Vector3f& d1, float a, const Eigen::Vector3f& d2,
+                    float b, int n, Eigen::Vector3f* out) {
+  for (int k = 0; k < n; ++k) {
+    const float s = n > 1 ? (a + b) * k / (n - 1) : 0.0f;
+    out[k] = s <= a ? Eigen::Vector3f(start + s * d1) : Eigen::Vector3f(start + a * d1 + (s - a) * d2);
+  }
+}
+
+// The limb's shoulder (hip), elbow (knee) and wrist (ankle) in this frame.
+struct LimbJointsInFrame {
+  Eigen::Vector3f root, bend, end;
+};
+LimbJointsInFrame LimbJointsOf(const GlobalPoses& poses, int frame, const std::vector<int>& chain, int root_hint,
+                               int bend_hint) {
+  float cumulative[Skeleton::kMaxJoints];
+  const size_t m = std::min<size_t>(chain.size(), Skeleton::kMaxJoints);
+  CumulativeLengths(poses, frame, chain, cumulative);
+  const std::span<const float> lengths(cumulative, m);
+  const int bend = bend_hint > 0 && bend_hint + 1 < static_cast<int>(m) ? bend_hint : LimbBendByLength(lengths);
+  const int root = root_hint >= 0 && root_hint < bend && bend == bend_hint ? root_hint : UpperSegmentStart(lengths, bend);
+  return {poses.position(frame, chain[root]), poses.position(frame, chain[bend]), poses.position(frame, chain[m - 1])};
+}
+
+// kBoneDirections (see body_points.h): the pose's joint directions on the canonical body,
+// pelvis at the origin. `out` already holds every chain's points sampled in world coordinates
+// with their lengths in `lengths` (spine and head keep their own shapes).
+void PoseCanonicalBody(const GlobalPoses& poses, int frame, const BodyChains& chains, int n,
+                       const std::array<float, kNumBodyGroups>& lengths, Eigen::Vector3f* out) {
+  using C = CanonicalBody;
+  auto group_points = [&](BodyGroup group) { return out + static_cast<int>(group) * n; };
+  auto chain = [&](BodyGroup group) -> const std::vector<int>& { return chains.joints[static_cast<int>(group)]; };
+  const Eigen::Vector3f pelvis = poses.position(frame, chains.pelvis);
+  const Eigen::Vector3f chest = poses.position(frame, chain(BodyGroup::kSpine).back());
+  Eigen::Vector3f torso_up = Direction(chest - pelvis);
+  if (torso_up.isZero()) torso_up = Eigen::Vector3f::UnitY();
+
+  // Spine: its own shape at the canonical length, from the pelvis.
+  Eigen::Vector3f* spine = group_points(BodyGroup::kSpine);
+  const float spine_scale = C::kSpine / std::max(lengths[static_cast<int>(BodyGroup::kSpine)], 1e-6f);
+  for (int k = 0; k < n; ++k) spine[k] = (spine[k] - pelvis) * spine_scale;
+  const Eigen::Vector3f canonical_chest = (chest - pelvis) * spine_scale;
+
+  // Head: its own shape at the canonical length, from a neck above the chest along the torso.
+  Eigen::Vector3f* head = group_points(BodyGroup::kHead);
+  const Eigen::Vector3f neck = head[0];
+  const float head_length = lengths[static_cast<int>(BodyGroup::kHead)];
+  const Eigen::Vector3f canonical_neck = canonical_chest + C::kNeck * torso_up;
+  for (int k = 0; k < n; ++k) {
+    head[k] = head_length > 1e-6f ? Eigen::Vector3f(canonical_neck + (head[k] - neck) * (C::kHead / head_length))
+                                  : canonical_neck;
+  }
+
+  // Limbs: two bones each, hung from the body's shoulder / hip line at canonical widths.
+  struct Pair {
+    BodyGroup left, right;
+    Eigen::Vector3f anchor;
+    float half_width, upper, lower;
+  };
+  for (const Pair& pair : {Pair{BodyGroup::kLeftArm, BodyGroup::kRightArm, canonical_chest, C::kHalfShoulders,
+                                C::kUpperArm, C::kForearm},
+                           Pair{BodyGroup::kLeftLeg, BodyGroup::kRightLeg, Eigen::Vector3f::Zero(), C::kHalfHips,
+                                C::kThigh, C::kShin}}) {
+    const int left_group = static_cast<int>(pair.left), right_group = static_cast<int>(pair.right);
+    const LimbJointsInFrame left = LimbJointsOf(poses, frame, chain(pair.left), chains.root[left_group], chains.bend[left_group]);
+    const LimbJointsInFrame right = LimbJointsOf(poses, frame, chain(pair.right), chains.root[right_group], chains.bend[right_group]);
+    // The line between the two roots, across the torso: the body's own twist and lean.
+    Eigen::Vector3f across = DirectionAcross(left.root - right.root, torso_up);
+    if (across.isZero()) across = DirectionAcross(Eigen::Vector3f::UnitX(), torso_up);
+    for (auto [group, joints, side] : {std::tuple{pair.left, &left, 1.0f}, std::tuple{pair.right, &right, -1.0f}}) {
+      SampleTwoBones(pair.anchor + side * pair.half_width * across, Direction(joints->bend - joints->root),
+                     pair.upper, Direction(joints->end - joints->bend), pair.lower, n, group_points(group));
+    }
+  }
+}
+
 }  // namespace
 
 void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& chains, const BodyPointOptions& options,
@@ -140,6 +275,10 @@ void BodyPointsOfFrame(const GlobalPoses& poses, int frame, const BodyChains& ch
   if (options.scaling == ChainScaling::kBodyScale) {
     const float inverse = 1.0f / BodyScale(poses, frame, chains);
     for (int i = 0; i < kNumBodyGroups * n; ++i) out[i] = (out[i] - pelvis) * inverse;
+    return;
+  }
+  if (options.scaling == ChainScaling::kBoneDirections) {
+    PoseCanonicalBody(poses, frame, chains, n, lengths, out);
     return;
   }
   // Per chain: the chain's shape relative to where it hangs, in its own lengths, re-assembled at

@@ -19,7 +19,7 @@ std::array<T, 2> LeftFirst(const std::array<T, 2>& pair, bool first_is_left) {
   return first_is_left ? pair : std::array<T, 2>{pair[1], pair[0]};
 }
 
-// Wrists, ankles, elbows and knees from the limb joints of each side (left first).
+// Wrists, ankles, elbows, knees, shoulders and hips from the limb joints of each side (left first).
 void SetLimbLandmarks(const std::array<steps::LimbJoints, 2>& arms, const std::array<steps::LimbJoints, 2>& legs,
                       BodyLandmarks* landmarks) {
   landmarks->left_wrist = arms[0].end;
@@ -30,6 +30,10 @@ void SetLimbLandmarks(const std::array<steps::LimbJoints, 2>& arms, const std::a
   landmarks->right_elbow = arms[1].middle;
   landmarks->left_knee = legs[0].middle;
   landmarks->right_knee = legs[1].middle;
+  landmarks->left_shoulder = arms[0].start;
+  landmarks->right_shoulder = arms[1].start;
+  landmarks->left_hip = legs[0].start;
+  landmarks->right_hip = legs[1].start;
 }
 
 }  // namespace

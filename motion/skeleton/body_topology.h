@@ -60,6 +60,13 @@ struct BodyLandmarks {
   int right_elbow = -1;
   int left_knee = -1;
   int right_knee = -1;
+  // Where each limb's upper long bone starts (the proximal end of the segment ending at the elbow
+  // / knee, step 6): past a clavicle or a hip offset; -1 when unknown (rigs stored before these
+  // were kept).
+  int left_shoulder = -1;
+  int right_shoulder = -1;
+  int left_hip = -1;
+  int right_hip = -1;
 };
 
 struct BodyTopology {

@@ -307,8 +307,10 @@ absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMe
   std::vector<int> order(segment_end.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return segment_length[a] > segment_length[b]; });
+  const int upper = std::min(order[0], order[1]);
   return LimbJoints{.end = path[segment_end[std::max(order[0], order[1])]],
-                    .middle = path[segment_end[std::min(order[0], order[1])]]};
+                    .middle = path[segment_end[upper]],
+                    .start = upper > 0 ? path[segment_end[upper - 1]] : path[0]};
 }
 
 Eigen::Vector3f Horizontal(const Eigen::Vector3f& v, const Eigen::Vector3f& up) { return v - up * v.dot(up); }

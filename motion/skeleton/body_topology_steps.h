@@ -149,6 +149,7 @@ ArmsAndLegs SplitArmsAndLegs(const HeadAndPairs& body, const TreeMetric& metric,
 struct LimbJoints {
   int end = -1;     // wrist / ankle: the distal end of the more distal of the two longest segments
   int middle = -1;  // elbow / knee: the distal end of the more proximal of those two segments
+  int start = -1;   // shoulder / hip: the proximal end of the more proximal of those two segments
 };
 // Splits the chain limb.top .. limb.end into segments at the joints where it really bends: a
 // joint with one child that keeps its two bones within 2 degrees of straight in every sampled

@@ -58,9 +58,11 @@ void ExpectSameRig(const RigModel& a, const RigModel& b) {
   const BodyLandmarks& l = s.landmarks;
   const BodyLandmarks& m = t.landmarks;
   EXPECT_EQ(std::vector<int>({l.pelvis, l.head, l.left_wrist, l.right_wrist, l.left_ankle, l.right_ankle, l.left_elbow,
-                              l.right_elbow, l.left_knee, l.right_knee}),
+                              l.right_elbow, l.left_knee, l.right_knee, l.left_shoulder, l.right_shoulder, l.left_hip,
+                              l.right_hip}),
             std::vector<int>({m.pelvis, m.head, m.left_wrist, m.right_wrist, m.left_ankle, m.right_ankle, m.left_elbow,
-                              m.right_elbow, m.left_knee, m.right_knee}));
+                              m.right_elbow, m.left_knee, m.right_knee, m.left_shoulder, m.right_shoulder, m.left_hip,
+                              m.right_hip}));
   EXPECT_EQ(s.up_axis, t.up_axis);
   EXPECT_EQ(s.up_sign, t.up_sign);
   EXPECT_EQ(s.up_alignment, t.up_alignment);
@@ -119,7 +121,11 @@ RigModel HandMadeRig() {
                  .left_elbow = 3,
                  .right_elbow = -1,
                  .left_knee = -1,
-                 .right_knee = 6};
+                 .right_knee = 6,
+                 .left_shoulder = 3,
+                 .right_shoulder = -1,
+                 .left_hip = 5,
+                 .right_hip = -1};
   t.up_axis = 2;
   t.up_sign = -1;
   t.up_alignment = 0.987654321f;
@@ -162,7 +168,10 @@ TEST(RigCodecTest, AHandMadeRigAtTheEdgesRoundTripsExactly) {
 
 TEST(RigCodecTest, RigsStoredBeforeElbowsAndKneesReadAsUnknown) {
   json old = json::parse(EncodeRig(HandMadeRig()));
-  for (const char* key : {"left_elbow", "right_elbow", "left_knee", "right_knee"}) old["landmarks"].erase(key);
+  for (const char* key : {"left_elbow", "right_elbow", "left_knee", "right_knee", "left_shoulder", "right_shoulder",
+                          "left_hip", "right_hip"}) {
+    old["landmarks"].erase(key);
+  }
   auto decoded = DecodeRig(old.dump());
   ASSERT_TRUE(decoded.ok()) << decoded.status();
   const BodyLandmarks& l = decoded->topology.landmarks;
@@ -170,6 +179,8 @@ TEST(RigCodecTest, RigsStoredBeforeElbowsAndKneesReadAsUnknown) {
   EXPECT_EQ(l.right_elbow, -1);
   EXPECT_EQ(l.left_knee, -1);
   EXPECT_EQ(l.right_knee, -1);
+  EXPECT_EQ(l.left_shoulder, -1);
+  EXPECT_EQ(l.right_hip, -1);
   EXPECT_EQ(l.pelvis, 0);
   EXPECT_EQ(l.right_ankle, 6);
 }

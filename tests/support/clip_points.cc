@@ -16,4 +16,18 @@ absl::StatusOr<ClipPoints> QueryPoints(const BvhClip& clip, const BodyPointOptio
   return PointsOf(clip, rig, options);
 }
 
+std::string ChainScalingTestName(ChainScaling scaling) {
+  std::string name;
+  bool upper = true;
+  for (char c : ChainScalingName(scaling)) {
+    if (c == '-') {
+      upper = true;
+      continue;
+    }
+    name += upper ? static_cast<char>(c - 'a' + 'A') : c;
+    upper = false;
+  }
+  return name;
+}
+
 }  // namespace mocap::testing

@@ -150,6 +150,28 @@ void ScaleProportions(BvhClip& clip, const BodyTopology& topology, const Proport
   clip.skeleton = Skeleton(std::move(joints));
 }
 
+void ScaleEveryBone(BvhClip& clip, const BodyTopology& topology, std::mt19937& random, float low, float high) {
+  std::uniform_real_distribution<float> log_factor(std::log(low), std::log(high));
+  const int n = clip.skeleton.num_joints();
+  std::vector<float> factor(n);
+  for (float& f : factor) f = std::exp(log_factor(random));
+  // The pelvis and its ancestors carry the travel and the height, which follow the legs.
+  float leg_log_sum = 0.0f;
+  int leg_bones = 0;
+  for (int j = 0; j < n; ++j) {
+    const BodyGroup group = topology.group_of_joint[j];
+    if (group == BodyGroup::kLeftLeg || group == BodyGroup::kRightLeg) {
+      leg_log_sum += std::log(factor[j]);
+      ++leg_bones;
+    }
+  }
+  const float legs = leg_bones > 0 ? std::exp(leg_log_sum / leg_bones) : 1.0f;
+  for (int j = topology.landmarks.pelvis; j >= 0; j = clip.skeleton.parent(j)) factor[j] = legs;
+  std::vector<Joint> joints = clip.skeleton.joints();
+  for (int j = 0; j < n; ++j) ScaleJoint(clip, joints, j, factor[j]);
+  clip.skeleton = Skeleton(std::move(joints));
+}
+
 absl::Status Rerig(BvhClip& clip, int split_joint, float yaw_degrees, const Eigen::Vector3f& ground_translation) {
   MoveOnGround(clip, yaw_degrees, ground_translation);
   if (absl::Status status = SplitBone(clip, split_joint, "InsertedJoint"); !status.ok()) return status;

@@ -48,6 +48,13 @@ Proportions RandomProportions(std::mt19937& random, float low = 0.8f, float high
 // the legs. `topology` is the clip's own (BuildRigModel).
 void ScaleProportions(BvhClip& clip, const BodyTopology& topology, const Proportions& proportions);
 
+// The same joint rotations on a body whose every bone has its own length factor, drawn
+// log-uniformly in [low, high]: thigh and shin, upper arm and forearm, left and right, each
+// vertebra and the clavicles all differ (ScaleProportions keeps the proportions within a group).
+// The pelvis and its ancestors follow the legs' mean factor.
+void ScaleEveryBone(BvhClip& clip, const BodyTopology& topology, std::mt19937& random, float low = 0.8f,
+                    float high = 1.25f);
+
 // A new user's copy of the clip: joints renamed, the bone into `split_joint` split (an extra
 // joint), XYZ rotation order, inches instead of the file's unit (the file is taken to be in cm),
 // turned by `yaw_degrees` and moved on the ground.

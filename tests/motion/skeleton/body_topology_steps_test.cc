@@ -455,11 +455,13 @@ TEST(BodyStepFindLimbJointsTest, WristElbowAnkleKneeOfTheSyntheticRig) {
   ASSERT_TRUE(arm.ok()) << arm.status();
   EXPECT_EQ(NameOf(clip.skeleton, arm->end), "LeftHand");
   EXPECT_EQ(NameOf(clip.skeleton, arm->middle), "LeftForeArm");
+  EXPECT_EQ(NameOf(clip.skeleton, arm->start), "LeftArm");  // past the clavicle
   absl::StatusOr<LimbJoints> leg = FindLimbJoints(clip.skeleton, clip.metric, clip.bone,
                                                   limb("RightUpLeg", "RightToeBase"), clip.poses, clip.frames);
   ASSERT_TRUE(leg.ok()) << leg.status();
   EXPECT_EQ(NameOf(clip.skeleton, leg->end), "RightFoot");
   EXPECT_EQ(NameOf(clip.skeleton, leg->middle), "RightLeg");
+  EXPECT_EQ(NameOf(clip.skeleton, leg->start), "RightUpLeg");
 }
 
 // The synthetic clip with its left thigh split in two (a joint that never bends).
@@ -477,6 +479,7 @@ TEST(BodyStepFindLimbJointsTest, ASplitBoneDoesNotEndASegmentGivenEnoughFrames) 
   ASSERT_TRUE(joints.ok()) << joints.status();
   EXPECT_EQ(NameOf(clip.skeleton, joints->end), "LeftFoot");
   EXPECT_EQ(NameOf(clip.skeleton, joints->middle), "LeftLeg");
+  EXPECT_EQ(NameOf(clip.skeleton, joints->start), "LeftUpLeg");  // not the split joint
 }
 
 TEST(BodyStepFindLimbJointsTest, WithFewerThanTenFramesEveryJointEndsASegment) {
@@ -490,6 +493,7 @@ TEST(BodyStepFindLimbJointsTest, WithFewerThanTenFramesEveryJointEndsASegment) {
   ASSERT_TRUE(joints.ok()) << joints.status();
   EXPECT_EQ(NameOf(clip.skeleton, joints->end), "LeftFoot");
   EXPECT_EQ(NameOf(clip.skeleton, joints->middle), "LeftThighMid");
+  EXPECT_EQ(NameOf(clip.skeleton, joints->start), "LeftUpLeg");
 }
 
 TEST(BodyStepFindLimbJointsTest, ALimbNeedsTwoBonesThatBend) {
