@@ -18,7 +18,7 @@
 # Builds its own store in build/fairness (two tenants, each with the standard split's database).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
-mocapd="$repo/build/server/mocapd"
+mocapd="$repo/build/mocapd/mocapd"
 load="$repo/build/client/mocap-load"
 data="${MOCAP_DATA_CACHE_DIR:-$HOME/.cache/mocap/data}"
 out="$repo/build/fairness"

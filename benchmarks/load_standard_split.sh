@@ -8,7 +8,7 @@
 # Prints one line per run and writes build/load/streams-N.json (mocap-load --json).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
-mocapd="$repo/build/server/mocapd"
+mocapd="$repo/build/mocapd/mocapd"
 load="$repo/build/client/mocap-load"
 store=${STORE:-$repo/var/mocap.db}
 data="${MOCAP_DATA_CACHE_DIR:-$HOME/.cache/mocap/data}/bandai-namco-2"

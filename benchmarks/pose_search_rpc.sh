@@ -9,7 +9,7 @@
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD:-$repo/build}
-mocapd="$build/server/mocapd"
+mocapd="$build/mocapd/mocapd"
 bench="$build/benchmarks/mocap_pose_search_rpc_benchmark"
 store=${STORE:-$repo/var/mocap.db}
 [ -f "$store" ] || { echo "no store at $store: run scripts/quickstart.sh first" >&2; exit 2; }

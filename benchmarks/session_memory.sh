@@ -6,7 +6,7 @@
 #   usage: benchmarks/session_memory.sh   env: STORE (var/mocap.db), SAMPLES (200000), LAG (5)
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
-mocapd="$repo/build/server/mocapd"
+mocapd="$repo/build/mocapd/mocapd"
 store=${STORE:-$repo/var/mocap.db}
 clip="${MOCAP_DATA_CACHE_DIR:-$HOME/.cache/mocap/data}/bandai-namco-2/dataset-2_walk_normal_003.bvh"
 out="$repo/build/memory"

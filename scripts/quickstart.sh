@@ -10,7 +10,7 @@
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 "$repo/scripts/setup.sh"
-mocapd="$repo/build/server/mocapd"
+mocapd="$repo/build/mocapd/mocapd"
 mocap="$repo/build/client/mocap"
 store="$repo/var/mocap.db"
 out="$repo/out"
