@@ -51,7 +51,7 @@ void PoseSearchCall::Begin() {
       if (!summary.has_rig || summary.num_clips == 0) {
         return absl::FailedPreconditionError(StrCat("database '", name, "' has no clips: import motion into it first"));
       }
-      MOCAP_ASSIGN_OR_RETURN(std::string stamp, DatabaseContentStamp(call_.store(), summary.id));
+      MOCAP_ASSIGN_OR_RETURN(std::string stamp, call_.store().ContentStamp(summary.id));
       versions_.push_back({summary.id, std::move(stamp), summary.frame_rate, summary.name});
     }
     return absl::OkStatus();

@@ -28,9 +28,9 @@ class ReconstructionDatabases {
   // the builder thread when it is. FailedPrecondition for a database without clips.
   void Acquire(const Key& key, Ready ready) { registry_.Acquire(key, std::move(ready)); }
 
-  // The content stamp of a database now (one query on `store`).
+  // The content stamp of a database now (MotionStore::ContentStamp).
   static absl::StatusOr<std::string> ContentStamp(MotionStore& store, std::int64_t database_id) {
-    return DatabaseContentStamp(store, database_id);
+    return store.ContentStamp(database_id);
   }
   // Builds one database from the store (what a builder thread runs).
   static absl::StatusOr<Database> Load(MotionStore& store, const Key& key);

@@ -11,17 +11,6 @@
 
 namespace mocap {
 
-absl::StatusOr<std::string> DatabaseContentStamp(MotionStore& store, std::int64_t database_id) {
-  MOCAP_ASSIGN_OR_RETURN(std::vector<ClipSummary> clips, store.ListClips(database_id));
-  // Ids alone could repeat after a delete and an import; the content hashes cannot.
-  std::size_t hash = std::hash<std::int64_t>()(database_id);
-  for (const ClipSummary& clip : clips) {
-    hash = hash * 1000003u ^ std::hash<std::int64_t>()(clip.id);
-    hash = hash * 1000003u ^ std::hash<std::string>()(clip.content_hash);
-  }
-  return StrCat(clips.size(), "-", hash);
-}
-
 VersionRegistry::VersionRegistry(StorePool& stores, int max_cached, std::string what, Loader loader)
     : stores_(stores), max_cached_(std::max(1, max_cached)), what_(std::move(what)), loader_(std::move(loader)) {}
 

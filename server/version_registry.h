@@ -31,14 +31,10 @@ namespace mocap {
 // One version of a store database: what a registry entry is built from and keyed by.
 struct DatabaseVersion {
   std::int64_t database_id = 0;
-  std::string content_stamp;  // DatabaseContentStamp()
+  std::string content_stamp;  // MotionStore::ContentStamp()
   double frame_rate = 30.0;
   std::string name;  // for what is built; not part of the key
 };
-
-// The content stamp of a database now (one query on `store`): changes with every import or
-// deletion of its clips.
-absl::StatusOr<std::string> DatabaseContentStamp(MotionStore& store, std::int64_t database_id);
 
 class VersionRegistry {
  public:

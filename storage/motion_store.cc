@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 
 #include <SQLiteCpp/Database.h>
 #include <SQLiteCpp/Statement.h>
@@ -343,6 +344,34 @@ absl::StatusOr<std::int64_t> MotionStore::InsertClip(std::int64_t database_id, c
     return clip_id;
   } catch (const std::exception& error) {
     return FromException(error, StrCat("storing clip ", source_name));
+  }
+}
+
+absl::StatusOr<std::string> MotionStore::ContentStamp(std::int64_t database_id) {
+  try {
+    // data_version first: a commit landing between it and the listing makes the next call list
+    // again, never keeps a stale stamp.
+    const std::int64_t data_version = db_->execAndGet("PRAGMA data_version").getInt64();
+    const std::int64_t total_changes = db_->getTotalChanges();
+    if (data_version != stamp_cache_.data_version || total_changes != stamp_cache_.total_changes) {
+      stamp_cache_ = {.data_version = data_version, .total_changes = total_changes, .stamps = {}};
+    }
+    if (auto it = stamp_cache_.stamps.find(database_id); it != stamp_cache_.stamps.end()) return it->second;
+    SQLite::Statement query(*db_, "SELECT id, content_hash FROM clips WHERE database_id = ? ORDER BY id");
+    query.bind(1, database_id);
+    // Ids alone could repeat after a delete and an import; the content hashes cannot.
+    std::size_t hash = std::hash<std::int64_t>()(database_id);
+    std::int64_t count = 0;
+    while (query.executeStep()) {
+      hash = hash * 1000003u ^ std::hash<std::int64_t>()(query.getColumn(0).getInt64());
+      hash = hash * 1000003u ^ std::hash<std::string>()(query.getColumn(1).getString());
+      ++count;
+    }
+    std::string stamp = StrCat(count, "-", hash);
+    stamp_cache_.stamps[database_id] = stamp;
+    return stamp;
+  } catch (const std::exception& error) {
+    return FromException(error, "reading the database's content stamp");
   }
 }
 

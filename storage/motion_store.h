@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -126,6 +127,12 @@ class MotionStore {
                                           const std::string& content_hash, const ClipLabels& labels,
                                           const PreparedClip& clip, const RigModel& rig);
   absl::StatusOr<std::vector<ClipSummary>> ListClips(std::int64_t database_id);
+  // A value that changes whenever the database's clips change (an import, a deletion, a deleted
+  // clip's id reused by another file), for what is built from them (the server's indices).
+  // Cached per connection until anything is committed to the file: SQLite's data_version tells
+  // of commits by other connections or processes, the connection's change count of its own, so
+  // a call costs two cheap look-ups while nothing changes (a listing of the clips otherwise).
+  absl::StatusOr<std::string> ContentStamp(std::int64_t database_id);
   // NotFound when the database has no clip with that id (labels not filled).
   absl::StatusOr<ClipSummary> FindClip(std::int64_t database_id, std::int64_t clip_id);
   // NotFound when the database has no clip with that id.
@@ -140,6 +147,14 @@ class MotionStore {
                                                  double frame_rate);
   std::filesystem::path path_;
   std::unique_ptr<SQLite::Database> db_;
+  // ContentStamp's cache: valid while the file's data_version and this connection's change
+  // count are what they were when it was filled.
+  struct StampCache {
+    std::int64_t data_version = -1;
+    std::int64_t total_changes = -1;
+    std::map<std::int64_t, std::string> stamps;
+  };
+  StampCache stamp_cache_;
 };
 
 }  // namespace mocap

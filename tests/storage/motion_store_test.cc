@@ -160,6 +160,47 @@ TEST_F(MotionStoreTest, DeletingADatabaseRemovesItsClips) {
   EXPECT_EQ(store->DeleteDatabase(database->id).code(), absl::StatusCode::kNotFound);
 }
 
+// The content stamp keys the server's indices: it must change with every change of a database's
+// clips, whichever connection (or process) made it, and stay put otherwise.
+TEST_F(MotionStoreTest, ContentStampChangesWithTheClipsFromAnyConnection) {
+  auto store = std::move(MotionStore::Open(path_)).value();
+  auto other = std::move(MotionStore::Open(path_)).value();  // another connection: another server
+  auto walks = store->CreateDatabase("walks", rig_, 30.0);
+  auto runs = store->CreateDatabase("runs", rig_, 30.0);
+  ASSERT_TRUE(walks.ok() && runs.ok());
+  ASSERT_TRUE(store->InsertClip(walks->id, "a.bvh", "hash-a", {}, prepared_, rig_).ok());
+  auto stamp = [](MotionStore& s, std::int64_t id) { return s.ContentStamp(id).value(); };
+  const std::string empty_runs = stamp(*store, runs->id);
+  const std::string one = stamp(*store, walks->id);
+  EXPECT_EQ(stamp(*store, walks->id), one);  // nothing changed
+  EXPECT_EQ(stamp(*other, walks->id), one);  // the same on every connection
+
+  // This connection's own import.
+  auto b = store->InsertClip(walks->id, "b.bvh", "hash-b", {}, prepared_, rig_);
+  ASSERT_TRUE(b.ok());
+  const std::string two = stamp(*store, walks->id);
+  EXPECT_NE(two, one);
+  EXPECT_EQ(stamp(*other, walks->id), two);
+  EXPECT_EQ(stamp(*store, runs->id), empty_runs);  // another database's stamp stays
+
+  // Another connection deletes the newest clip and imports another file, which takes its id.
+  ASSERT_TRUE(other->DeleteClip(walks->id, *b).ok());
+  EXPECT_EQ(stamp(*store, walks->id), one);
+  auto c = other->InsertClip(walks->id, "c.bvh", "hash-c", {}, prepared_, rig_);
+  ASSERT_TRUE(c.ok());
+  EXPECT_EQ(*c, *b);
+  const std::string reused = stamp(*store, walks->id);
+  EXPECT_NE(reused, two);
+  EXPECT_NE(reused, one);
+
+  // A third process's write through plain SQLite.
+  {
+    SQLite::Database raw(path_.string(), SQLite::OPEN_READWRITE);
+    raw.exec("DELETE FROM clips WHERE id = " + std::to_string(*c));
+  }
+  EXPECT_EQ(stamp(*store, walks->id), one);
+}
+
 // A store written by schema version 1 (one namespace of databases) opens as version 2 with its
 // databases, clips and labels in the 'default' tenant.
 TEST_F(MotionStoreTest, MigratesVersionOneStoreToTheDefaultTenant) {
