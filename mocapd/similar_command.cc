@@ -15,7 +15,8 @@ namespace mocap {
 void RegisterSimilarCommand(CLI::App& app, CommandRegistry& registry) {
   struct Options {
     SimilarOptions similar;
-    std::string store, query, pose_file, frames, weights = "uniform", sampling = "resample", scaling = "bone-directions";
+    std::string store, query, pose_file, frames, weights = "uniform", sampling = "resample",
+                                                 scaling = "bone-directions";
     bool json = false;
   };
   auto options = std::make_shared<Options>();

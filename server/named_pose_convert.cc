@@ -16,6 +16,14 @@ NamedPose FromProto(const v1::NamedPose& pose) {
   out.right_wrist = l.right_wrist();
   out.left_ankle = l.left_ankle();
   out.right_ankle = l.right_ankle();
+  out.left_elbow = l.left_elbow();
+  out.right_elbow = l.right_elbow();
+  out.left_knee = l.left_knee();
+  out.right_knee = l.right_knee();
+  out.left_shoulder = l.left_shoulder();
+  out.right_shoulder = l.right_shoulder();
+  out.left_hip = l.left_hip();
+  out.right_hip = l.right_hip();
   return out;
 }
 
@@ -36,6 +44,14 @@ void ToProto(const NamedPose& pose, v1::NamedPose* out) {
   l->set_right_wrist(pose.right_wrist);
   l->set_left_ankle(pose.left_ankle);
   l->set_right_ankle(pose.right_ankle);
+  l->set_left_elbow(pose.left_elbow);
+  l->set_right_elbow(pose.right_elbow);
+  l->set_left_knee(pose.left_knee);
+  l->set_right_knee(pose.right_knee);
+  l->set_left_shoulder(pose.left_shoulder);
+  l->set_right_shoulder(pose.right_shoulder);
+  l->set_left_hip(pose.left_hip);
+  l->set_right_hip(pose.right_hip);
 }
 
 }  // namespace mocap

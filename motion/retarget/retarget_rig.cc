@@ -31,7 +31,8 @@ float LengthAlong(const RetargetRig& rig, const std::vector<int>& chain, int fro
 // The shoulder (hip) on a limb chain from its rest lengths (motion/skeleton/limb_segments.h).
 int RestUpperSegmentStart(const RetargetRig& rig, const std::vector<int>& chain, int middle) {
   std::vector<float> cumulative(chain.size(), 0.0f);
-  for (int i = 1; i < static_cast<int>(chain.size()); ++i) cumulative[i] = cumulative[i - 1] + LengthAlong(rig, chain, i - 1, i);
+  for (int i = 1; i < static_cast<int>(chain.size()); ++i)
+    cumulative[i] = cumulative[i - 1] + LengthAlong(rig, chain, i - 1, i);
   return UpperSegmentStart(cumulative, middle);
 }
 

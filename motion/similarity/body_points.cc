@@ -4,6 +4,7 @@
 #include <span>
 #include <tuple>
 
+#include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "motion/skeleton/limb_segments.h"
 
@@ -19,6 +20,46 @@ std::vector<int> ChainBetween(const Skeleton& skeleton, int top, int end) {
   if (chain.back() != top) return {end};  // `top` is not an ancestor: degenerate rig, one point
   std::reverse(chain.begin(), chain.end());
   return chain;
+}
+
+// Each limb's shoulder / hip and elbow / knee as indices in its chain (BodyChains::root, bend),
+// from the landmarks that name them. Landmarks of -1 are skipped, and so are landmarks that are
+// not an inner joint of their chain (or, for a shoulder / hip, not above the elbow / knee) unless
+// `strict`: then InvalidArgument names the first.
+absl::Status SetLimbSections(const BodyLandmarks& l, bool strict, BodyChains* chains) {
+  struct Limb {
+    BodyGroup group;
+    int root, bend;
+    const char *root_name, *bend_name;
+  };
+  for (const Limb& limb : {Limb{BodyGroup::kLeftArm, l.left_shoulder, l.left_elbow, "left_shoulder", "left_elbow"},
+                           Limb{BodyGroup::kRightArm, l.right_shoulder, l.right_elbow, "right_shoulder", "right_elbow"},
+                           Limb{BodyGroup::kLeftLeg, l.left_hip, l.left_knee, "left_hip", "left_knee"},
+                           Limb{BodyGroup::kRightLeg, l.right_hip, l.right_knee, "right_hip", "right_knee"}}) {
+    const int g = static_cast<int>(limb.group);
+    const std::vector<int>& chain = chains->joints[g];
+    auto index_of = [&](int joint) {
+      const auto it = std::find(chain.begin(), chain.end(), joint);
+      return it == chain.end() ? -1 : static_cast<int>(it - chain.begin());
+    };
+    if (limb.bend < 0) continue;
+    const int bend = index_of(limb.bend);
+    if (bend <= 0 || bend + 1 >= static_cast<int>(chain.size())) {
+      if (!strict) continue;
+      return absl::InvalidArgumentError(
+          StrCat("landmark '", limb.bend_name, "' is not a joint inside the ", BodyGroupName(limb.group)));
+    }
+    chains->bend[g] = bend;
+    if (limb.root < 0) continue;
+    const int root = index_of(limb.root);
+    if (root < 0 || root >= bend) {
+      if (!strict) continue;
+      return absl::InvalidArgumentError(StrCat("landmark '", limb.root_name, "' is not a joint of the ",
+                                               BodyGroupName(limb.group), " above '", limb.bend_name, "'"));
+    }
+    chains->root[g] = root;
+  }
+  return absl::OkStatus();
 }
 
 }  // namespace
@@ -56,25 +97,8 @@ BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology
   chains.joints[static_cast<int>(BodyGroup::kLeftLeg)] = ChainBetween(skeleton, top(BodyGroup::kLeftLeg), l.left_ankle);
   chains.joints[static_cast<int>(BodyGroup::kRightLeg)] =
       ChainBetween(skeleton, top(BodyGroup::kRightLeg), l.right_ankle);
-  for (auto [group, root, bend] : {std::tuple{BodyGroup::kLeftArm, l.left_shoulder, l.left_elbow},
-                                    std::tuple{BodyGroup::kRightArm, l.right_shoulder, l.right_elbow},
-                                    std::tuple{BodyGroup::kLeftLeg, l.left_hip, l.left_knee},
-                                    std::tuple{BodyGroup::kRightLeg, l.right_hip, l.right_knee}}) {
-    const int g = static_cast<int>(group);
-    const std::vector<int>& chain = chains.joints[g];
-    auto index_of = [&](int joint) {
-      const auto it = std::find(chain.begin(), chain.end(), joint);
-      return it == chain.end() ? -1 : static_cast<int>(it - chain.begin());
-    };
-    // Only an inner joint of the chain bends it, and only a joint above the bend starts the upper
-    // bone (rigs stored before these landmarks were kept have none: length rules stand in).
-    const int bend_index = index_of(bend);
-    if (bend_index > 0 && bend_index + 1 < static_cast<int>(chain.size())) {
-      chains.bend[g] = bend_index;
-      const int root_index = index_of(root);
-      if (root_index >= 0 && root_index < bend_index) chains.root[g] = root_index;
-    }
-  }
+  // An unusable landmark (a rig stored before these were kept has none): the length rules stand in.
+  SetLimbSections(l, /*strict=*/false, &chains).IgnoreError();
   return chains;
 }
 
@@ -121,6 +145,16 @@ absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const B
     if (absl::Status status = set(group, below(ancestor, end)); !status.ok()) return status;
   }
   chains.joints[static_cast<int>(BodyGroup::kSpine)] = ChainBetween(skeleton, l.pelvis, chest);
+  for (int joint : {l.left_elbow, l.right_elbow, l.left_knee, l.right_knee, l.left_shoulder, l.right_shoulder,
+                    l.left_hip, l.right_hip}) {
+    if (joint < -1 || joint >= skeleton.num_joints())
+      return absl::InvalidArgumentError("a landmark is not a joint of the pose");
+  }
+  if (l.left_shoulder >= 0 && l.left_elbow < 0) return absl::InvalidArgumentError("left_shoulder needs left_elbow");
+  if (l.right_shoulder >= 0 && l.right_elbow < 0) return absl::InvalidArgumentError("right_shoulder needs right_elbow");
+  if (l.left_hip >= 0 && l.left_knee < 0) return absl::InvalidArgumentError("left_hip needs left_knee");
+  if (l.right_hip >= 0 && l.right_knee < 0) return absl::InvalidArgumentError("right_hip needs right_knee");
+  MOCAP_RETURN_IF_ERROR(SetLimbSections(l, /*strict=*/true, &chains));
   return chains;
 }
 
@@ -206,7 +240,8 @@ LimbJointsInFrame LimbJointsOf(const GlobalPoses& poses, int frame, const std::v
   CumulativeLengths(poses, frame, chain, cumulative);
   const std::span<const float> lengths(cumulative, m);
   const int bend = bend_hint > 0 && bend_hint + 1 < static_cast<int>(m) ? bend_hint : LimbBendByLength(lengths);
-  const int root = root_hint >= 0 && root_hint < bend && bend == bend_hint ? root_hint : UpperSegmentStart(lengths, bend);
+  const int root =
+      root_hint >= 0 && root_hint < bend && bend == bend_hint ? root_hint : UpperSegmentStart(lengths, bend);
   return {poses.position(frame, chain[root]), poses.position(frame, chain[bend]), poses.position(frame, chain[m - 1])};
 }
 
@@ -245,19 +280,20 @@ void PoseCanonicalBody(const GlobalPoses& poses, int frame, const BodyChains& ch
     Eigen::Vector3f anchor;
     float half_width, upper, lower;
   };
-  for (const Pair& pair : {Pair{BodyGroup::kLeftArm, BodyGroup::kRightArm, canonical_chest, C::kHalfShoulders,
-                                C::kUpperArm, C::kForearm},
-                           Pair{BodyGroup::kLeftLeg, BodyGroup::kRightLeg, Eigen::Vector3f::Zero(), C::kHalfHips,
-                                C::kThigh, C::kShin}}) {
+  for (const Pair& pair :
+       {Pair{BodyGroup::kLeftArm, BodyGroup::kRightArm, canonical_chest, C::kHalfShoulders, C::kUpperArm, C::kForearm},
+        Pair{BodyGroup::kLeftLeg, BodyGroup::kRightLeg, Eigen::Vector3f::Zero(), C::kHalfHips, C::kThigh, C::kShin}}) {
     const int left_group = static_cast<int>(pair.left), right_group = static_cast<int>(pair.right);
-    const LimbJointsInFrame left = LimbJointsOf(poses, frame, chain(pair.left), chains.root[left_group], chains.bend[left_group]);
-    const LimbJointsInFrame right = LimbJointsOf(poses, frame, chain(pair.right), chains.root[right_group], chains.bend[right_group]);
+    const LimbJointsInFrame left =
+        LimbJointsOf(poses, frame, chain(pair.left), chains.root[left_group], chains.bend[left_group]);
+    const LimbJointsInFrame right =
+        LimbJointsOf(poses, frame, chain(pair.right), chains.root[right_group], chains.bend[right_group]);
     // The line between the two roots, across the torso: the body's own twist and lean.
     Eigen::Vector3f across = DirectionAcross(left.root - right.root, torso_up);
     if (across.isZero()) across = DirectionAcross(Eigen::Vector3f::UnitX(), torso_up);
     for (auto [group, joints, side] : {std::tuple{pair.left, &left, 1.0f}, std::tuple{pair.right, &right, -1.0f}}) {
-      SampleTwoBones(pair.anchor + side * pair.half_width * across, Direction(joints->bend - joints->root),
-                     pair.upper, Direction(joints->end - joints->bend), pair.lower, n, group_points(group));
+      SampleTwoBones(pair.anchor + side * pair.half_width * across, Direction(joints->bend - joints->root), pair.upper,
+                     Direction(joints->end - joints->bend), pair.lower, n, group_points(group));
     }
   }
 }

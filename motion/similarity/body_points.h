@@ -61,15 +61,15 @@ inline constexpr float kCanonicalChainLengths[kNumBodyGroups] = {0.3f, 0.08f, 0.
 // The canonical body kBoneDirections poses, in leg lengths: an adult's proportions, rounded
 // (both shared rigs measure upper arm 0.26–0.30, forearm 0.26–0.28, thigh ≈ shin ≈ 0.5).
 struct CanonicalBody {
-  static constexpr float kSpine = 0.3f;           // pelvis -> chest, along the spine's own shape
-  static constexpr float kNeck = 0.1f;            // chest -> neck, along the spine's direction
-  static constexpr float kHead = 0.08f;           // neck -> head joint, along the head's own shape
-  static constexpr float kHalfShoulders = 0.2f;   // chest -> each shoulder, along the shoulder line
-  static constexpr float kUpperArm = 0.3f;        // shoulder -> elbow
-  static constexpr float kForearm = 0.3f;         // elbow -> wrist
-  static constexpr float kHalfHips = 0.1f;        // pelvis -> each hip, along the hip line
-  static constexpr float kThigh = 0.5f;           // hip -> knee
-  static constexpr float kShin = 0.5f;            // knee -> ankle
+  static constexpr float kSpine = 0.3f;          // pelvis -> chest, along the spine's own shape
+  static constexpr float kNeck = 0.1f;           // chest -> neck, along the spine's direction
+  static constexpr float kHead = 0.08f;          // neck -> head joint, along the head's own shape
+  static constexpr float kHalfShoulders = 0.2f;  // chest -> each shoulder, along the shoulder line
+  static constexpr float kUpperArm = 0.3f;       // shoulder -> elbow
+  static constexpr float kForearm = 0.3f;        // elbow -> wrist
+  static constexpr float kHalfHips = 0.1f;       // pelvis -> each hip, along the hip line
+  static constexpr float kThigh = 0.5f;          // hip -> knee
+  static constexpr float kShin = 0.5f;           // knee -> ankle
 };
 
 struct BodyPointOptions {
@@ -98,8 +98,10 @@ BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology
 // Chains from landmarks a caller names (a pose sent as joint positions, no analysis): arms run
 // from below the wrists' common ancestor to each wrist, legs from below the ankles' common
 // ancestor to each ankle, the head from below its common ancestor with the wrists, the spine from
-// the pelvis to the wrists' common ancestor. InvalidArgument when the landmarks do not form such
-// a body (e.g. a wrist that is an ancestor of the other).
+// the pelvis to the wrists' common ancestor. Elbows, knees, shoulders and hips are optional (-1:
+// found by length, see BodyChains); a shoulder (hip) needs its elbow (knee). InvalidArgument when
+// the landmarks do not form such a body (e.g. a wrist that is an ancestor of the other, an elbow
+// outside its arm).
 absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const BodyLandmarks& landmarks);
 
 // Body scale of one pose (METHOD.md B2): the mean length of the two leg chains; 1 when zero.

@@ -1,5 +1,7 @@
 #include "motion/similarity/named_pose.h"
 
+#include <tuple>
+
 #include <Eigen/Geometry>
 
 #include "motion/core/status_macros.h"
@@ -74,6 +76,17 @@ absl::StatusOr<ClipPoints> NamedPosePoints(const NamedPose& pose, const BodyPoin
   MOCAP_ASSIGN_OR_RETURN(landmarks.right_wrist, landmark("right_wrist", pose.right_wrist));
   MOCAP_ASSIGN_OR_RETURN(landmarks.left_ankle, landmark("left_ankle", pose.left_ankle));
   MOCAP_ASSIGN_OR_RETURN(landmarks.right_ankle, landmark("right_ankle", pose.right_ankle));
+  for (auto [key, name, joint] : {std::tuple{"left_elbow", &pose.left_elbow, &landmarks.left_elbow},
+                                  std::tuple{"right_elbow", &pose.right_elbow, &landmarks.right_elbow},
+                                  std::tuple{"left_knee", &pose.left_knee, &landmarks.left_knee},
+                                  std::tuple{"right_knee", &pose.right_knee, &landmarks.right_knee},
+                                  std::tuple{"left_shoulder", &pose.left_shoulder, &landmarks.left_shoulder},
+                                  std::tuple{"right_shoulder", &pose.right_shoulder, &landmarks.right_shoulder},
+                                  std::tuple{"left_hip", &pose.left_hip, &landmarks.left_hip},
+                                  std::tuple{"right_hip", &pose.right_hip, &landmarks.right_hip}}) {
+    if (name->empty()) continue;
+    MOCAP_ASSIGN_OR_RETURN(*joint, landmark(key, *name));
+  }
   MOCAP_ASSIGN_OR_RETURN(BodyChains chains, ChainsFromLandmarks(skeleton, landmarks));
   return MakeClipPoints(poses, chains, options);
 }

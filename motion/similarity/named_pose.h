@@ -23,6 +23,10 @@ struct NamedPose {
   std::string up = "+Y";               // "+Y", "-Y", "+X", "-X", "+Z" or "-Z"; empty: +Y
   // Joint names of the landmarks.
   std::string pelvis, head, left_wrist, right_wrist, left_ankle, right_ankle;
+  // Optional (empty: found by length, BodyChains): where each limb bends and where its upper long
+  // bone starts (past a clavicle or hip offset). A shoulder (hip) needs its elbow (knee).
+  std::string left_elbow, right_elbow, left_knee, right_knee;
+  std::string left_shoulder, right_shoulder, left_hip, right_hip;
 };
 
 // Upper bound on NamedPose::joints (the skeleton's own limit).
@@ -30,7 +34,8 @@ int MaxNamedPoseJoints();
 
 // One-frame points of the pose. InvalidArgument naming the joint or landmark when the pose is
 // not a valid body: a parent not listed before its child, a non-finite position, an unknown up
-// axis, a landmark naming no joint, landmarks that do not form a body (ChainsFromLandmarks).
+// axis, a landmark naming no joint, landmarks that do not form a body or an elbow, knee, shoulder
+// or hip outside its limb (ChainsFromLandmarks).
 absl::StatusOr<ClipPoints> NamedPosePoints(const NamedPose& pose, const BodyPointOptions& options);
 
 }  // namespace mocap

@@ -122,7 +122,23 @@ TEST_F(StorePoseSearchTest, FindsAPoseSentAsJointPositions) {
   EXPECT_TRUE(phase <= 1 || phase >= 29) << best.dump();
   EXPECT_LT(best["distance"].get<double>(), 0.05);
 
+  // The optional limb landmarks reach the search: named where the length rule finds them, the
+  // same answer; an elbow outside its arm, a clear error.
   nlohmann::json pose = PoseOfFrame(20);
+  for (const auto& [key, joint] : {std::pair{"left_elbow", "LeftForeArm"}, std::pair{"right_elbow", "RightForeArm"},
+                                   std::pair{"left_shoulder", "LeftArm"}, std::pair{"right_shoulder", "RightArm"},
+                                   std::pair{"left_knee", "LeftLeg"}, std::pair{"right_knee", "RightLeg"},
+                                   std::pair{"left_hip", "LeftUpLeg"}, std::pair{"right_hip", "RightUpLeg"}}) {
+    pose["landmarks"][key] = joint;
+  }
+  auto named = RunSimilar(options, pose);
+  ASSERT_TRUE(named.ok()) << named.status();
+  EXPECT_EQ((*named)["results"][0]["matches"][0], best);
+  pose["landmarks"]["left_elbow"] = "RightForeArm";
+  EXPECT_EQ(RunSimilar(options, pose).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(RunSimilar(options, pose).status().message().find("left_elbow"), std::string_view::npos);
+
+  pose = PoseOfFrame(20);
   pose["landmarks"]["left_wrist"] = "Nope";
   EXPECT_EQ(RunSimilar(options, pose).status().code(), absl::StatusCode::kInvalidArgument);
   pose = PoseOfFrame(20);

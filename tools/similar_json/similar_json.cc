@@ -83,6 +83,17 @@ absl::StatusOr<v1::NamedPose> NamedPoseFromJson(const nlohmann::json& pose) {
     landmarks->set_right_wrist(named.at("right_wrist").get<std::string>());
     landmarks->set_left_ankle(named.at("left_ankle").get<std::string>());
     landmarks->set_right_ankle(named.at("right_ankle").get<std::string>());
+    // Optional: where the limbs bend and their upper bones start.
+    for (auto [key, field] : {std::pair{"left_elbow", &v1::NamedLandmarks::mutable_left_elbow},
+                              std::pair{"right_elbow", &v1::NamedLandmarks::mutable_right_elbow},
+                              std::pair{"left_knee", &v1::NamedLandmarks::mutable_left_knee},
+                              std::pair{"right_knee", &v1::NamedLandmarks::mutable_right_knee},
+                              std::pair{"left_shoulder", &v1::NamedLandmarks::mutable_left_shoulder},
+                              std::pair{"right_shoulder", &v1::NamedLandmarks::mutable_right_shoulder},
+                              std::pair{"left_hip", &v1::NamedLandmarks::mutable_left_hip},
+                              std::pair{"right_hip", &v1::NamedLandmarks::mutable_right_hip}}) {
+      if (named.contains(key)) *(landmarks->*field)() = named.at(key).get<std::string>();
+    }
     return out;
   } catch (const nlohmann::json::exception& error) {
     return absl::InvalidArgumentError(std::string("pose JSON: ") + error.what());

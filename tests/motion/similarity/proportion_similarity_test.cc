@@ -115,7 +115,7 @@ SetResult MeasureSet(const std::filesystem::path& folder, const BodyPointOptions
       if (!query.ok()) return {.error = query.status().ToString()};
       Rate& rate = kind == VariantKind::kRerigged      ? result.rerigged
                    : kind == VariantKind::kProportions ? result.proportions
-                                                   : result.every_bone;
+                                                       : result.every_bone;
       for (int f = 2; f < query->points.rows() - 2; f += kFrameStride) {
         PoseSearchOptions search;
         search.top_k = 1;
