@@ -8,14 +8,27 @@
 
 namespace mocap {
 
+std::string PointsVariant(const BodyPointOptions& points) {
+  return StrCat(ChainScalingName(points.scaling), " ", PointSamplingName(points.sampling));
+}
+
+absl::StatusOr<BodyPointOptions> PointsOfVariant(const std::string& variant) {
+  const size_t space = variant.find(' ');
+  const std::optional<ChainScaling> scaling = ParseChainScaling(variant.substr(0, space));
+  const std::optional<PointSampling> sampling =
+      space == std::string::npos ? std::nullopt : ParsePointSampling(variant.substr(space + 1));
+  if (!scaling || !sampling) return absl::InternalError(StrCat("pose index variant '", variant, "' is not known"));
+  return BodyPointOptions{.sampling = *sampling, .scaling = *scaling};
+}
+
 PoseSearchState::PoseSearchState(ServiceContext& service_context, WorkPool& compute_pool, int max_cached_indexes,
                                  const PoseSearchLimits& limits_in)
     : service(service_context),
       compute(compute_pool),
       limits(limits_in),
-      points(),
       indexes(service_context.stores, max_cached_indexes, "pose index",
-              [points = BodyPointOptions()](MotionStore& store, const DatabaseVersion& version) {
+              [](MotionStore& store, const DatabaseVersion& version) -> absl::StatusOr<SearchDatabasePtr> {
+                MOCAP_ASSIGN_OR_RETURN(const BodyPointOptions points, PointsOfVariant(version.variant));
                 DatabaseSummary summary;
                 summary.id = version.database_id;
                 summary.name = version.name;
@@ -42,8 +55,8 @@ void PoseSearchCall::Begin() {
     MOCAP_RETURN_IF_ERROR(call_.Begin());
     pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
     MOCAP_ASSIGN_OR_RETURN(options_, SearchOptionsFromProto(request_, state_.limits));
-    MOCAP_ASSIGN_OR_RETURN(SimilarQuery query,
-                           QueryFromProto(request_, options_, state_.limits, streaming_, state_.points));
+    MOCAP_ASSIGN_OR_RETURN(points_, PointOptionsFromProto(request_));
+    MOCAP_ASSIGN_OR_RETURN(SimilarQuery query, QueryFromProto(request_, options_, state_.limits, streaming_, points_));
     query_ = std::move(query);
     for (const std::string& name : request_.databases()) {
       // Another tenant's database answers NotFound exactly like a missing one.
@@ -52,7 +65,7 @@ void PoseSearchCall::Begin() {
         return absl::FailedPreconditionError(StrCat("database '", name, "' has no clips: import motion into it first"));
       }
       MOCAP_ASSIGN_OR_RETURN(std::string stamp, call_.store().ContentStamp(summary.id));
-      versions_.push_back({summary.id, std::move(stamp), summary.frame_rate, summary.name});
+      versions_.push_back({summary.id, std::move(stamp), summary.frame_rate, summary.name, PointsVariant(points_)});
     }
     return absl::OkStatus();
   }();
@@ -65,7 +78,7 @@ void PoseSearchCall::Begin() {
 void PoseSearchCall::AcquireIndex(size_t index) {
   if (index == versions_.size()) {
     return Post([this] {
-      if (absl::Status status = query_->Prepare(databases_, state_.points); !status.ok()) return Complete(status);
+      if (absl::Status status = query_->Prepare(databases_, points_); !status.ok()) return Complete(status);
       Searchable();
     });
   }

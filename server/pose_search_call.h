@@ -26,9 +26,13 @@ struct PoseSearchState {
   ServiceContext& service;
   WorkPool& compute;  // shared with reconstruction sessions (one thread per core)
   const PoseSearchLimits limits;
-  const BodyPointOptions points;
-  TypedVersionRegistry<SearchDatabase> indexes;  // pose index per database version
+  // Pose index per database version and point options (DatabaseVersion::variant: PointsVariant).
+  TypedVersionRegistry<SearchDatabase> indexes;
 };
+
+// The registry variant of a pose index built with `points` ("bone-directions resample"), and back.
+std::string PointsVariant(const BodyPointOptions& points);
+absl::StatusOr<BodyPointOptions> PointsOfVariant(const std::string& variant);
 
 class PoseSearchCall {
  public:
@@ -65,6 +69,7 @@ class PoseSearchCall {
   std::atomic<bool> cancelled_{false};
   WorkPool::Key pool_key_ = WorkPool::kSharedKey;
   PoseSearchOptions options_;
+  BodyPointOptions points_;
   std::optional<SimilarQuery> query_;
   std::vector<DatabaseVersion> versions_;
   std::vector<SearchDatabasePtr> databases_;

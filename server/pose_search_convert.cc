@@ -103,6 +103,36 @@ absl::StatusOr<PoseSearchOptions> SearchOptionsFromProto(const v1::FindSimilarPo
   return options;
 }
 
+absl::StatusOr<BodyPointOptions> PointOptionsFromProto(const v1::FindSimilarPosesRequest& request) {
+  BodyPointOptions points;
+  switch (request.scaling()) {
+    case v1::BODY_SCALING_UNSPECIFIED:
+    case v1::BODY_SCALING_BONE_DIRECTIONS:
+      points.scaling = ChainScaling::kBoneDirections;
+      break;
+    case v1::BODY_SCALING_PER_CHAIN:
+      points.scaling = ChainScaling::kPerChain;
+      break;
+    case v1::BODY_SCALING_BODY_SCALE:
+      points.scaling = ChainScaling::kBodyScale;
+      break;
+    default:
+      return absl::InvalidArgumentError(StrCat("scaling: unknown value ", request.scaling()));
+  }
+  switch (request.sampling()) {
+    case v1::CHAIN_SAMPLING_UNSPECIFIED:
+    case v1::CHAIN_SAMPLING_RESAMPLE:
+      points.sampling = PointSampling::kResampleChains;
+      break;
+    case v1::CHAIN_SAMPLING_DROP:
+      points.sampling = PointSampling::kDropNearestEndEffector;
+      break;
+    default:
+      return absl::InvalidArgumentError(StrCat("sampling: unknown value ", request.sampling()));
+  }
+  return points;
+}
+
 absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& request,
                                             const PoseSearchOptions& options, const PoseSearchLimits& limits,
                                             bool streaming, const BodyPointOptions& points) {

@@ -28,6 +28,10 @@ struct PoseSearchLimits {
 absl::StatusOr<PoseSearchOptions> SearchOptionsFromProto(const v1::FindSimilarPosesRequest& request,
                                                          const PoseSearchLimits& limits);
 
+// The body point options of a request (scaling, sampling; defaults filled in). INVALID_ARGUMENT
+// for a value this server does not know.
+absl::StatusOr<BodyPointOptions> PointOptionsFromProto(const v1::FindSimilarPosesRequest& request);
+
 // Parses the query (BVH text or poses) and checks the number of query frames against the limit
 // of the call's form (`streaming`).
 absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& request,

@@ -33,7 +33,7 @@ void VersionRegistry::Acquire(const DatabaseVersion& version, Ready ready) {
   {
     MutexLock lock(&mutex_);
     ReapBuilders();
-    Entry& entry = entries_[{version.database_id, version.content_stamp}];
+    Entry& entry = entries_[{version.database_id, version.variant, version.content_stamp}];
     entry.last_used = ++clock_;
     if (!entry.value) {
       entry.waiting.push_back(std::move(ready));
@@ -59,15 +59,17 @@ void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
     }
   }();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string variant = version.variant.empty() ? "" : StrCat(" (", version.variant, ")");
   if (built.ok()) {
-    spdlog::info("{} of database {} built in {:.1f} s", what_, version.database_id, seconds);
+    spdlog::info("{} of database {}{} built in {:.1f} s", what_, version.database_id, variant, seconds);
   } else {
-    spdlog::warn("{} of database {} failed to build: {}", what_, version.database_id, built.status().ToString());
+    spdlog::warn("{} of database {}{} failed to build: {}", what_, version.database_id, variant,
+                 built.status().ToString());
   }
   std::vector<Ready> waiting;
   {
     MutexLock lock(&mutex_);
-    const EntryKey entry_key{version.database_id, version.content_stamp};
+    const EntryKey entry_key{version.database_id, version.variant, version.content_stamp};
     Entry& entry = entries_[entry_key];
     waiting.swap(entry.waiting);
     entry.building = false;
@@ -76,7 +78,8 @@ void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
       ++builds_;
       // Older versions of this database are not needed by new calls (running ones hold theirs).
       for (auto it = entries_.begin(); it != entries_.end();) {
-        const bool older = it->first.first == version.database_id && it->first != entry_key && !it->second.building;
+        const bool older = it->first.database_id == version.database_id && it->first.variant == version.variant &&
+                           it->first != entry_key && !it->second.building;
         it = older ? entries_.erase(it) : std::next(it);
       }
       Evict();

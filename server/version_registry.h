@@ -34,6 +34,9 @@ struct DatabaseVersion {
   std::string content_stamp;  // MotionStore::ContentStamp()
   double frame_rate = 30.0;
   std::string name;  // for what is built; not part of the key
+  // Which form of the database is built, when a registry builds several (the pose index's point
+  // options); part of the key. A new content stamp replaces the older entries of the same variant.
+  std::string variant;
 };
 
 class VersionRegistry {
@@ -63,7 +66,12 @@ class VersionRegistry {
     bool building = false;
     std::uint64_t last_used = 0;
   };
-  using EntryKey = std::pair<std::int64_t, std::string>;  // database id, content stamp
+  struct EntryKey {
+    std::int64_t database_id;
+    std::string variant;
+    std::string content_stamp;
+    auto operator<=>(const EntryKey&) const = default;
+  };
   struct Builder {
     std::thread thread;
     bool done = false;

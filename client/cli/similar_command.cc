@@ -10,7 +10,7 @@ namespace {
 
 struct SimilarCliOptions {
   std::vector<std::string> databases;
-  std::string query, pose_file, frames, weights = "uniform";
+  std::string query, pose_file, frames, weights = "uniform", sampling = "resample", scaling = "bone-directions";
   int step = 1, top = 10, window = 1, suppress = 0;
   bool exact = false;
 };
@@ -50,6 +50,10 @@ absl::StatusOr<v1::FindSimilarPosesRequest> MakeRequest(const SimilarCliOptions&
                              : o.weights == "upper-body" ? v1::GROUP_WEIGHTS_PRESET_UPPER_BODY
                                                          : v1::GROUP_WEIGHTS_PRESET_UNIFORM);
   request.set_suppress_within_frames(o.suppress);
+  request.set_scaling(o.scaling == "per-chain"    ? v1::BODY_SCALING_PER_CHAIN
+                      : o.scaling == "body-scale" ? v1::BODY_SCALING_BODY_SCALE
+                                                  : v1::BODY_SCALING_BONE_DIRECTIONS);
+  request.set_sampling(o.sampling == "drop" ? v1::CHAIN_SAMPLING_DROP : v1::CHAIN_SAMPLING_RESAMPLE);
   request.set_exact(o.exact);
   return request;
 }
@@ -94,6 +98,13 @@ void RegisterSimilar(CLI::App& app, Registry& registry) {
   command->add_option("--window", o->window, "Frames compared around each frame (odd)")->check(CLI::Range(1, 61));
   command->add_option("--weights", o->weights, "Group weights preset")
       ->check(CLI::IsMember({"uniform", "locomotion", "upper-body"}));
+  command->add_option("--sampling", o->sampling, "Body points: resample chains or drop joints (the seed's rule)")
+      ->check(CLI::IsMember({"resample", "drop"}));
+  command
+      ->add_option("--scaling", o->scaling,
+                   "Body points: joint directions on a canonical body (posture only), each chain by its own "
+                   "length, or all by the leg length (the seed's)")
+      ->check(CLI::IsMember({"bone-directions", "per-chain", "body-scale"}));
   command->add_option("--suppress", o->suppress, "Drop matches within N frames of a better match in the same clip");
   command->add_flag("--exact", o->exact, "Compare with every frame (no prefilter)");
   registry.Add(command, [o, global](client::Client& client) { return Run(client, *o, *global); });

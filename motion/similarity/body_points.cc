@@ -83,6 +83,17 @@ std::optional<ChainScaling> ParseChainScaling(std::string_view name) {
   return std::nullopt;
 }
 
+std::string_view PointSamplingName(PointSampling sampling) {
+  return sampling == PointSampling::kDropNearestEndEffector ? "drop" : "resample";
+}
+
+std::optional<PointSampling> ParsePointSampling(std::string_view name) {
+  for (PointSampling sampling : {PointSampling::kResampleChains, PointSampling::kDropNearestEndEffector}) {
+    if (name == PointSamplingName(sampling)) return sampling;
+  }
+  return std::nullopt;
+}
+
 BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology) {
   BodyChains chains;
   const BodyLandmarks& l = topology.landmarks;

@@ -51,6 +51,9 @@ enum class ChainScaling {
 // PoseSearch request take).
 std::string_view ChainScalingName(ChainScaling scaling);
 std::optional<ChainScaling> ParseChainScaling(std::string_view name);
+// "resample", "drop" (`mocapd similar --sampling`).
+std::string_view PointSamplingName(PointSampling sampling);
+std::optional<PointSampling> ParsePointSampling(std::string_view name);
 
 // Chain lengths of the canonical body kPerChain assembles, in leg lengths, by BodyGroup
 // (spine pelvis -> chest, head neck -> head joint, arms shoulder -> wrist, legs hip -> ankle):

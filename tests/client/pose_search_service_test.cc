@@ -259,6 +259,30 @@ TEST_F(PoseSearchServiceTest, IndexBuiltOncePerDatabaseVersionAndRebuiltAfterImp
   EXPECT_LT(after->results(0).matches(0).distance(), 1e-3);
 }
 
+// Point options per request: another scaling or sampling builds its own index once, shared by
+// later calls, and answers differently; the default's index stays.
+TEST_F(PoseSearchServiceTest, OtherPointOptionsBuildTheirOwnIndexOnce) {
+  auto standard = client_->FindSimilarPoses(Request(0, 3));
+  ASSERT_TRUE(standard.ok()) << standard.status();
+  v1::FindSimilarPosesRequest seed_rules = Request(0, 3);
+  seed_rules.set_scaling(v1::BODY_SCALING_BODY_SCALE);
+  seed_rules.set_sampling(v1::CHAIN_SAMPLING_DROP);
+  auto seed = client_->FindSimilarPoses(seed_rules);
+  ASSERT_TRUE(seed.ok()) << seed.status();
+  EXPECT_EQ(IndexBuildsLogged(), 2);
+  // Other points, other distances (the walk itself is found either way).
+  EXPECT_NE(seed->results(0).matches(0).distance(), standard->results(0).matches(0).distance());
+  ASSERT_TRUE(client_->FindSimilarPoses(seed_rules).ok());
+  ASSERT_TRUE(client_->FindSimilarPoses(Request(4, 9)).ok());
+  EXPECT_EQ(IndexBuildsLogged(), 2);
+
+  v1::FindSimilarPosesRequest unknown = Request(0, 3);
+  unknown.set_scaling(static_cast<v1::BodyScaling>(9));
+  absl::Status status = client_->FindSimilarPoses(unknown).status();
+  EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(status.message().find("scaling"), std::string_view::npos) << status;
+}
+
 TEST_F(PoseSearchServiceTest, MocapSimilarPrintsWhatMocapdSimilarPrints) {
   const std::string common =
       " --database walks --query " + query_.string() + " --frames 10:40 --step 5 --top 4 --window 3 --json";
@@ -270,6 +294,15 @@ TEST_F(PoseSearchServiceTest, MocapSimilarPrintsWhatMocapdSimilarPrints) {
   ASSERT_EQ(remote.exit_code, 0) << remote.out;
   EXPECT_EQ(nlohmann::json::parse(local.out)["results"].size(), 7u);
   EXPECT_EQ(remote.out, local.out);
+  // The same with the seed's point rules, which the server builds another index for.
+  const std::string seed_rules = common + " --scaling body-scale --sampling drop";
+  const Run local_seed =
+      Command(std::string(MOCAPD_PATH) + " similar --store " + store_.string() + " --tenant acme" + seed_rules);
+  ASSERT_EQ(local_seed.exit_code, 0) << local_seed.out;
+  const Run remote_seed = Command(std::string(MOCAP_CLI_PATH) + " similar --address " + server_->address() + " --key " +
+                                  keys_["acme"] + seed_rules);
+  EXPECT_EQ(remote_seed.out, local_seed.out);
+  EXPECT_NE(remote_seed.out, remote.out);
   // Errors are reported, not printed as results.
   const Run missing = Command(std::string(MOCAP_CLI_PATH) + " similar --address " + server_->address() + " --key " +
                               keys_["other"] + common);

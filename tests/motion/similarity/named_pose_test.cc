@@ -24,8 +24,8 @@ NamedPose PoseOfFrame(const BvhClip& clip, int frame) {
   NamedPose pose;
   for (int j = 0; j < clip.skeleton.num_joints(); ++j) {
     const int parent = clip.skeleton.parent(j);
-    pose.joints.push_back({clip.skeleton.joint(j).name, parent >= 0 ? clip.skeleton.joint(parent).name : "",
-                           poses.position(frame, j)});
+    pose.joints.push_back(
+        {clip.skeleton.joint(j).name, parent >= 0 ? clip.skeleton.joint(parent).name : "", poses.position(frame, j)});
   }
   pose.pelvis = "Hips";
   pose.head = "Head";
