@@ -38,6 +38,13 @@ nlohmann::json InspectionJson(const BvhInspection& inspection) {
   report["landmarks"] = {{"pelvis", name(l.pelvis)},         {"head", name(l.head)},
                          {"left_wrist", name(l.left_wrist)}, {"right_wrist", name(l.right_wrist)},
                          {"left_ankle", name(l.left_ankle)}, {"right_ankle", name(l.right_ankle)}};
+  // Where the limbs bend and their upper bones start (what a --query-pose may name).
+  for (auto [key, joint] : {std::pair{"left_elbow", l.left_elbow}, std::pair{"right_elbow", l.right_elbow},
+                            std::pair{"left_knee", l.left_knee}, std::pair{"right_knee", l.right_knee},
+                            std::pair{"left_shoulder", l.left_shoulder}, std::pair{"right_shoulder", l.right_shoulder},
+                            std::pair{"left_hip", l.left_hip}, std::pair{"right_hip", l.right_hip}}) {
+    if (joint >= 0) report["landmarks"][key] = name(joint);
+  }
   nlohmann::json groups = nlohmann::json::object();
   for (int g = 0; g < kNumBodyGroups; ++g) {
     groups[std::string(BodyGroupName(static_cast<BodyGroup>(g)))] = nlohmann::json::array();

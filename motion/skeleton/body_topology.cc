@@ -100,10 +100,13 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
   const steps::ArmsAndLegs limbs = steps::SplitArmsAndLegs(body, metric, poses, frames, up);
   std::array<steps::LimbJoints, 2> arm_joints, leg_joints;
   for (int i = 0; i < 2; ++i) {
-    absl::StatusOr<steps::LimbJoints> arm = steps::FindLimbJoints(skeleton, metric, bone, limbs.arms[i], poses, frames);
+    // Each limb beside its mirror: a joint that bends on either side ends a segment on both.
+    absl::StatusOr<steps::LimbJoints> arm =
+        steps::FindLimbJoints(skeleton, metric, bone, limbs.arms[i], poses, frames, &limbs.arms[1 - i]);
     if (!arm.ok()) return arm.status();
     arm_joints[i] = *arm;
-    absl::StatusOr<steps::LimbJoints> leg = steps::FindLimbJoints(skeleton, metric, bone, limbs.legs[i], poses, frames);
+    absl::StatusOr<steps::LimbJoints> leg =
+        steps::FindLimbJoints(skeleton, metric, bone, limbs.legs[i], poses, frames, &limbs.legs[1 - i]);
     if (!leg.ok()) return leg.status();
     leg_joints[i] = *leg;
   }

@@ -281,8 +281,11 @@ ArmsAndLegs SplitArmsAndLegs(const HeadAndPairs& body, const TreeMetric& metric,
 
 absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMetric& metric,
                                           const Eigen::VectorXf& bone, const Limb& limb, const GlobalPoses& poses,
-                                          const std::vector<int>& frames) {
+                                          const std::vector<int>& frames, const Limb* mirror) {
   const std::vector<int> path = metric.Path(limb.top, limb.end);
+  std::vector<int> mirror_path;
+  if (mirror != nullptr) mirror_path = metric.Path(mirror->top, mirror->end);
+  const bool mirrored = mirror_path.size() == path.size();
   if (path.size() < 3) {
     return absl::FailedPreconditionError(
         StrCat("limb starting at '", skeleton.joint(limb.top).name, "' has fewer than two bones"));
@@ -293,7 +296,8 @@ absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMe
   for (size_t i = 1; i < path.size(); ++i) {
     running += bone[path[i]];
     const bool straight_through = i + 1 < path.size() && frames.size() >= 10 &&
-                                  skeleton.Children(path[i]).size() == 1 && StaysStraight(path, i, poses, frames);
+                                  skeleton.Children(path[i]).size() == 1 && StaysStraight(path, i, poses, frames) &&
+                                  (!mirrored || StaysStraight(mirror_path, i, poses, frames));
     if (!straight_through) {
       segment_end.push_back(static_cast<int>(i));
       segment_length.push_back(running);

@@ -154,10 +154,13 @@ struct LimbJoints {
 // Splits the chain limb.top .. limb.end into segments at the joints where it really bends: a
 // joint with one child that keeps its two bones within 2 degrees of straight in every sampled
 // frame (a split bone, a roll joint) does not end a segment; with fewer than 10 sampled frames
-// every joint ends one. FailedPrecondition when the chain has fewer than two bones or segments.
+// every joint ends one. `mirror`, the other limb of the pair: when its chain has as many joints,
+// a joint must stay straight on both sides not to end a segment (an elbow held straight through
+// a short clip still bends on the other arm). FailedPrecondition when the chain has fewer than
+// two bones or segments.
 absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMetric& metric,
                                           const Eigen::VectorXf& bone, const Limb& limb, const GlobalPoses& poses,
-                                          const std::vector<int>& frames);
+                                          const std::vector<int>& frames, const Limb* mirror = nullptr);
 
 // ---------------------------------------------------------------------------------------------
 // Step 7: facing, left and right.

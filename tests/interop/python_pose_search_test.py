@@ -10,8 +10,10 @@ CXX.json is what `mocap similar --database NAME --query CLIP.bvh --frames A:B --
     frames with the same matches as the C++ SDK: database, clip id, file, frame, database frame,
     and distances, per-group distances and alignment within 1e-5;
   - StreamSimilarPoses gives the same results in parts, in query-frame order;
+  - the default scaling sent explicitly (BODY_SCALING_BONE_DIRECTIONS) gives the same matches;
   - errors map to the documented codes: UNAUTHENTICATED without a key, NOT_FOUND for a database
-    that is not there, INVALID_ARGUMENT naming top_k when it is over the limit;
+    that is not there, INVALID_ARGUMENT naming top_k when it is over the limit or naming scaling
+    for an enum value the server does not know;
   - server reflection lists mocap.v1.PoseSearch.
 """
 import argparse
@@ -43,12 +45,15 @@ from interop_checks import check, expect_error, failures, reflected_services, ve
 metadata = (("authorization", f"Bearer {args.key}"),)
 
 
-def request(database=None, top=None):
+def request(database=None, top=None, scaling=None):
     first, last = (int(x) for x in args.frames.split(":"))
     with open(args.query, "rb") as stream:
         bvh = ppb.BvhQuery(bvh=stream.read(), file_name="query.bvh", first_frame=first, last_frame=last,
                            frame_step=args.step)
-    return ppb.FindSimilarPosesRequest(databases=[database or args.database], bvh=bvh, top_k=top or args.top)
+    out = ppb.FindSimilarPosesRequest(databases=[database or args.database], bvh=bvh, top_k=top or args.top)
+    if scaling is not None:
+        out.scaling = scaling
+    return out
 
 
 def close(a, b):
@@ -88,6 +93,11 @@ def main():
         compare("FindSimilarPoses", list(unary.results), reference)
         print(f"FindSimilarPoses: {len(unary.results)} query frames, top {args.top}; same matches as the C++ SDK")
 
+        explicit = stub.FindSimilarPoses(request(scaling=ppb.BODY_SCALING_BONE_DIRECTIONS), metadata=metadata,
+                                         timeout=300)
+        compare("FindSimilarPoses with scaling BODY_SCALING_BONE_DIRECTIONS (the default)", list(explicit.results),
+                reference)
+
         parts = list(stub.StreamSimilarPoses(request(), metadata=metadata, timeout=300))
         streamed = [result for part in parts for result in part.results]
         compare("StreamSimilarPoses", streamed, reference)
@@ -98,6 +108,8 @@ def main():
                      lambda: stub.FindSimilarPoses(request(database="no-such-database"), metadata=metadata, timeout=30))
         expect_error("top_k over the limit", grpc.StatusCode.INVALID_ARGUMENT,
                      lambda: stub.StreamSimilarPoses(request(top=1000), metadata=metadata, timeout=30), named="top_k")
+        expect_error("a scaling this server does not know", grpc.StatusCode.INVALID_ARGUMENT,
+                     lambda: stub.FindSimilarPoses(request(scaling=9), metadata=metadata, timeout=30), named="scaling")
 
         check(b"mocap.v1.PoseSearch" in reflected_services(channel), "server reflection does not list mocap.v1.PoseSearch")
 

@@ -56,6 +56,9 @@ TEST_F(MocapdCliTest, InspectPrintsLandmarksAsJson) {
   const auto report = nlohmann::json::parse(result.out).at(0);
   EXPECT_EQ(report["landmarks"]["left_wrist"], "LeftHand");
   EXPECT_EQ(report["landmarks"]["pelvis"], "Hips");
+  EXPECT_EQ(report["landmarks"]["left_elbow"], "LeftForeArm");
+  EXPECT_EQ(report["landmarks"]["left_shoulder"], "LeftArm");  // past the clavicle
+  EXPECT_EQ(report["landmarks"]["right_hip"], "RightUpLeg");
   EXPECT_EQ(report["up_axis"], "+Y");
   EXPECT_EQ(report["frames"], 30);
   EXPECT_EQ(report["units"]["unit"], "cm");

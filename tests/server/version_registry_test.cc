@@ -25,7 +25,8 @@ class VersionRegistryTest : public ::testing::Test {
     registry_ = std::make_unique<VersionRegistry>(
         *stores_, /*max_cached=*/8, "test value", [this](MotionStore&, const DatabaseVersion& version) {
           ++builds_;
-          return VersionRegistry::Value(std::make_shared<const std::string>(version.content_stamp + "/" + version.variant));
+          return VersionRegistry::Value(
+              std::make_shared<const std::string>(version.content_stamp + "/" + version.variant));
         });
   }
   // The value for `version`, waiting for its build.

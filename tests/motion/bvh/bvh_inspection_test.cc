@@ -19,7 +19,24 @@ struct ExpectedNames {
   const char* left_ankle;
   const char* right_ankle;
   const char* head;
+  // Where the left limbs' upper long bones start and where they bend (the right ones mirror them:
+  // "_L" -> "_R" / "_L_" -> "_R_").
+  const char* left_shoulder;
+  const char* left_elbow;
+  const char* left_hip;
+  const char* left_knee;
 };
+
+// The right side's name of a left joint.
+std::string RightOf(std::string name) {
+  for (const char* left : {"_L_", "_L"}) {
+    if (const size_t at = name.rfind(left); at != std::string::npos) {
+      name[at + 1] = 'R';
+      break;
+    }
+  }
+  return name;
+}
 
 void PrintTo(const ExpectedNames& names, std::ostream* out) { *out << names.set; }
 
@@ -40,6 +57,14 @@ TEST_P(InspectSharedDataTest, FindsLandmarksInEveryFile) {
     EXPECT_EQ(name(landmarks.left_ankle), expected.left_ankle) << file;
     EXPECT_EQ(name(landmarks.right_ankle), expected.right_ankle) << file;
     EXPECT_EQ(name(landmarks.head), expected.head) << file;
+    EXPECT_EQ(name(landmarks.left_shoulder), expected.left_shoulder) << file;
+    EXPECT_EQ(name(landmarks.left_elbow), expected.left_elbow) << file;
+    EXPECT_EQ(name(landmarks.left_hip), expected.left_hip) << file;
+    EXPECT_EQ(name(landmarks.left_knee), expected.left_knee) << file;
+    EXPECT_EQ(name(landmarks.right_shoulder), RightOf(expected.left_shoulder)) << file;
+    EXPECT_EQ(name(landmarks.right_elbow), RightOf(expected.left_elbow)) << file;
+    EXPECT_EQ(name(landmarks.right_hip), RightOf(expected.left_hip)) << file;
+    EXPECT_EQ(name(landmarks.right_knee), RightOf(expected.left_knee)) << file;
     EXPECT_EQ(AxisName(report->topology.up_axis, report->topology.up_sign), "+Y") << file;
     EXPECT_EQ(report->topology.unit, LengthUnit::kCentimetre) << file;
     EXPECT_GT(report->frames, 0) << file;
@@ -61,10 +86,13 @@ TEST(BvhInspectionTest, AxisNames) {
 
 INSTANTIATE_TEST_SUITE_P(
     AllSets, InspectSharedDataTest,
-    ::testing::Values(ExpectedNames{"bandai-namco-1", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head"},
-                      ExpectedNames{"bandai-namco-2", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head"},
+    ::testing::Values(ExpectedNames{"bandai-namco-1", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head",
+                                    "UpperArm_L", "LowerArm_L", "UpperLeg_L", "LowerLeg_L"},
+                      ExpectedNames{"bandai-namco-2", "Hips", "Hand_L", "Hand_R", "Foot_L", "Foot_R", "Head",
+                                    "UpperArm_L", "LowerArm_L", "UpperLeg_L", "LowerLeg_L"},
                       ExpectedNames{"cmu-cc", "CC_Base_Hip", "CC_Base_L_Hand", "CC_Base_R_Hand", "CC_Base_L_Foot",
-                                    "CC_Base_R_Foot", "CC_Base_Head"}),
+                                    "CC_Base_R_Foot", "CC_Base_Head", "CC_Base_L_Upperarm", "CC_Base_L_Forearm",
+                                    "CC_Base_L_Thigh", "CC_Base_L_Calf"}),
     [](const auto& info) {
       std::string name = info.param.set;
       for (char& c : name)

@@ -496,6 +496,36 @@ TEST(BodyStepFindLimbJointsTest, WithFewerThanTenFramesEveryJointEndsASegment) {
   EXPECT_EQ(NameOf(clip.skeleton, joints->start), "LeftUpLeg");
 }
 
+// The synthetic clip with the left elbow held straight in every frame (a short clip of an arm
+// hanging straight: seen in bandai-namco-1's dataset-1_walk-back_normal_001).
+BvhClip WithStraightLeftElbow() {
+  BvhClip clip = testing::MakeWalkingClip({}, 40);
+  const int elbow = clip.skeleton.Find("LeftForeArm");
+  const std::vector<ChannelType>& channels = clip.skeleton.joint(elbow).channels;
+  for (size_t k = 0; k < channels.size(); ++k) {
+    if (IsRotation(channels[k])) clip.channels.col(clip.skeleton.channel_start(elbow) + static_cast<int>(k)).setZero();
+  }
+  return clip;
+}
+
+TEST(BodyStepFindLimbJointsTest, AnElbowHeldStraightStillBendsOnTheOtherArm) {
+  const WalkingClip clip(WithStraightLeftElbow());
+  const Limb left{.branch = clip["Chest"], .top = clip["LeftShoulder"], .end = clip["LeftHand"]};
+  const Limb right{.branch = clip["Chest"], .top = clip["RightShoulder"], .end = clip["RightHand"]};
+  // Alone, the straight elbow looks like a split bone: the clavicle becomes the upper segment.
+  absl::StatusOr<LimbJoints> alone =
+      FindLimbJoints(clip.skeleton, clip.metric, clip.bone, left, clip.poses, clip.frames);
+  ASSERT_TRUE(alone.ok()) << alone.status();
+  EXPECT_EQ(NameOf(clip.skeleton, alone->middle), "LeftArm");
+  // Beside its mirror, it is the elbow.
+  absl::StatusOr<LimbJoints> paired =
+      FindLimbJoints(clip.skeleton, clip.metric, clip.bone, left, clip.poses, clip.frames, &right);
+  ASSERT_TRUE(paired.ok()) << paired.status();
+  EXPECT_EQ(NameOf(clip.skeleton, paired->end), "LeftHand");
+  EXPECT_EQ(NameOf(clip.skeleton, paired->middle), "LeftForeArm");
+  EXPECT_EQ(NameOf(clip.skeleton, paired->start), "LeftArm");
+}
+
 TEST(BodyStepFindLimbJointsTest, ALimbNeedsTwoBonesThatBend) {
   const WalkingClip clip;
   const Limb one_bone{.branch = clip["Neck"], .top = clip["Head"], .end = clip["Head"]};
