@@ -24,8 +24,8 @@ std::vector<int> ChainBetween(const Skeleton& skeleton, int top, int end) {
 
 // Each limb's shoulder / hip and elbow / knee as indices in its chain (BodyChains::root, bend),
 // from the landmarks that name them. Landmarks of -1 are skipped, and so are landmarks that are
-// not an inner joint of their chain (or, for a shoulder / hip, not above the elbow / knee) unless
-// `strict`: then InvalidArgument names the first.
+// not an inner joint of their chain (or, for a shoulder / hip, not above the elbow / knee, or
+// named without it) unless `strict`: then InvalidArgument names the first.
 absl::Status SetLimbSections(const BodyLandmarks& l, bool strict, BodyChains* chains) {
   struct Limb {
     BodyGroup group;
@@ -42,7 +42,11 @@ absl::Status SetLimbSections(const BodyLandmarks& l, bool strict, BodyChains* ch
       const auto it = std::find(chain.begin(), chain.end(), joint);
       return it == chain.end() ? -1 : static_cast<int>(it - chain.begin());
     };
-    if (limb.bend < 0) continue;
+    if (limb.bend < 0) {
+      if (strict && limb.root >= 0)
+        return absl::InvalidArgumentError(StrCat(limb.root_name, " needs ", limb.bend_name));
+      continue;  // unknown: found by length
+    }
     const int bend = index_of(limb.bend);
     if (bend <= 0 || bend + 1 >= static_cast<int>(chain.size())) {
       if (!strict) continue;
@@ -161,10 +165,6 @@ absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const B
     if (joint < -1 || joint >= skeleton.num_joints())
       return absl::InvalidArgumentError("a landmark is not a joint of the pose");
   }
-  if (l.left_shoulder >= 0 && l.left_elbow < 0) return absl::InvalidArgumentError("left_shoulder needs left_elbow");
-  if (l.right_shoulder >= 0 && l.right_elbow < 0) return absl::InvalidArgumentError("right_shoulder needs right_elbow");
-  if (l.left_hip >= 0 && l.left_knee < 0) return absl::InvalidArgumentError("left_hip needs left_knee");
-  if (l.right_hip >= 0 && l.right_knee < 0) return absl::InvalidArgumentError("right_hip needs right_knee");
   MOCAP_RETURN_IF_ERROR(SetLimbSections(l, /*strict=*/true, &chains));
   return chains;
 }
@@ -182,17 +182,25 @@ float BodyScale(const GlobalPoses& poses, int frame, const BodyChains& chains) {
 
 namespace {
 
+// Lengths along `chain` from its first joint, in this frame (rotation-invariant), into
+// `cumulative`; returns how many joints it covers (the chain, at most Skeleton::kMaxJoints).
+size_t CumulativeLengths(const GlobalPoses& poses, int frame, const std::vector<int>& chain,
+                         float (&cumulative)[Skeleton::kMaxJoints]) {
+  const size_t m = std::min<size_t>(chain.size(), Skeleton::kMaxJoints);
+  cumulative[0] = 0.0f;
+  for (size_t i = 1; i < m; ++i) {
+    cumulative[i] = cumulative[i - 1] + (poses.position(frame, chain[i]) - poses.position(frame, chain[i - 1])).norm();
+  }
+  return m;
+}
+
 // The chain's points in world coordinates (sampled as options.sampling says); returns the
 // chain's length along its bones.
 float SampleChain(const GlobalPoses& poses, int frame, const std::vector<int>& chain, const BodyPointOptions& options,
                   Eigen::Vector3f* out) {
   const int n = options.points_per_group;
   float cumulative[Skeleton::kMaxJoints];
-  cumulative[0] = 0.0f;
-  const size_t m = std::min<size_t>(chain.size(), Skeleton::kMaxJoints);
-  for (size_t i = 1; i < m; ++i) {
-    cumulative[i] = cumulative[i - 1] + (poses.position(frame, chain[i]) - poses.position(frame, chain[i - 1])).norm();
-  }
+  const size_t m = CumulativeLengths(poses, frame, chain, cumulative);
   const float length = cumulative[m - 1];
   if (options.sampling == PointSampling::kDropNearestEndEffector || m == 1) {
     // The seed's rule: keep the first n joints, dropping those nearest the end effector; a
@@ -210,14 +218,6 @@ float SampleChain(const GlobalPoses& poses, int frame, const std::vector<int>& c
     out[k] = (1 - u) * poses.position(frame, chain[segment - 1]) + u * poses.position(frame, chain[segment]);
   }
   return length;
-}
-
-// Lengths along `chain` from its first joint, in this frame (rotation-invariant).
-void CumulativeLengths(const GlobalPoses& poses, int frame, const std::vector<int>& chain, float* cumulative) {
-  cumulative[0] = 0.0f;
-  for (size_t i = 1; i < chain.size(); ++i) {
-    cumulative[i] = cumulative[i - 1] + (poses.position(frame, chain[i]) - poses.position(frame, chain[i - 1])).norm();
-  }
 }
 
 // `v` scaled to unit length; zero when it has none (a bone of zero length has no direction).
@@ -247,8 +247,7 @@ struct LimbJointsInFrame {
 LimbJointsInFrame LimbJointsOf(const GlobalPoses& poses, int frame, const std::vector<int>& chain, int root_hint,
                                int bend_hint) {
   float cumulative[Skeleton::kMaxJoints];
-  const size_t m = std::min<size_t>(chain.size(), Skeleton::kMaxJoints);
-  CumulativeLengths(poses, frame, chain, cumulative);
+  const size_t m = CumulativeLengths(poses, frame, chain, cumulative);
   const std::span<const float> lengths(cumulative, m);
   const int bend = bend_hint > 0 && bend_hint + 1 < static_cast<int>(m) ? bend_hint : LimbBendByLength(lengths);
   const int root =
