@@ -119,8 +119,9 @@ absl::StatusOr<ImportSummary> RunImport(const ImportOptions& options, const Impo
     spdlog::warn("database '{}' keeps its {} fps; --frame-rate {} applies only when a database is created",
                  options.database, writer->preprocess().frame_rate, options.frame_rate);
   }
+  std::string rig_source;
   if (writer->rig() == nullptr) {
-    // The rig comes from the first file that reads; the database is created (or its rig stored)
+    // The rig comes from the first file named that reads; the database is created (or its rig stored)
     // with the first stored clip, so a failed first batch leaves no database behind.
     absl::Status first_error = absl::OkStatus();
     for (const auto& file : files) {
@@ -129,7 +130,10 @@ absl::StatusOr<ImportSummary> RunImport(const ImportOptions& options, const Impo
       absl::Status status = bytes.status();
       if (status.ok()) status = PrepareBvhBytes(*bytes, file.string(), nullptr, writer->preprocess(), &clip).status;
       if (status.ok()) status = writer->SetRigFrom(clip, file.string());
-      if (status.ok()) break;
+      if (status.ok()) {
+        rig_source = file.string();
+        break;
+      }
       if (!options.keep_going) return status;
       if (first_error.ok()) first_error = status;
     }
@@ -150,6 +154,7 @@ absl::StatusOr<ImportSummary> RunImport(const ImportOptions& options, const Impo
 
   ImportSummary summary;
   summary.database = options.database;
+  summary.rig_source = rig_source;
   summary.files = static_cast<int>(files.size());
   auto fill = [&](const ImportTotals& totals) {
     summary.created_database = totals.created_database;

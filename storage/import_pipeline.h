@@ -37,6 +37,7 @@ struct ImportSummary {
   double motion_seconds = 0.0;
   double wall_seconds = 0.0;
   std::vector<std::string> problems;  // "FILE: message" per skipped or duplicate file
+  std::string rig_source;             // the file that set a new database's rig (empty: it had one)
   double frames_per_second() const { return wall_seconds > 0 ? source_frames / wall_seconds : 0.0; }
 };
 

@@ -75,6 +75,7 @@ absl::Status ImportWriter::EnsureBatch() {
 
 absl::Status ImportWriter::Fail(const absl::Status& status) {
   batch_.reset();  // roll back
+  owner_checked_in_batch_ = false;
   pending_.clear();
   std::string message = StrCat(status.message(), " — nothing from this batch was stored");
   if (committed_batches_ > 0) {
@@ -128,9 +129,19 @@ absl::Status ImportWriter::Store(Pending pending) {
     MOCAP_ASSIGN_OR_RETURN(database_,
                            store_.CreateDatabase(target_.database, *rig_, preprocess_.frame_rate, target_.tenant));
     totals_.created_database = true;
-  } else if (!database_->has_rig) {
-    MOCAP_RETURN_IF_ERROR(store_.SetRig(database_->id, *rig_));
-    database_->has_rig = true;
+    owner_checked_in_batch_ = true;  // created inside this batch's write
+  } else {
+    // The database was looked up when the import started: it may have been deleted since (by
+    // this tenant, on another call). Checked inside this batch's write, so the clips land in it
+    // or the import ends NotFound; never in a database created after it.
+    if (!owner_checked_in_batch_) {
+      MOCAP_RETURN_IF_ERROR(store_.CheckDatabaseOwner(database_->id, target_.tenant, target_.database));
+      owner_checked_in_batch_ = true;
+    }
+    if (!database_->has_rig) {
+      MOCAP_RETURN_IF_ERROR(store_.SetRig(database_->id, *rig_));
+      database_->has_rig = true;
+    }
   }
   MOCAP_ASSIGN_OR_RETURN(std::optional<std::int64_t> existing, store_.FindClipByHash(database_->id, pending.hash));
   if (existing) {
@@ -164,6 +175,7 @@ absl::Status ImportWriter::Commit() {
     if (absl::Status status = batch_->Commit(); !status.ok()) return Fail(status);
     batch_.reset();
   }
+  owner_checked_in_batch_ = false;
   ++committed_batches_;
   committed_imported_ = totals_.imported;
   hashes_in_batch_.clear();

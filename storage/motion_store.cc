@@ -133,9 +133,11 @@ absl::StatusOr<std::unique_ptr<MotionStore>> MotionStore::Open(const std::filesy
       db->exec("PRAGMA journal_mode = WAL");
       db->exec("PRAGMA synchronous = NORMAL");  // WAL + NORMAL: durable across process crashes
       MOCAP_RETURN_IF_ERROR(storage::MigrateSchema(*db));
-    } else if (storage::SchemaVersion(*db) != storage::kSchemaVersion) {
-      return absl::FailedPreconditionError(StrCat(path.string(), ": store schema version ", storage::SchemaVersion(*db),
-                                                  " (this build reads ", storage::kSchemaVersion, ")"));
+    } else if (const int version = storage::SchemaVersion(*db);
+               version < storage::kMinReadOnlySchemaVersion || version > storage::kSchemaVersion) {
+      return absl::FailedPreconditionError(StrCat(path.string(), ": store schema version ", version,
+                                                  " (this build reads ", storage::kMinReadOnlySchemaVersion, " to ",
+                                                  storage::kSchemaVersion, "; open it once with mocapd to migrate)"));
     }
     return std::unique_ptr<MotionStore>(new MotionStore(path, std::move(db)));
   } catch (const std::exception& error) {
@@ -268,6 +270,21 @@ absl::StatusOr<RigModel> MotionStore::LoadRig(std::int64_t database_id) {
   }
 }
 
+absl::Status MotionStore::CheckDatabaseOwner(std::int64_t database_id, TenantId tenant, const std::string& name) {
+  try {
+    SQLite::Statement query(*db_, "SELECT 1 FROM databases WHERE id = ? AND tenant_id = ? AND name = ?");
+    query.bind(1, database_id);
+    query.bind(2, tenant);
+    query.bind(3, name);
+    if (!query.executeStep()) {
+      return absl::NotFoundError(StrCat("motion database '", name, "' no longer exists (deleted while in use)"));
+    }
+    return absl::OkStatus();
+  } catch (const std::exception& error) {
+    return FromException(error, "checking database");
+  }
+}
+
 absl::Status MotionStore::DeleteDatabase(std::int64_t database_id) {
   try {
     SQLite::Statement remove(*db_, "DELETE FROM databases WHERE id = ?");
@@ -357,10 +374,17 @@ absl::StatusOr<std::string> MotionStore::ContentStamp(std::int64_t database_id) 
       stamp_cache_ = {.data_version = data_version, .total_changes = total_changes, .stamps = {}};
     }
     if (auto it = stamp_cache_.stamps.find(database_id); it != stamp_cache_.stamps.end()) return it->second;
+    // The database's identity (tenant, name, creation) is part of the stamp: whatever is built
+    // and named from one database can never be taken for another's, even if an id repeated.
+    SQLite::Statement identity(*db_, "SELECT tenant_id, name, created_at FROM databases WHERE id = ?");
+    identity.bind(1, database_id);
+    if (!identity.executeStep()) return absl::NotFoundError(StrCat("no motion database with id ", database_id));
+    const std::string owner = StrCat(identity.getColumn(0).getInt64(), "/", identity.getColumn(1).getString(), "/",
+                                     identity.getColumn(2).getString());
     SQLite::Statement query(*db_, "SELECT id, content_hash FROM clips WHERE database_id = ? ORDER BY id");
     query.bind(1, database_id);
     // Ids alone could repeat after a delete and an import; the content hashes cannot.
-    std::size_t hash = std::hash<std::int64_t>()(database_id);
+    std::size_t hash = std::hash<std::int64_t>()(database_id) ^ std::hash<std::string>()(owner);
     std::int64_t count = 0;
     while (query.executeStep()) {
       hash = hash * 1000003u ^ std::hash<std::int64_t>()(query.getColumn(0).getInt64());
@@ -470,8 +494,12 @@ absl::StatusOr<StoredClip> MotionStore::LoadClip(std::int64_t clip_id, const Rig
     MOCAP_RETURN_IF_ERROR(ReadFloats(query.getColumn(8), static_cast<size_t>(frames), out.features, "features"));
     const double frame_time = 1.0 / query.getColumn(9).getDouble();
     std::vector<Joint> skeleton_joints = rig.skeleton.joints();
-    for (int j = 0; j < joints; ++j)
+    // Offsets are stored in metres per clip; End Sites are the rig's, in the rig's file unit.
+    const float end_site_metres = static_cast<float>(MetresPerUnit(rig.unit));
+    for (int j = 0; j < joints; ++j) {
       skeleton_joints[j].offset = Eigen::Vector3f(offsets[3 * j], offsets[3 * j + 1], offsets[3 * j + 2]);
+      if (skeleton_joints[j].end_site) *skeleton_joints[j].end_site *= end_site_metres;
+    }
     out.skeleton = Skeleton(std::move(skeleton_joints));
     out.motion = DecodePoses(poses, out.skeleton, rig, frame_time);
     for (int f = 0; f < frames; ++f) {

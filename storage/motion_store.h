@@ -119,6 +119,10 @@ class MotionStore {
   // FailedPrecondition when the database has no rig yet.
   absl::StatusOr<RigModel> LoadRig(std::int64_t database_id);
   absl::Status DeleteDatabase(std::int64_t database_id);
+  // NotFound unless database `database_id` still exists as `tenant`'s database `name`: work that
+  // outlives its lookup (an open import) checks it inside the write that depends on it. Ids are
+  // never reused (schema 3), so a deleted database's id cannot come back as another's.
+  absl::Status CheckDatabaseOwner(std::int64_t database_id, TenantId tenant, const std::string& name);
 
   // Id of the clip with this content hash in the database, if any.
   absl::StatusOr<std::optional<std::int64_t>> FindClipByHash(std::int64_t database_id, const std::string& content_hash);

@@ -81,6 +81,47 @@ INSERT INTO databases_v2 (id, tenant_id, name, frame_rate, unit, rig, created_at
 DROP TABLE databases;
 ALTER TABLE databases_v2 RENAME TO databases;
 )sql",
+    // 3: database and clip ids are never reused (AUTOINCREMENT): an id a caller still holds
+    // (an open import, a cached index, a client's clip id) can never name another tenant's
+    // database or clip after a delete. Both tables are rebuilt (SQLite cannot add the keyword);
+    // copying the rows with their ids sets sqlite_sequence to the highest id in use.
+    R"sql(
+CREATE TABLE databases_v3 (
+  id          INTEGER PRIMARY KEY AUTOINCREMENT,
+  tenant_id   INTEGER NOT NULL REFERENCES tenants(id),
+  name        TEXT NOT NULL,
+  frame_rate  REAL NOT NULL CHECK (frame_rate > 0),
+  unit        TEXT,
+  rig         TEXT,
+  created_at  TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now')),
+  UNIQUE (tenant_id, name)
+);
+INSERT INTO databases_v3 (id, tenant_id, name, frame_rate, unit, rig, created_at)
+  SELECT id, tenant_id, name, frame_rate, unit, rig, created_at FROM databases;
+DROP TABLE databases;
+ALTER TABLE databases_v3 RENAME TO databases;
+CREATE TABLE clips_v3 (
+  id                INTEGER PRIMARY KEY AUTOINCREMENT,
+  database_id       INTEGER NOT NULL REFERENCES databases(id) ON DELETE CASCADE,
+  source_name       TEXT NOT NULL,
+  content_hash      TEXT NOT NULL,
+  source_frame_rate REAL NOT NULL,
+  source_frames     INTEGER NOT NULL,
+  num_frames        INTEGER NOT NULL CHECK (num_frames > 0),
+  offsets           BLOB NOT NULL,
+  poses             BLOB NOT NULL,
+  animated_joints   TEXT NOT NULL DEFAULT '',
+  translations      BLOB,
+  features          BLOB NOT NULL,
+  imported_at       TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now')),
+  UNIQUE (database_id, content_hash)
+);
+INSERT INTO clips_v3 SELECT id, database_id, source_name, content_hash, source_frame_rate, source_frames, num_frames,
+                            offsets, poses, animated_joints, translations, features, imported_at FROM clips;
+DROP TABLE clips;
+ALTER TABLE clips_v3 RENAME TO clips;
+CREATE INDEX clips_by_database ON clips(database_id);
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion);
 

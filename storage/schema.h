@@ -7,7 +7,9 @@
 
 namespace mocap::storage {
 
-inline constexpr int kSchemaVersion = 2;
+inline constexpr int kSchemaVersion = 3;
+// Read-only opens (which cannot migrate) accept these older versions too: their tables read the same.
+inline constexpr int kMinReadOnlySchemaVersion = 2;
 
 // Brings the schema up to `target_version` (tests stop early to write older stores), one
 // migration per transaction. FailedPrecondition when the file was written by a newer build (its

@@ -188,7 +188,7 @@ TEST_F(MotionStoreTest, ContentStampChangesWithTheClipsFromAnyConnection) {
   EXPECT_EQ(stamp(*store, walks->id), one);
   auto c = other->InsertClip(walks->id, "c.bvh", "hash-c", {}, prepared_, rig_);
   ASSERT_TRUE(c.ok());
-  EXPECT_EQ(*c, *b);
+  EXPECT_GT(*c, *b);  // ids are never reused (schema 3)
   const std::string reused = stamp(*store, walks->id);
   EXPECT_NE(reused, two);
   EXPECT_NE(reused, one);
@@ -201,7 +201,7 @@ TEST_F(MotionStoreTest, ContentStampChangesWithTheClipsFromAnyConnection) {
   EXPECT_EQ(stamp(*store, walks->id), one);
 }
 
-// A store written by schema version 1 (one namespace of databases) opens as version 2 with its
+// A store written by schema version 1 (one namespace of databases) opens as the current version with its
 // databases, clips and labels in the 'default' tenant.
 TEST_F(MotionStoreTest, MigratesVersionOneStoreToTheDefaultTenant) {
   std::filesystem::create_directories(path_.parent_path());
@@ -220,12 +220,87 @@ TEST_F(MotionStoreTest, MigratesVersionOneStoreToTheDefaultTenant) {
     ASSERT_TRUE(store.ok()) << store.status();
   }
   SQLite::Database raw(path_.string());
-  EXPECT_EQ(storage::SchemaVersion(raw), 2);
+  EXPECT_EQ(storage::SchemaVersion(raw), storage::kSchemaVersion);
   EXPECT_EQ(raw.execAndGet("SELECT tenant_id FROM databases WHERE id = 7").getInt(), kDefaultTenantId);
   EXPECT_EQ(raw.execAndGet("SELECT name FROM tenants WHERE id = 1").getString(), "default");
   EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clips WHERE database_id = 7").getInt(), 1);
   EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clip_labels").getInt(), 1);
   EXPECT_FALSE(SQLite::Statement(raw, "PRAGMA foreign_key_check").executeStep());
+}
+
+// Issue #24 finding 1: an id freed by a delete must never name a database (or clip) created
+// later, or work that still holds it (an open import, a cached index) lands in the new one.
+TEST_F(MotionStoreTest, DatabaseAndClipIdsAreNeverReused) {
+  auto store = std::move(MotionStore::Open(path_)).value();
+  auto acme = TenantDirectory(*store).CreateTenant("acme");
+  ASSERT_TRUE(acme.ok());
+  auto first = store->CreateDatabase("private", rig_, 30.0);
+  ASSERT_TRUE(first.ok());
+  auto clip = store->InsertClip(first->id, "a.bvh", "h", {}, prepared_, rig_);
+  ASSERT_TRUE(clip.ok());
+  ASSERT_TRUE(store->DeleteDatabase(first->id).ok());  // the highest ids are free again
+  auto second = store->CreateDatabase("walks", rig_, 30.0, acme->id);
+  ASSERT_TRUE(second.ok());
+  EXPECT_GT(second->id, first->id);
+  auto second_clip = store->InsertClip(second->id, "b.bvh", "h", {}, prepared_, rig_);
+  ASSERT_TRUE(second_clip.ok());
+  EXPECT_GT(*second_clip, *clip);
+  // Holders of the old ids are told it is gone, whoever asks.
+  EXPECT_EQ(store->CheckDatabaseOwner(first->id, kDefaultTenantId, "private").code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->CheckDatabaseOwner(second->id, kDefaultTenantId, "walks").code(), absl::StatusCode::kNotFound);
+  EXPECT_TRUE(store->CheckDatabaseOwner(second->id, acme->id, "walks").ok());
+  EXPECT_EQ(store->LoadClip(*clip, rig_).status().code(), absl::StatusCode::kNotFound);
+}
+
+// Schema 2 stores (ids reusable) keep their ids through the migration, and from then on the
+// highest id ever used is remembered.
+TEST_F(MotionStoreTest, MigratingVersionTwoKeepsIdsAndStopsReuse) {
+  std::filesystem::create_directories(path_.parent_path());
+  {
+    SQLite::Database raw(path_.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    ASSERT_TRUE(storage::MigrateSchema(raw, 2).ok());
+    raw.exec(
+        "INSERT INTO databases (id, tenant_id, name, frame_rate, unit, rig) VALUES (7, 1, 'walks', 30, 'cm', '{}')");
+    raw.exec(R"sql(INSERT INTO clips (id, database_id, source_name, content_hash, source_frame_rate, source_frames,
+                                       num_frames, offsets, poses, features) VALUES (3, 7, 'a.bvh', 'h', 30, 2, 2,
+                                       x'', x'', x''))sql");
+    raw.exec("INSERT INTO clip_labels (clip_id, key, value) VALUES (3, 'content', 'walk')");
+  }
+  // A read-only server may still serve the old version (its tables read the same).
+  ASSERT_TRUE(MotionStore::Open(path_, {.read_only = true}).ok());
+  auto store = std::move(MotionStore::Open(path_)).value();
+  {
+    SQLite::Database raw(path_.string());
+    EXPECT_EQ(storage::SchemaVersion(raw), storage::kSchemaVersion);
+    EXPECT_EQ(raw.execAndGet("SELECT name FROM databases WHERE id = 7").getString(), "walks");
+    EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clip_labels WHERE clip_id = 3").getInt(), 1);
+    EXPECT_FALSE(SQLite::Statement(raw, "PRAGMA foreign_key_check").executeStep());
+    EXPECT_EQ(raw.execAndGet("PRAGMA integrity_check").getString(), "ok");
+  }
+  ASSERT_TRUE(store->DeleteDatabase(7).ok());
+  SQLite::Database raw(path_.string());
+  EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clip_labels").getInt(), 0);  // cascades still hold
+  EXPECT_GT(store->CreateDatabase("runs", rig_, 30.0)->id, 7);
+}
+
+// Issue #24 finding 2: the content stamp keys the server's indices, which carry database and
+// file names. Even where an id did repeat (a store from before schema 3), the stamp of another
+// tenant's database must differ.
+TEST_F(MotionStoreTest, ContentStampNamesTheDatabasesOwner) {
+  auto store = std::move(MotionStore::Open(path_)).value();
+  auto acme = TenantDirectory(*store).CreateTenant("acme");
+  ASSERT_TRUE(acme.ok());
+  auto mine = store->CreateDatabase("acme_private", rig_, 30.0);
+  ASSERT_TRUE(mine.ok());
+  const std::string before = store->ContentStamp(mine->id).value();
+  ASSERT_TRUE(store->DeleteDatabase(mine->id).ok());
+  EXPECT_EQ(store->ContentStamp(mine->id).status().code(), absl::StatusCode::kNotFound);
+  {  // an id reused behind the store's back, as schema 2 did
+    SQLite::Database raw(path_.string(), SQLite::OPEN_READWRITE);
+    raw.exec("INSERT INTO databases (id, tenant_id, name, frame_rate) VALUES (" + std::to_string(mine->id) + ", " +
+             std::to_string(acme->id) + ", 'walks', 30)");
+  }
+  EXPECT_NE(store->ContentStamp(mine->id).value(), before);
 }
 
 TEST_F(MotionStoreTest, DatabaseNamesAreUniquePerTenant) {
