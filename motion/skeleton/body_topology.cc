@@ -96,29 +96,35 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
   topology.rest_up_sign = rest_up_axis.sign;
   const Eigen::Vector3f up = topology.up();
 
-  // 5. Arms and legs; 6. where each bends and ends (the first failure in the order arm, leg, arm, leg).
+  // 5. Arms and legs; 6. where each bends and ends (the first failure in the order leg, leg, arm, arm).
   const steps::ArmsAndLegs limbs = steps::SplitArmsAndLegs(body, metric, poses, frames, up);
   std::array<steps::LimbJoints, 2> arm_joints, leg_joints;
   for (int i = 0; i < 2; ++i) {
     // Each limb beside its mirror: a joint that bends on either side ends a segment on both.
-    absl::StatusOr<steps::LimbJoints> arm =
-        steps::FindLimbJoints(skeleton, metric, bone, limbs.arms[i], poses, frames, &limbs.arms[1 - i]);
-    if (!arm.ok()) return arm.status();
-    arm_joints[i] = *arm;
     absl::StatusOr<steps::LimbJoints> leg =
         steps::FindLimbJoints(skeleton, metric, bone, limbs.legs[i], poses, frames, &limbs.legs[1 - i]);
     if (!leg.ok()) return leg.status();
     leg_joints[i] = *leg;
   }
+  // The upper arm starts at a shoulder, and the shoulders lie wider apart than the hips: a longer
+  // clavicle from the middle of the chest is not the upper arm (METHOD.md B1, step 6 above).
+  const float hip_separation = steps::MeanDistance(poses, frames, leg_joints[0].start, leg_joints[1].start);
+  for (int i = 0; i < 2; ++i) {
+    absl::StatusOr<steps::LimbJoints> arm =
+        steps::FindLimbJoints(skeleton, metric, bone, limbs.arms[i], poses, frames, &limbs.arms[1 - i], hip_separation);
+    if (!arm.ok()) return arm.status();
+    arm_joints[i] = *arm;
+  }
 
-  // 7. Forward, then left = up x forward sides the limbs.
-  const absl::StatusOr<Eigen::Vector3f> forward =
-      steps::MeasureForward(limbs, leg_joints, body.pelvis, metric, poses, frames, up, body_size);
-  if (!forward.ok()) return forward.status();
-  topology.forward = *forward;
-  const Eigen::Vector3f left = up.cross(topology.forward);
-  const bool arm0_left = steps::FirstIsLeft(limbs.arms, left, poses, frames);
-  const bool leg0_left = steps::FirstIsLeft(limbs.legs, left, poses, frames);
+  // 7. Facing and sides, frame by frame: each frame's hip line and its knee and toe cues side the
+  // legs, the arms are sided against the same per-frame body (no clip mean: a walk in a circle has
+  // no mean facing).
+  const absl::StatusOr<steps::Sides> sides =
+      steps::FindSides(limbs, arm_joints, leg_joints, body.pelvis, metric, poses, frames, up, body_size);
+  if (!sides.ok()) return sides.status();
+  topology.forward = sides->forward;
+  const bool arm0_left = sides->first_arm_is_left;
+  const bool leg0_left = sides->first_leg_is_left;
   const std::array<steps::Limb, 2> arms = LeftFirst(limbs.arms, arm0_left);
   const std::array<steps::Limb, 2> legs = LeftFirst(limbs.legs, leg0_left);
 

@@ -106,6 +106,13 @@ std::vector<int> SampleFrames(int frames) {
   return sample;
 }
 
+float MeanDistance(const GlobalPoses& poses, const std::vector<int>& frames, int a, int b) {
+  if (frames.empty()) return 0.0f;
+  float sum = 0.0f;
+  for (int f : frames) sum += (poses.position(f, a) - poses.position(f, b)).norm();
+  return sum / static_cast<float>(frames.size());
+}
+
 Eigen::VectorXf StaticBoneLengths(const LocalMotion& motion) {
   Eigen::VectorXf bone = BoneLengths(motion);
   bone[0] = 0.0f;
@@ -281,7 +288,8 @@ ArmsAndLegs SplitArmsAndLegs(const HeadAndPairs& body, const TreeMetric& metric,
 
 absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMetric& metric,
                                           const Eigen::VectorXf& bone, const Limb& limb, const GlobalPoses& poses,
-                                          const std::vector<int>& frames, const Limb* mirror) {
+                                          const std::vector<int>& frames, const Limb* mirror,
+                                          float min_start_separation) {
   const std::vector<int> path = metric.Path(limb.top, limb.end);
   std::vector<int> mirror_path;
   if (mirror != nullptr) mirror_path = metric.Path(mirror->top, mirror->end);
@@ -308,8 +316,21 @@ absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMe
     return absl::FailedPreconditionError(
         StrCat("limb starting at '", skeleton.joint(limb.top).name, "' does not bend: fewer than two segments"));
   }
-  std::vector<int> order(segment_end.size());
-  std::iota(order.begin(), order.end(), 0);
+  // The upper long segment starts at the shoulder (hip), lateral on the body: skip the leading
+  // segments that start nearer the mirror limb than `min_start_separation` (a clavicle from the
+  // middle of the chest, longer than the forearm on some rigs), as long as two segments remain.
+  int first = 0;
+  if (mirrored && min_start_separation > 0.0f) {
+    const int last_allowed = static_cast<int>(segment_end.size()) - 2;  // two segments remain
+    while (first <= last_allowed) {
+      const int start = first == 0 ? 0 : segment_end[first - 1];
+      if (MeanDistance(poses, frames, path[start], mirror_path[start]) >= min_start_separation) break;
+      ++first;
+    }
+    if (first > last_allowed) first = 0;  // no segment starts wide enough: the rule says nothing
+  }
+  std::vector<int> order(segment_end.size() - first);
+  std::iota(order.begin(), order.end(), first);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return segment_length[a] > segment_length[b]; });
   const int upper = std::min(order[0], order[1]);
   return LimbJoints{.end = path[segment_end[std::max(order[0], order[1])]],
@@ -321,22 +342,23 @@ Eigen::Vector3f Horizontal(const Eigen::Vector3f& v, const Eigen::Vector3f& up) 
 
 void AddKneeBendCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints,
                     const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up,
-                    Eigen::Vector3f* sum) {
+                    std::vector<Eigen::Vector3f>* per_frame) {
   for (int i = 0; i < 2; ++i) {
     const int hip = legs[i].top;
-    for (int f : frames) {
+    for (size_t k = 0; k < frames.size(); ++k) {
+      const int f = frames[k];
       float along;
       const Eigen::Vector3f a = poses.position(f, hip), b = poses.position(f, leg_joints[i].end),
-                            k = poses.position(f, leg_joints[i].middle);
-      PointSegmentDistance(k, a, b, &along);
-      *sum += Horizontal(k - (a + along * (b - a)), up);
+                            knee = poses.position(f, leg_joints[i].middle);
+      PointSegmentDistance(knee, a, b, &along);
+      (*per_frame)[k] += Horizontal(knee - (a + along * (b - a)), up);
     }
   }
 }
 
 float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints, const TreeMetric& metric,
                 const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up, float body_size,
-                Eigen::Vector3f* sum) {
+                std::vector<Eigen::Vector3f>* per_frame) {
   auto height = [&](int frame, int joint) { return poses.position(frame, joint).dot(up); };
   float foot_length = 0.0f;
   for (int i = 0; i < 2; ++i) {
@@ -345,42 +367,69 @@ float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>
     const int toe = metric.ChildToward(ankle, legs[i].end);
     float lowest_toe = std::numeric_limits<float>::infinity();
     for (int f : frames) lowest_toe = std::min(lowest_toe, height(f, toe));
-    for (int f : frames) {
+    for (size_t k = 0; k < frames.size(); ++k) {
+      const int f = frames[k];
       const Eigen::Vector3f foot = poses.position(f, toe) - poses.position(f, ankle);
       foot_length = std::max(foot_length, foot.norm());
-      if (height(f, toe) < lowest_toe + 0.05f * body_size) *sum += Horizontal(foot, up);
+      if (height(f, toe) < lowest_toe + 0.05f * body_size) (*per_frame)[k] += Horizontal(foot, up);
     }
   }
   return foot_length;
 }
 
-absl::StatusOr<Eigen::Vector3f> MeasureForward(const ArmsAndLegs& limbs, const std::array<LimbJoints, 2>& leg_joints,
-                                               int pelvis, const TreeMetric& metric, const GlobalPoses& poses,
-                                               const std::vector<int>& frames, const Eigen::Vector3f& up,
-                                               float body_size) {
-  Eigen::Vector3f forward = Eigen::Vector3f::Zero();
-  AddKneeBendCue(limbs.legs, leg_joints, poses, frames, up, &forward);
-  const float foot_length = AddToeCue(limbs.legs, leg_joints, metric, poses, frames, up, body_size, &forward);
-  if (forward.norm() < 0.1f * std::max(foot_length, 0.05f * body_size)) {
-    forward = Horizontal(poses.position(poses.num_frames() - 1, pelvis) - poses.position(0, pelvis), up);
-    if (forward.norm() < 0.05f * body_size) {
+Eigen::Vector3f PairLine(const std::array<LimbJoints, 2>& joints, const GlobalPoses& poses,
+                         const std::vector<int>& frames, int frame, const Eigen::Vector3f& up) {
+  // "Apart" against the middles' separation, so that rounding in coinciding joints does not count.
+  const bool starts_apart = MeanDistance(poses, frames, joints[0].start, joints[1].start) >
+                            1e-4f * MeanDistance(poses, frames, joints[0].middle, joints[1].middle);
+  const int a = starts_apart ? joints[0].start : joints[0].middle;
+  const int b = starts_apart ? joints[1].start : joints[1].middle;
+  return Horizontal(poses.position(frame, a) - poses.position(frame, b), up);
+}
+
+absl::StatusOr<Sides> FindSides(const ArmsAndLegs& limbs, const std::array<LimbJoints, 2>& arm_joints,
+                                const std::array<LimbJoints, 2>& leg_joints, int pelvis, const TreeMetric& metric,
+                                const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up,
+                                float body_size) {
+  // Per sampled frame: the facing if the first leg is the left one (hip line x up, unit).
+  std::vector<Eigen::Vector3f> facing(frames.size());
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const Eigen::Vector3f hips = PairLine(leg_joints, poses, frames, frames[k], up);
+    facing[k] = hips.norm() > 0.0f ? Eigen::Vector3f(hips.normalized().cross(up)) : Eigen::Vector3f::Zero();
+  }
+  std::vector<Eigen::Vector3f> cue(frames.size(), Eigen::Vector3f::Zero());
+  AddKneeBendCue(limbs.legs, leg_joints, poses, frames, up, &cue);
+  const float foot_length = AddToeCue(limbs.legs, leg_joints, metric, poses, frames, up, body_size, &cue);
+  float evidence = 0.0f;  // > 0: the first leg is the left one
+  for (size_t k = 0; k < frames.size(); ++k) evidence += cue[k].dot(facing[k]);
+  if (std::abs(evidence) < 0.1f * std::max(foot_length, 0.05f * body_size)) {
+    // No anatomical cue: the pelvis' travel, each step against its own frame's facing.
+    evidence = 0.0f;
+    for (size_t k = 0; k + 1 < frames.size(); ++k) {
+      const Eigen::Vector3f step = poses.position(frames[k + 1], pelvis) - poses.position(frames[k], pelvis);
+      evidence += Horizontal(step, up).dot(facing[k]);
+    }
+    if (std::abs(evidence) < 0.05f * body_size) {
       return absl::FailedPreconditionError(
           "cannot tell left from right: the feet have no toe joints and the clip does not travel");
     }
   }
-  return forward.normalized();
-}
-
-float LateralOffset(const Limb& limb, const Eigen::Vector3f& left, const GlobalPoses& poses,
-                    const std::vector<int>& frames) {
-  float sum = 0.0f;
-  for (int f : frames) sum += (poses.position(f, limb.top) - poses.position(f, limb.branch)).dot(left);
-  return sum;
-}
-
-bool FirstIsLeft(const std::array<Limb, 2>& pair, const Eigen::Vector3f& left, const GlobalPoses& poses,
-                 const std::vector<int>& frames) {
-  return LateralOffset(pair[0], left, poses, frames) > LateralOffset(pair[1], left, poses, frames);
+  Sides sides;
+  sides.first_leg_is_left = evidence > 0.0f;
+  const float sign = sides.first_leg_is_left ? 1.0f : -1.0f;
+  // The arms against the same per-frame body: left = sign * hip line.
+  float arm_evidence = 0.0f;
+  Eigen::Vector3f mean_forward = Eigen::Vector3f::Zero();
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const Eigen::Vector3f left = sign * up.cross(facing[k]);
+    arm_evidence += PairLine(arm_joints, poses, frames, frames[k], up).dot(left);
+    mean_forward += sign * facing[k];
+  }
+  sides.first_arm_is_left = arm_evidence > 0.0f;
+  mean_forward /= static_cast<float>(std::max<size_t>(frames.size(), 1));
+  if (mean_forward.norm() < 0.5f && !facing.empty()) mean_forward = sign * facing[0];
+  if (mean_forward.norm() > 0.0f) sides.forward = mean_forward.normalized();
+  return sides;
 }
 
 int HeadLandmark(const Limb& head, const TreeMetric& metric, const MergedTree& tree) {

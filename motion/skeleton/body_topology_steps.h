@@ -55,6 +55,9 @@ class TreeMetric {
 // Up to kMaxFramesSampled frame indices spread evenly over `frames` frames, starting at 0.
 std::vector<int> SampleFrames(int frames);
 
+// Mean distance between joints `a` and `b` over the sampled frames.
+float MeanDistance(const GlobalPoses& poses, const std::vector<int>& frames, int a, int b);
+
 // ---------------------------------------------------------------------------------------------
 // Step 1: the tree of real bones.
 
@@ -156,44 +159,71 @@ struct LimbJoints {
 // frame (a split bone, a roll joint) does not end a segment; with fewer than 10 sampled frames
 // every joint ends one. `mirror`, the other limb of the pair: when its chain has as many joints,
 // a joint must stay straight on both sides not to end a segment (an elbow held straight through
-// a short clip still bends on the other arm). FailedPrecondition when the chain has fewer than
-// two bones or segments.
+// a short clip still bends on the other arm).
+// `min_start_separation` (same unit as the poses; 0: no such rule), with a mirror of as many
+// joints: the upper long segment cannot start at a joint that lies, on average over the sampled
+// frames, nearer than this to its mirror joint. A clavicle starts near the middle of the chest and
+// may be longer than the forearm (the CMU rig); the upper arm starts at the shoulder, and the two
+// shoulders lie wider apart than the two hips (AnalyseBody passes the hips' separation for the
+// arms). The leading segments that start nearer are skipped when at least two segments remain.
+// FailedPrecondition when the chain has fewer than two bones or segments.
 absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMetric& metric,
                                           const Eigen::VectorXf& bone, const Limb& limb, const GlobalPoses& poses,
-                                          const std::vector<int>& frames, const Limb* mirror = nullptr);
+                                          const std::vector<int>& frames, const Limb* mirror = nullptr,
+                                          float min_start_separation = 0.0f);
 
 // ---------------------------------------------------------------------------------------------
-// Step 7: facing, left and right.
+// Step 7: facing, left and right, frame by frame.
+//
+// Every cue is read in its own frame against that frame's own body: a clip that turns (a walk in
+// a circle) has no mean facing direction, and a clip's mean says nothing about which limb is on
+// which side. Per sampled frame, the hip line (left hip minus right hip, if the first leg is the
+// left one) gives the facing up to its sign, forward = hip line x up (METHOD.md B1 step 1: sides
+// from the cross product with the up vector, here per frame); the anatomical cues of that same
+// frame (knees bend forward, toes point forward in stance) give the sign. The arms are then sided
+// against the same per-frame body: the left shoulder lies toward that frame's left.
 
 // `v` without its component along `up` (unit).
 Eigen::Vector3f Horizontal(const Eigen::Vector3f& v, const Eigen::Vector3f& up);
 
-// Knees bend forward: adds to `sum`, per leg and sampled frame, the horizontal part of the knee's
-// offset from its projection on the hip-ankle line (unnormalised: strongly bent frames weigh more).
+// Knees bend forward: adds to `per_frame[i]`, for frames[i] and each leg, the horizontal part of
+// the knee's offset from its projection on the hip-ankle line (unnormalised: strongly bent frames
+// weigh more). `per_frame` has one vector per sampled frame.
 void AddKneeBendCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints,
                     const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up,
-                    Eigen::Vector3f* sum);
-// Toes point forward in stance: adds to `sum` the horizontal ankle -> toe vector of each leg with a
-// joint below the ankle, in the sampled frames where the toe is within 5% of `body_size` of its
-// lowest height (a foot kicked back in a run points its toes backwards). Returns the longest
-// ankle -> toe distance seen (0 without toes).
+                    std::vector<Eigen::Vector3f>* per_frame);
+// Toes point forward in stance: adds to `per_frame[i]` the horizontal ankle -> toe vector of each
+// leg with a joint below the ankle, in the sampled frames where the toe is within 5% of `body_size`
+// of its lowest height over the sampled frames (a foot kicked back in a run points its toes
+// backwards). Returns the longest ankle -> toe distance seen (0 without toes).
 float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints, const TreeMetric& metric,
                 const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up, float body_size,
-                Eigen::Vector3f* sum);
-// Forward (unit, horizontal): the knee and toe cues summed; when their sum is too short to trust
-// (under 10% of the longer of the foot length and 5% of `body_size`), the pelvis' horizontal travel
-// from the first to the last frame. FailedPrecondition when that is under 5% of `body_size` too.
-absl::StatusOr<Eigen::Vector3f> MeasureForward(const ArmsAndLegs& limbs, const std::array<LimbJoints, 2>& leg_joints,
-                                               int pelvis, const TreeMetric& metric, const GlobalPoses& poses,
-                                               const std::vector<int>& frames, const Eigen::Vector3f& up,
-                                               float body_size);
+                std::vector<Eigen::Vector3f>* per_frame);
 
-// How far the limb's top joint lies toward `left` of its branch joint, summed over the sampled frames.
-float LateralOffset(const Limb& limb, const Eigen::Vector3f& left, const GlobalPoses& poses,
-                    const std::vector<int>& frames);
-// True when the first of the pair lies more to the left (see LateralOffset) than the second.
-bool FirstIsLeft(const std::array<Limb, 2>& pair, const Eigen::Vector3f& left, const GlobalPoses& poses,
-                 const std::vector<int>& frames);
+// Horizontal vector from the second limb of a pair to the first in frame `frame`: between their
+// `start` joints (hips, shoulders), or their `middle` joints when the rig puts both starts at the
+// same place over the sampled frames.
+Eigen::Vector3f PairLine(const std::array<LimbJoints, 2>& joints, const GlobalPoses& poses,
+                         const std::vector<int>& frames, int frame, const Eigen::Vector3f& up);
+
+struct Sides {
+  bool first_leg_is_left = true;
+  bool first_arm_is_left = true;
+  // Mean facing over the sampled frames (unit, horizontal); the first frame's when the clip turns
+  // so much that the mean is shorter than half a unit.
+  Eigen::Vector3f forward = Eigen::Vector3f::UnitZ();
+};
+// Sides both pairs (see the comment above this step). The knee and toe cues decide the legs; when
+// they are too weak (their projections on the per-frame facings sum under 10% of the longer of the
+// foot length and 5% of `body_size`: straight legs and no toe joints), the pelvis' horizontal
+// travel between consecutive sampled frames, each step against its own frame's facing (a walk is
+// taken to go forward). FailedPrecondition when that sums under 5% of `body_size` too.
+// The arms: the first arm is left when its shoulder lies toward the left of the per-frame body
+// (summed over the sampled frames).
+absl::StatusOr<Sides> FindSides(const ArmsAndLegs& limbs, const std::array<LimbJoints, 2>& arm_joints,
+                                const std::array<LimbJoints, 2>& leg_joints, int pelvis, const TreeMetric& metric,
+                                const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up,
+                                float body_size);
 
 // ---------------------------------------------------------------------------------------------
 // Step 8: head landmark, groups, sizes.

@@ -65,7 +65,7 @@ Body BuildBody(const SyntheticRigOptions& options) {
     const double s = side == 0 ? 1.0 : -1.0;
     const std::string prefix = side == 0 ? "Left" : "Right";
     const int shoulder = body.Add(prefix + "Shoulder", body.chest, {3 * s, 17, 0});
-    const int arm = body.arm[side] = body.Add(prefix + "Arm", shoulder, {14 * s, 0, 0});
+    const int arm = body.arm[side] = body.Add(prefix + "Arm", shoulder, {options.clavicle_length * s, 0, 0});
     const int forearm = body.forearm[side] = body.Add(prefix + "ForeArm", arm, {28 * s, 0, 0});
     const int hand = body.Add(prefix + "Hand", forearm, {25 * s, 0, 0}, {18 * s, 0, 0});
     if (options.fingers_and_toes) {
@@ -196,6 +196,48 @@ void PoseAt(const Body& body, double t, std::vector<Quaterniond>& local, Vector3
   }
 }
 
+// The walk of PoseAt along options.path.
+void WalkPoseAt(const Body& body, const SyntheticRigOptions& options, double t, std::vector<Quaterniond>& local,
+                Vector3d& hips) {
+  switch (options.path) {
+    case SyntheticPath::kStraight:
+      PoseAt(body, t, local, hips);
+      return;
+    case SyntheticPath::kBackwards:
+      PoseAt(body, -t, local, hips);  // the same steps in reverse: facing +Z, travelling -Z
+      return;
+    case SyntheticPath::kSideways:
+      PoseAt(body, t, local, hips);
+      hips.z() = 0;                              // stepping in place ...
+      hips.x() = 0.5 * kSyntheticWalkSpeed * t;  // ... while drifting to the left
+      return;
+    case SyntheticPath::kCircle: {
+      PoseAt(body, t, local, hips);
+      const double r = options.circle_radius;
+      const double heading = kSyntheticWalkSpeed * t / r;  // radians about +Y
+      local[body.hips] = Quaterniond(AngleAxisd(heading, Vector3d::UnitY())) * local[body.hips];
+      hips = Vector3d(r - r * std::cos(heading), hips.y(), r * std::sin(heading));
+      return;
+    }
+  }
+}
+
+// One standing frame (MakeStandingClip).
+void StandingPose(const Body& body, double arm_lowering_degrees, std::vector<Quaterniond>& local, Vector3d& hips) {
+  std::fill(local.begin(), local.end(), Quaterniond::Identity());
+  for (int side = 0; side < 2; ++side) {
+    local[body.arm[side]] = Rotation(2, -arm_lowering_degrees * (side == 0 ? 1.0 : -1.0));
+  }
+  hips = Vector3d(0, kSyntheticRestHipsHeight, 0);
+}
+
+// "Left*" <-> "Right*".
+std::string OtherSidesName(const std::string& name) {
+  if (name.rfind("Left", 0) == 0) return "Right" + name.substr(4);
+  if (name.rfind("Right", 0) == 0) return "Left" + name.substr(5);
+  return name;
+}
+
 // Intrinsic Euler angles in degrees: R = R_axes[0](e0) R_axes[1](e1) R_axes[2](e2), middle angle in
 // [-90, 90].
 Vector3d EulerDegrees(const Eigen::Matrix3d& m, const std::array<int, 3>& axes) {
@@ -233,9 +275,9 @@ std::array<int, 3> ParseOrder(const std::string& order) {
   return axes;
 }
 
-}  // namespace
-
-BvhClip MakeWalkingClip(const SyntheticRigOptions& options, int frames, double frame_time) {
+// The clip of `frames` frames posed by `pose_at(body, t, local, hips)`.
+template <typename PoseFunction>
+BvhClip MakeClip(const SyntheticRigOptions& options, int frames, double frame_time, PoseFunction pose_at) {
   const std::array<int, 3> axes = ParseOrder(options.rotation_order);
   const Body body = BuildBody(options);
   const double scale = options.length_scale;
@@ -272,7 +314,7 @@ BvhClip MakeWalkingClip(const SyntheticRigOptions& options, int frames, double f
   for (size_t b = 0; b < body.joints.size(); ++b) {
     const RigJoint& rig = body.joints[b];
     Joint joint;
-    joint.name = rig.name;
+    joint.name = options.mirrored_names ? OtherSidesName(rig.name) : rig.name;
     joint.parent = rig.parent < 0 ? top : first_body + rig.parent;
     joint.offset = (scale * (c * rig.offset)).cast<float>();
     const bool is_hips = static_cast<int>(b) == body.hips;
@@ -291,7 +333,7 @@ BvhClip MakeWalkingClip(const SyntheticRigOptions& options, int frames, double f
   std::vector<Quaterniond> local(body.joints.size());
   for (int f = 0; f < frames; ++f) {
     Vector3d hips_world;
-    PoseAt(body, f * frame_time, local, hips_world);
+    pose_at(body, f * frame_time, local, hips_world);
     hips_world *= scale;
     for (int j = 0; j < skeleton.num_joints(); ++j) {
       const Joint& joint = skeleton.joint(j);
@@ -327,6 +369,22 @@ BvhClip MakeWalkingClip(const SyntheticRigOptions& options, int frames, double f
     }
   }
   return clip;
+}
+
+}  // namespace
+
+BvhClip MakeWalkingClip(const SyntheticRigOptions& options, int frames, double frame_time) {
+  return MakeClip(options, frames, frame_time,
+                  [&](const Body& body, double t, std::vector<Quaterniond>& local, Vector3d& hips) {
+                    WalkPoseAt(body, options, t, local, hips);
+                  });
+}
+
+BvhClip MakeStandingClip(const SyntheticRigOptions& options, double arm_lowering_degrees) {
+  return MakeClip(options, 1, 1.0 / 30.0,
+                  [&](const Body& body, double, std::vector<Quaterniond>& local, Vector3d& hips) {
+                    StandingPose(body, arm_lowering_degrees, local, hips);
+                  });
 }
 
 SyntheticRigOptions SyntheticRigFromBits(int bits, const std::string& rotation_order) {

@@ -64,6 +64,14 @@ inline constexpr double kSyntheticLegLength = 85.0;       // cm, hip joint -> an
 inline constexpr double kSyntheticThighLength = 43.0;
 inline constexpr double kSyntheticShinLength = 42.0;
 
+// Where the synthetic walk goes (the body always faces its own +Z; the gait is the same).
+enum class SyntheticPath {
+  kStraight,   // along +Z, facing it (the walk described above)
+  kBackwards,  // facing +Z, travelling along -Z (the walk played backwards in time)
+  kSideways,   // facing +Z, travelling along +X (its left) at half the speed: the legs step in place
+  kCircle,     // turning continuously: the whole body turns about the vertical through the circle's centre
+};
+
 struct SyntheticRigOptions {
   bool extra_root = false;                    // static node "Root" above "Hips" (like Bandai's joint_Root: zero
                                               // offset, 6 channels all zero; Hips then carries the motion in
@@ -76,6 +84,14 @@ struct SyntheticRigOptions {
   bool position_channels_everywhere = false;  // 6 channels on every joint (Bandai)
   double length_scale = 1.0;                  // 1.0: centimetres; 0.01: metres; 1 / 2.54: inches
   std::string rotation_order = "ZXY";         // Euler channel order of every joint (a permutation of XYZ)
+  // Added for issue 23 (rigs and clips of other exporters); the defaults give the clip above.
+  double clavicle_length = 14.0;  // cm, LeftShoulder -> LeftArm (and its mirror); the CMU rig's clavicle is
+                                  // longer than its forearm (here 25)
+  bool mirrored_names = false;    // names that lie: every "Left*" joint is named "Right*" and the reverse
+                                  // (the joint at +X, the body's left, is then "RightHand" etc.)
+  SyntheticPath path = SyntheticPath::kStraight;
+  double circle_radius = 100.0;  // cm, for kCircle: > 0 turns left (towards +X first), < 0 turns right; the
+                                 // walk covers 2 pi |radius| in 2 pi |radius| / kSyntheticWalkSpeed seconds
 };
 
 // The walking clip described above; `frames` frames, `frame_time` seconds apart.
@@ -84,5 +100,10 @@ struct SyntheticRigOptions {
 SyntheticRigOptions SyntheticRigFromBits(int bits, const std::string& rotation_order = "ZXY");
 
 BvhClip MakeWalkingClip(const SyntheticRigOptions& options = {}, int frames = 60, double frame_time = 1.0 / 30.0);
+
+// One frame of the rig standing still (options.path is ignored): every rotation zero, feet flat,
+// the hips at kSyntheticRestHipsHeight, except the arms, lowered `arm_lowering_degrees` from the
+// T-pose in the body's frontal plane (0: T-pose; 45: an A-pose).
+BvhClip MakeStandingClip(const SyntheticRigOptions& options, double arm_lowering_degrees);
 
 }  // namespace mocap::testing

@@ -1,6 +1,11 @@
 #include "motion/bvh/bvh_inspection.h"
 
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -71,6 +76,65 @@ TEST_P(InspectSharedDataTest, FindsLandmarksInEveryFile) {
     ++checked;
   }
   EXPECT_GT(checked, 0);
+}
+
+// Every file of `other-rigs` (real captures from other exporters and labs: the CMU 31-joint rig
+// with clavicles longer than the forearms, PyMO, Mixamo, mocapbank, Perfume, one-frame Xsens
+// T-poses): every landmark is the joint its `landmarks.tsv` names ("A|B": either is right). The
+// analysis never reads the names.
+TEST(InspectOtherRigsTest, EveryFileMatchesLandmarksTsv) {
+  MOCAP_REQUIRE_SHARED_DATA(folder, "other-rigs");
+  std::ifstream tsv(folder / "landmarks.tsv");
+  ASSERT_TRUE(tsv) << "no landmarks.tsv in " << folder;
+  // file -> landmark -> the names that are right.
+  std::map<std::string, std::map<std::string, std::vector<std::string>>> expected;
+  std::string line;
+  while (std::getline(tsv, line)) {
+    std::istringstream fields(line);
+    std::string file, landmark, joints;
+    if (!std::getline(fields, file, '\t') || !std::getline(fields, landmark, '\t') || !std::getline(fields, joints)) {
+      continue;
+    }
+    if (file == "file") continue;  // the header
+    std::vector<std::string>& names = expected[file][landmark];
+    std::istringstream alternatives(joints);
+    for (std::string name; std::getline(alternatives, name, '|');) names.push_back(name);
+  }
+  const std::pair<const char*, int BodyLandmarks::*> kLandmarks[] = {{"pelvis", &BodyLandmarks::pelvis},
+                                                                     {"head", &BodyLandmarks::head},
+                                                                     {"left_shoulder", &BodyLandmarks::left_shoulder},
+                                                                     {"right_shoulder", &BodyLandmarks::right_shoulder},
+                                                                     {"left_elbow", &BodyLandmarks::left_elbow},
+                                                                     {"right_elbow", &BodyLandmarks::right_elbow},
+                                                                     {"left_wrist", &BodyLandmarks::left_wrist},
+                                                                     {"right_wrist", &BodyLandmarks::right_wrist},
+                                                                     {"left_hip", &BodyLandmarks::left_hip},
+                                                                     {"right_hip", &BodyLandmarks::right_hip},
+                                                                     {"left_knee", &BodyLandmarks::left_knee},
+                                                                     {"right_knee", &BodyLandmarks::right_knee},
+                                                                     {"left_ankle", &BodyLandmarks::left_ankle},
+                                                                     {"right_ankle", &BodyLandmarks::right_ankle}};
+  int files = 0, files_right = 0;
+  for (const auto& file : testing::BvhFilesIn(folder)) {
+    ++files;
+    const std::string stem = file.filename().string();
+    ASSERT_TRUE(expected.count(stem)) << stem << " is not in landmarks.tsv";
+    auto report = InspectBvhFile(file);
+    ASSERT_TRUE(report.ok()) << report.status();
+    bool all_right = true;
+    for (const auto& [landmark, member] : kLandmarks) {
+      const int joint = report->topology.landmarks.*member;
+      const std::string found = joint >= 0 ? report->skeleton.joint(joint).name : "<none>";
+      const std::vector<std::string>& names = expected[stem][landmark];
+      ASSERT_FALSE(names.empty()) << stem << ": landmarks.tsv has no " << landmark;
+      const bool right = std::find(names.begin(), names.end(), found) != names.end();
+      EXPECT_TRUE(right) << stem << ": " << landmark << " is " << found << ", expected " << names[0];
+      all_right = all_right && right;
+    }
+    files_right += all_right ? 1 : 0;
+  }
+  EXPECT_EQ(files, static_cast<int>(expected.size())) << "landmarks.tsv lists files that are not there";
+  EXPECT_EQ(files_right, files) << "files with every landmark right";
 }
 
 TEST(BvhInspectionTest, MissingFileIsNotFoundAndNamed) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -12,6 +13,7 @@
 
 #include <gtest/gtest.h>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "motion/bvh/bvh_clip.h"
 #include "motion/skeleton/forward_kinematics.h"
@@ -563,31 +565,44 @@ Skeleton TwoLegs() {
 }
 
 const std::array<Limb, 2> kLegs = {Limb{.branch = 0, .top = 1, .end = 4}, Limb{.branch = 0, .top = 5, .end = 8}};
-const std::array<LimbJoints, 2> kLegJoints = {LimbJoints{.end = 3, .middle = 2}, LimbJoints{.end = 7, .middle = 6}};
+const std::array<LimbJoints, 2> kLegJoints = {LimbJoints{.end = 3, .middle = 2, .start = 1},
+                                              LimbJoints{.end = 7, .middle = 6, .start = 5}};
 
 // Positions of TwoLegs' joints: hips at `pelvis`, knees `knee_forward` ahead (+Z) of the
-// hip-ankle line, toes at `toe` from the ankle.
-std::vector<Eigen::Vector3f> LegPose(const Eigen::Vector3f& pelvis, float knee_forward, const Eigen::Vector3f& toe) {
+// hip-ankle line, toes at `toe` from the ankle; the whole body turned by `yaw` degrees about +Y
+// (the left hip, at +X unturned, stays on the body's left).
+std::vector<Eigen::Vector3f> LegPose(const Eigen::Vector3f& pelvis, float knee_forward, const Eigen::Vector3f& toe,
+                                     float yaw = 0.0f) {
+  const Eigen::Matrix3f turn =
+      Eigen::AngleAxisf(yaw * static_cast<float>(M_PI) / 180, Eigen::Vector3f::UnitY()).toRotationMatrix();
   std::vector<Eigen::Vector3f> pose = {pelvis};
   for (float x : {10.0f, -10.0f}) {
-    const Eigen::Vector3f hip = pelvis + Eigen::Vector3f(x, 0, 0);
+    const Eigen::Vector3f hip(x, 0, 0);
     const Eigen::Vector3f ankle = hip + Eigen::Vector3f(0, -85, 0);
-    pose.insert(pose.end(), {hip, hip + Eigen::Vector3f(0, -43, knee_forward), ankle, ankle + toe});
+    for (const Eigen::Vector3f& p :
+         {hip, Eigen::Vector3f(hip + Eigen::Vector3f(0, -43, knee_forward)), ankle, Eigen::Vector3f(ankle + toe)}) {
+      pose.push_back(pelvis + turn * p);
+    }
   }
   return pose;
 }
 
-TEST(BodyStepFacingTest, KneeCueIsTheKneesHorizontalOffsetFromTheHipAnkleLine) {
+Eigen::Vector3f Sum(const std::vector<Eigen::Vector3f>& vectors) {
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  for (const Eigen::Vector3f& v : vectors) sum += v;
+  return sum;
+}
+
+TEST(BodyStepFacingTest, KneeCueIsTheKneesHorizontalOffsetFromTheHipAnkleLinePerFrame) {
   const GlobalPoses poses = PosesOf({LegPose({0, 90, 0}, 5, {0, -4.5f, 13}), LegPose({0, 90, 0}, 2, {0, -4.5f, 13})});
-  Eigen::Vector3f sum(1, 0, 0);
-  AddKneeBendCue(kLegs, kLegJoints, poses, {0, 1}, Eigen::Vector3f::UnitY(), &sum);
-  EXPECT_NEAR(sum.x(), 1.0f, 1e-4f);  // added to, not replaced
-  EXPECT_NEAR(sum.y(), 0.0f, 1e-4f);
-  EXPECT_NEAR(sum.z(), 2 * (5.0f + 2.0f), 1e-4f);
+  std::vector<Eigen::Vector3f> per_frame = {Eigen::Vector3f(1, 0, 0), Eigen::Vector3f::Zero()};
+  AddKneeBendCue(kLegs, kLegJoints, poses, {0, 1}, Eigen::Vector3f::UnitY(), &per_frame);
+  EXPECT_TRUE(per_frame[0].isApprox(Eigen::Vector3f(1, 0, 2 * 5.0f), 1e-5f)) << per_frame[0].transpose();  // added to
+  EXPECT_TRUE(per_frame[1].isApprox(Eigen::Vector3f(0, 0, 2 * 2.0f), 1e-5f)) << per_frame[1].transpose();
   // Only the part across `up` counts: with Z up, the knees' offset along Z adds nothing.
-  Eigen::Vector3f across_z = Eigen::Vector3f::Zero();
+  std::vector<Eigen::Vector3f> across_z(2, Eigen::Vector3f::Zero());
   AddKneeBendCue(kLegs, kLegJoints, poses, {0, 1}, Eigen::Vector3f::UnitZ(), &across_z);
-  EXPECT_NEAR(across_z.norm(), 0.0f, 1e-4f) << across_z.transpose();
+  EXPECT_NEAR(Sum(across_z).norm(), 0.0f, 1e-4f) << Sum(across_z).transpose();
 }
 
 TEST(BodyStepFacingTest, ToeCueCountsOnlyFramesWithTheToeNearItsLowest) {
@@ -596,56 +611,88 @@ TEST(BodyStepFacingTest, ToeCueCountsOnlyFramesWithTheToeNearItsLowest) {
   const TreeMetric metric(skeleton, bone);
   // Frame 0: toes forward on the ground; frame 1: the feet kicked back, toes 20 up and behind.
   const GlobalPoses poses = PosesOf({LegPose({0, 90, 0}, 0, {0, -4.5f, 13}), LegPose({0, 90, 0}, 0, {0, 20, -10})});
-  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-  const float foot_length = AddToeCue(kLegs, kLegJoints, metric, poses, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f, &sum);
-  EXPECT_NEAR(sum.z(), 26.0f, 1e-4f);
-  EXPECT_NEAR(sum.x(), 0.0f, 1e-4f);
-  EXPECT_NEAR(sum.y(), 0.0f, 1e-4f);
+  std::vector<Eigen::Vector3f> per_frame(2, Eigen::Vector3f::Zero());
+  const float foot_length =
+      AddToeCue(kLegs, kLegJoints, metric, poses, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f, &per_frame);
+  EXPECT_TRUE(per_frame[0].isApprox(Eigen::Vector3f(0, 0, 26), 1e-5f)) << per_frame[0].transpose();
+  EXPECT_EQ(per_frame[1], Eigen::Vector3f::Zero());
   EXPECT_NEAR(foot_length, Eigen::Vector2f(20, -10).norm(), 1e-4f);
 
   // Legs whose ankle is their end have no toe: no cue, no foot.
   const std::array<LimbJoints, 2> ankles_at_ends = {LimbJoints{.end = 4, .middle = 2},
                                                     LimbJoints{.end = 8, .middle = 6}};
-  sum.setZero();
-  EXPECT_EQ(AddToeCue(kLegs, ankles_at_ends, metric, poses, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f, &sum), 0.0f);
-  EXPECT_EQ(sum, Eigen::Vector3f::Zero());
+  per_frame.assign(2, Eigen::Vector3f::Zero());
+  EXPECT_EQ(AddToeCue(kLegs, ankles_at_ends, metric, poses, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f, &per_frame),
+            0.0f);
+  EXPECT_EQ(Sum(per_frame), Eigen::Vector3f::Zero());
 }
 
-TEST(BodyStepFacingTest, ForwardFollowsTheKneesAndToesNotTheTravel) {
+TEST(BodyStepFacingTest, PairLineRunsFromTheSecondStartToTheFirstElseBetweenTheMiddles) {
+  const GlobalPoses poses = PosesOf({LegPose({0, 90, 0}, 3, {0, -4.5f, 13}, 90)});
+  const Eigen::Vector3f line = PairLine(kLegJoints, poses, {0}, 0, Eigen::Vector3f::UnitY());
+  // Turned 90 degrees about +Y, the left hip (+X) lies at -Z.
+  EXPECT_TRUE(line.isApprox(Eigen::Vector3f(0, 0, -20), 1e-4f)) << line.transpose();
+  // Both starts on one joint (a rig whose limbs start at the pelvis): the middles.
+  const std::array<LimbJoints, 2> shared_start = {LimbJoints{.end = 3, .middle = 2, .start = 0},
+                                                  LimbJoints{.end = 7, .middle = 6, .start = 0}};
+  EXPECT_TRUE(PairLine(shared_start, poses, {0}, 0, Eigen::Vector3f::UnitY()).isApprox(line, 1e-4f));
+}
+
+// Sides of TwoLegs (first leg = the joints built at +X, the body's left) with no arms: the legs
+// stand in for them.
+absl::StatusOr<Sides> LegSides(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& joints,
+                               const GlobalPoses& poses, const std::vector<int>& frames) {
   const Skeleton skeleton = TwoLegs();
   const Eigen::VectorXf bone = OffsetLengths(skeleton);
   const TreeMetric metric(skeleton, bone);
-  // Walking backwards (-Z) with the knees bent and the toes pointing towards +Z.
-  const GlobalPoses poses = PosesOf({LegPose({0, 90, 0}, 4, {0, -4.5f, 13}), LegPose({0, 90, -50}, 4, {0, -4.5f, 13})});
-  const ArmsAndLegs limbs{.legs = kLegs};
-  absl::StatusOr<Eigen::Vector3f> forward =
-      MeasureForward(limbs, kLegJoints, 0, metric, poses, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f);
-  ASSERT_TRUE(forward.ok()) << forward.status();
-  EXPECT_TRUE(forward->isApprox(Eigen::Vector3f::UnitZ(), 1e-5f)) << forward->transpose();
+  return FindSides(ArmsAndLegs{.arms = legs, .legs = legs}, joints, joints, 0, metric, poses, frames,
+                   Eigen::Vector3f::UnitY(), 100.0f);
 }
 
-TEST(BodyStepFacingTest, WithoutKneeBendOrToesForwardIsTheTravel) {
-  const Skeleton skeleton = TwoLegs();
-  const Eigen::VectorXf bone = OffsetLengths(skeleton);
-  const TreeMetric metric(skeleton, bone);
-  // Legs ending at the ankle.
-  const ArmsAndLegs limbs{.legs = {Limb{.branch = 0, .top = 1, .end = 3}, Limb{.branch = 0, .top = 5, .end = 7}}};
-  // Straight legs moving towards -X (and up: only the horizontal part counts).
+TEST(BodyStepSidesTest, KneesAndToesSideTheLegsInEveryFrameOfATurningClip) {
+  // The body turns a full circle over the frames (its mean facing is nothing), walking backwards
+  // relative to its facing: the knees and toes still say where its front is in every frame.
+  std::vector<std::vector<Eigen::Vector3f>> frames;
+  std::vector<int> indices;
+  for (int k = 0; k < 12; ++k) {
+    const float yaw = 30.0f * k;
+    const float radians = yaw * static_cast<float>(M_PI) / 180;
+    const Eigen::Vector3f facing(std::sin(radians), 0, std::cos(radians));
+    frames.push_back(LegPose(Eigen::Vector3f(0, 90, 0) - 5.0f * k * facing, 4, {0, -4.5f, 13}, yaw));
+    indices.push_back(k);
+  }
+  const GlobalPoses poses = PosesOf(frames);
+  absl::StatusOr<Sides> sides = LegSides(kLegs, kLegJoints, poses, indices);
+  ASSERT_TRUE(sides.ok()) << sides.status();
+  EXPECT_TRUE(sides->first_leg_is_left);
+  EXPECT_TRUE(sides->first_arm_is_left);
+  // The mean facing of a full turn is nothing: the first frame's.
+  EXPECT_TRUE(sides->forward.isApprox(Eigen::Vector3f::UnitZ(), 1e-4f)) << sides->forward.transpose();
+  // The same limbs listed the other way round.
+  sides = LegSides({kLegs[1], kLegs[0]}, {kLegJoints[1], kLegJoints[0]}, poses, indices);
+  ASSERT_TRUE(sides.ok()) << sides.status();
+  EXPECT_FALSE(sides->first_leg_is_left);
+  EXPECT_FALSE(sides->first_arm_is_left);
+}
+
+TEST(BodyStepSidesTest, WithoutKneeBendOrToesEachStepOfTheTravelCountsAgainstItsOwnFacing) {
+  // Legs ending at the ankle, straight; the body walks a quarter turn: +Z, then +X.
+  const std::array<Limb, 2> legs = {Limb{.branch = 0, .top = 1, .end = 3}, Limb{.branch = 0, .top = 5, .end = 7}};
   const GlobalPoses travelling =
-      PosesOf({LegPose({0, 90, 0}, 0, {0, -4.5f, 13}), LegPose({0, 90, 0}, 0, {0, -4.5f, 13}),
-               LegPose({-30, 95, 0}, 0, {0, -4.5f, 13})});
-  absl::StatusOr<Eigen::Vector3f> forward =
-      MeasureForward(limbs, kLegJoints, 0, metric, travelling, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f);
-  ASSERT_TRUE(forward.ok()) << forward.status();
-  EXPECT_TRUE(forward->isApprox(-Eigen::Vector3f::UnitX(), 1e-5f)) << forward->transpose();
+      PosesOf({LegPose({0, 90, 0}, 0, {0, -4.5f, 13}), LegPose({0, 90, 30}, 0, {0, -4.5f, 13}, 45),
+               LegPose({30, 95, 30}, 0, {0, -4.5f, 13}, 90)});
+  absl::StatusOr<Sides> sides = LegSides(legs, kLegJoints, travelling, {0, 1, 2});
+  ASSERT_TRUE(sides.ok()) << sides.status();
+  EXPECT_TRUE(sides->first_leg_is_left);
+  EXPECT_TRUE(sides->forward.isApprox(Eigen::Vector3f(1, 0, 1).normalized(), 1e-4f)) << sides->forward.transpose();
 
   // Travelling 4 (under 5% of the body size of 100): cannot tell.
   const GlobalPoses standing =
-      PosesOf({LegPose({0, 90, 0}, 0, {0, -4.5f, 13}), LegPose({-4, 90, 0}, 0, {0, -4.5f, 13})});
-  forward = MeasureForward(limbs, kLegJoints, 0, metric, standing, {0, 1}, Eigen::Vector3f::UnitY(), 100.0f);
-  ASSERT_FALSE(forward.ok());
-  EXPECT_EQ(forward.status().code(), absl::StatusCode::kFailedPrecondition);
-  EXPECT_NE(forward.status().message().find("left from right"), std::string_view::npos) << forward.status();
+      PosesOf({LegPose({0, 90, 0}, 0, {0, -4.5f, 13}), LegPose({0, 90, 4}, 0, {0, -4.5f, 13})});
+  sides = LegSides(legs, kLegJoints, standing, {0, 1});
+  ASSERT_FALSE(sides.ok());
+  EXPECT_EQ(sides.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(sides.status().message().find("left from right"), std::string_view::npos) << sides.status();
 }
 
 TEST(BodyStepFacingTest, HorizontalDropsTheUpComponent) {
@@ -653,34 +700,24 @@ TEST(BodyStepFacingTest, HorizontalDropsTheUpComponent) {
   EXPECT_EQ(Horizontal(Eigen::Vector3f(1, 2, 3), -Eigen::Vector3f::UnitZ()), Eigen::Vector3f(1, 2, 0));
 }
 
-TEST(BodyStepSidesTest, TheLimbWhoseFirstJointLiesTowardsLeftIsLeft) {
-  // Branch at the origin; first joints at +X and -X in frames 0 and 1, swapped in frame 2.
-  const GlobalPoses poses = PosesOf({{Eigen::Vector3f::Zero(), Eigen::Vector3f(10, 0, 0), Eigen::Vector3f(-10, 0, 0)},
-                                     {Eigen::Vector3f::Zero(), Eigen::Vector3f(10, 0, 0), Eigen::Vector3f(-10, 0, 0)},
-                                     {Eigen::Vector3f::Zero(), Eigen::Vector3f(-10, 0, 0), Eigen::Vector3f(10, 0, 0)}});
-  const std::array<Limb, 2> pair = {Limb{.branch = 0, .top = 1, .end = 1}, Limb{.branch = 0, .top = 2, .end = 2}};
-  const Eigen::Vector3f left = Eigen::Vector3f::UnitX();
-  EXPECT_FLOAT_EQ(LateralOffset(pair[0], left, poses, {0, 1, 2}), 10.0f);
-  EXPECT_FLOAT_EQ(LateralOffset(pair[1], left, poses, {0, 1, 2}), -10.0f);
-  EXPECT_TRUE(FirstIsLeft(pair, left, poses, {0, 1, 2}));
-  EXPECT_FALSE(FirstIsLeft(pair, -left, poses, {0, 1, 2}));
-  EXPECT_FALSE(FirstIsLeft(pair, left, poses, {2}));
-}
-
 TEST(BodyStepSidesTest, SyntheticRigFacesPlusZWithItsLeftAtPlusX) {
   const WalkingClip clip;
-  const Limb left_leg{.branch = clip["Hips"], .top = clip["LeftUpLeg"], .end = clip["LeftToeBase"]};
-  const Limb right_leg{.branch = clip["Hips"], .top = clip["RightUpLeg"], .end = clip["RightToeBase"]};
-  const std::array<LimbJoints, 2> joints = {LimbJoints{.end = clip["LeftFoot"], .middle = clip["LeftLeg"]},
-                                            LimbJoints{.end = clip["RightFoot"], .middle = clip["RightLeg"]}};
-  absl::StatusOr<Eigen::Vector3f> forward =
-      MeasureForward(ArmsAndLegs{.legs = {right_leg, left_leg}}, {joints[1], joints[0]}, clip["Hips"], clip.metric,
-                     clip.poses, clip.frames, Eigen::Vector3f::UnitY(), clip.body_size);
-  ASSERT_TRUE(forward.ok()) << forward.status();
-  EXPECT_GT(forward->z(), 0.95f) << forward->transpose();
-  const Eigen::Vector3f left = Eigen::Vector3f::UnitY().cross(*forward);
-  EXPECT_FALSE(FirstIsLeft({right_leg, left_leg}, left, clip.poses, clip.frames));
-  EXPECT_TRUE(FirstIsLeft({left_leg, right_leg}, left, clip.poses, clip.frames));
+  auto limb = [&](const std::string& top, const std::string& end) {
+    return Limb{.branch = clip.skeleton.parent(clip[top]), .top = clip[top], .end = clip[end]};
+  };
+  auto joints = [&](const std::string& start, const std::string& middle, const std::string& end) {
+    return LimbJoints{.end = clip[end], .middle = clip[middle], .start = clip[start]};
+  };
+  const ArmsAndLegs limbs{.arms = {limb("RightShoulder", "RightHand"), limb("LeftShoulder", "LeftHand")},
+                          .legs = {limb("LeftUpLeg", "LeftToeBase"), limb("RightUpLeg", "RightToeBase")}};
+  absl::StatusOr<Sides> sides =
+      FindSides(limbs, {joints("RightArm", "RightForeArm", "RightHand"), joints("LeftArm", "LeftForeArm", "LeftHand")},
+                {joints("LeftUpLeg", "LeftLeg", "LeftFoot"), joints("RightUpLeg", "RightLeg", "RightFoot")},
+                clip["Hips"], clip.metric, clip.poses, clip.frames, Eigen::Vector3f::UnitY(), clip.body_size);
+  ASSERT_TRUE(sides.ok()) << sides.status();
+  EXPECT_TRUE(sides->first_leg_is_left);
+  EXPECT_FALSE(sides->first_arm_is_left);
+  EXPECT_GT(sides->forward.z(), 0.95f) << sides->forward.transpose();
 }
 
 // ---------------------------------------------------------------------------------------------
