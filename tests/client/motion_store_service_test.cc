@@ -175,6 +175,34 @@ TEST_F(MotionStoreServiceTest, KeysAreRequiredAndTenantsAreIsolated) {
   EXPECT_EQ(acme->DescribeDatabase("walks")->clip_count(), 1);
 }
 
+// Issue #24 finding 1, as reported: acme's import is open on its database; acme deletes the
+// database; another tenant creates one; acme ends its import. It must end NOT_FOUND, and the other
+// tenant's database must stay empty and without a rig.
+TEST_F(MotionStoreServiceTest, ImportOutlivingItsDatabaseNeverLandsInAnother) {
+  StartServer();
+  auto acme = Connect(keys_["acme"]);
+  ASSERT_TRUE(acme->ImportFiles("walks", {WriteClip("a.bvh", 40)}).ok());
+  std::ifstream in(WriteClip("b.bvh", 41));
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto import = OpenRawImport("acme");  // on the existing "walks"
+  ASSERT_TRUE(import->WriteChunk("b.bvh", bytes, true));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the server has looked the database up
+  ASSERT_TRUE(acme->DeleteDatabase("walks").ok());
+  auto other = Connect(keys_["other"]);
+  ASSERT_TRUE(other->CreateDatabase("walks").ok());
+  v1::ImportBvhRequest end;
+  end.mutable_end();
+  ASSERT_TRUE(import->writer->Write(end));
+  import->writer->WritesDone();
+  const grpc::Status status = import->writer->Finish();
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND) << status.error_message();
+  auto theirs = other->DescribeDatabase("walks");
+  ASSERT_TRUE(theirs.ok()) << theirs.status();
+  EXPECT_EQ(theirs->clip_count(), 0);
+  EXPECT_EQ(theirs->skeleton().joints_size(), 0);  // no rig
+  EXPECT_EQ(acme->DescribeDatabase("walks").status().code(), absl::StatusCode::kNotFound);
+}
+
 TEST_F(MotionStoreServiceTest, OversizeMessageIsResourceExhausted) {
   StartServer({"--max-message-bytes", "65536"});
   auto client = Connect(keys_["acme"]);
