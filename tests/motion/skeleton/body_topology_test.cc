@@ -355,6 +355,168 @@ TEST(BodyTopologyTest, SingleRestFrameOfAPlainRig) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Rigs and clips of other exporters (issue 23): long clavicles, walks that turn, go backwards or
+// sideways, names that lie, one-frame T- and A-poses, with and without twist bones and fingers.
+// Sides and limb segments come from evidence that holds frame by frame, never from a clip's mean.
+
+using testing::MakeStandingClip;
+using testing::SyntheticPath;
+
+// Every landmark of the synthetic rig, by the names MakeWalkingClip gives; with `names_lie` (the
+// rig's mirrored_names) the joint on the body's left is named "Right*" and the reverse.
+void ExpectEveryLandmark(const Skeleton& skeleton, const BodyLandmarks& l, bool names_lie = false) {
+  const std::string left = names_lie ? "Right" : "Left", right = names_lie ? "Left" : "Right";
+  EXPECT_EQ(NameOf(skeleton, l.pelvis), "Hips");
+  EXPECT_EQ(NameOf(skeleton, l.head), "Head");
+  for (const auto& [side, wrist, elbow, shoulder, ankle, knee, hip] :
+       {std::tuple{left, l.left_wrist, l.left_elbow, l.left_shoulder, l.left_ankle, l.left_knee, l.left_hip},
+        std::tuple{right, l.right_wrist, l.right_elbow, l.right_shoulder, l.right_ankle, l.right_knee, l.right_hip}}) {
+    EXPECT_EQ(NameOf(skeleton, wrist), side + "Hand");
+    EXPECT_EQ(NameOf(skeleton, elbow), side + "ForeArm");
+    EXPECT_EQ(NameOf(skeleton, shoulder), side + "Arm");  // past the clavicle
+    EXPECT_EQ(NameOf(skeleton, ankle), side + "Foot");
+    EXPECT_EQ(NameOf(skeleton, knee), side + "Leg");
+    EXPECT_EQ(NameOf(skeleton, hip), side + "UpLeg");
+  }
+}
+
+// Rig variants each case runs on: plain; fingers, toes and twist bones; everything (extra root,
+// Z-up, position channels on every joint too).
+constexpr int kRigVariants[] = {0, 4 | 8, 31};
+
+TEST(BodyTopologyOtherRigsTest, ClavicleLongerThanTheForearm) {
+  // The CMU 31-joint rig's clavicle is longer than its forearm (here 25): the two longest segments
+  // are then clavicle and upper arm. 27 lies between forearm and upper arm (28), as on that rig; 35
+  // is longer than both.
+  for (double clavicle : {27.0, 35.0}) {
+    for (int bits : kRigVariants) {
+      SyntheticRigOptions options = RigFromBits(bits);
+      options.clavicle_length = clavicle;
+      SCOPED_TRACE(Describe(options) + " clavicle " + std::to_string(clavicle));
+      const BvhClip clip = MakeWalkingClip(options, 40);
+      const absl::StatusOr<BodyTopology> topology = Analyse(clip);
+      ASSERT_TRUE(topology.ok()) << topology.status();
+      ExpectEveryLandmark(clip.skeleton, topology->landmarks);
+      // The same rig standing in a one-frame T-pose: no motion at all to tell the bones apart.
+      const BvhClip t_pose = MakeStandingClip(options, 0.0);
+      const absl::StatusOr<BodyTopology> standing = Analyse(t_pose);
+      ASSERT_TRUE(standing.ok()) << standing.status();
+      ExpectEveryLandmark(t_pose.skeleton, standing->landmarks);
+    }
+  }
+}
+
+// Frames of a synthetic walk in a circle of `radius` cm that make exactly `turns` whole turns.
+int FramesForTurns(double radius, double turns) {
+  return static_cast<int>(std::round(turns * 2 * M_PI * std::abs(radius) / testing::kSyntheticWalkSpeed * 30));
+}
+
+TEST(BodyTopologyOtherRigsTest, WalkInACircle) {
+  // Over two whole turns the mean facing direction is nothing (the analysis before issue 23 summed
+  // the knee and toe cues over the clip: it swapped every side turning left and the arms alone
+  // turning right); every frame still has a front. Turning left and turning right.
+  for (double radius : {150.0, -150.0}) {
+    for (int bits : kRigVariants) {
+      SyntheticRigOptions options = RigFromBits(bits);
+      options.path = SyntheticPath::kCircle;
+      options.circle_radius = radius;
+      SCOPED_TRACE(Describe(options) + " radius " + std::to_string(radius));
+      const BvhClip clip = MakeWalkingClip(options, FramesForTurns(radius, 2.0), 1.0 / 30);
+      // The clip does turn: the hips face every way (the sanity check of the clip itself).
+      const GlobalPoses poses =
+          ForwardKinematics(clip.skeleton, MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time));
+      const int left_hip = Find(clip.skeleton, "LeftUpLeg"), right_hip = Find(clip.skeleton, "RightUpLeg");
+      Eigen::Vector3f mean_hip_line = Eigen::Vector3f::Zero();
+      for (int f = 0; f < poses.num_frames(); ++f) {
+        mean_hip_line += (poses.position(f, left_hip) - poses.position(f, right_hip)).normalized();
+      }
+      ASSERT_LT(mean_hip_line.norm() / poses.num_frames(), 0.2f);
+      const absl::StatusOr<BodyTopology> topology = Analyse(clip);
+      ASSERT_TRUE(topology.ok()) << topology.status();
+      ExpectEveryLandmark(clip.skeleton, topology->landmarks);
+    }
+  }
+}
+
+TEST(BodyTopologyOtherRigsTest, WalkingBackwardsAndSideStepping) {
+  for (SyntheticPath path : {SyntheticPath::kBackwards, SyntheticPath::kSideways}) {
+    for (int bits : kRigVariants) {
+      SyntheticRigOptions options = RigFromBits(bits);
+      options.path = path;
+      SCOPED_TRACE(Describe(options) + (path == SyntheticPath::kBackwards ? " backwards" : " sideways"));
+      const BvhClip clip = MakeWalkingClip(options, 60);
+      const absl::StatusOr<BodyTopology> topology = Analyse(clip);
+      ASSERT_TRUE(topology.ok()) << topology.status();
+      ExpectEveryLandmark(clip.skeleton, topology->landmarks);
+      // It faces +Z whichever way it travels.
+      EXPECT_GT(topology->forward.z(), 0.95f) << topology->forward.transpose();
+    }
+  }
+}
+
+TEST(BodyTopologyOtherRigsTest, NamesThatLieAreIgnored) {
+  // Every "Left*" joint named "Right*" and the reverse: the landmarks follow the body, not the
+  // names, in a straight walk, a circle and a T-pose.
+  for (int bits : kRigVariants) {
+    SyntheticRigOptions options = RigFromBits(bits);
+    options.mirrored_names = true;
+    SCOPED_TRACE(Describe(options));
+    const BvhClip clip = MakeWalkingClip(options, 40);
+    ASSERT_GT(ForwardKinematics(clip.skeleton, MotionFromChannels(clip.skeleton, clip.channels, clip.frame_time))
+                  .position(0, Find(clip.skeleton, "RightHand"))
+                  .x(),
+              10.0f);  // the "RightHand" is on the body's left (+X)
+    absl::StatusOr<BodyTopology> topology = Analyse(clip);
+    ASSERT_TRUE(topology.ok()) << topology.status();
+    ExpectEveryLandmark(clip.skeleton, topology->landmarks, /*names_lie=*/true);
+    EXPECT_EQ(topology->group_of_joint[Find(clip.skeleton, "RightUpLeg")], BodyGroup::kLeftLeg);
+
+    options.path = SyntheticPath::kCircle;
+    options.circle_radius = 150.0;
+    const BvhClip circle = MakeWalkingClip(options, FramesForTurns(150.0, 2.0));
+    topology = Analyse(circle);
+    ASSERT_TRUE(topology.ok()) << topology.status();
+    ExpectEveryLandmark(circle.skeleton, topology->landmarks, /*names_lie=*/true);
+
+    const BvhClip t_pose = MakeStandingClip(options, 0.0);
+    topology = Analyse(t_pose);
+    ASSERT_TRUE(topology.ok()) << topology.status();
+    ExpectEveryLandmark(t_pose.skeleton, topology->landmarks, /*names_lie=*/true);
+  }
+}
+
+TEST(BodyTopologyOtherRigsTest, OneFrameTPoseAndAPose) {
+  for (double arm_lowering : {0.0, 45.0}) {
+    for (int bits : kRigVariants) {
+      const SyntheticRigOptions options = RigFromBits(bits);
+      SCOPED_TRACE(Describe(options) + (arm_lowering == 0.0 ? " T-pose" : " A-pose"));
+      const BvhClip clip = MakeStandingClip(options, arm_lowering);
+      ASSERT_EQ(clip.channels.rows(), 1);
+      const absl::StatusOr<BodyTopology> topology = Analyse(clip);
+      ASSERT_TRUE(topology.ok()) << topology.status();
+      ExpectEveryLandmark(clip.skeleton, topology->landmarks);
+      EXPECT_EQ(topology->up_axis, 1);
+      EXPECT_EQ(topology->up_sign, 1);
+      EXPECT_GT(topology->forward.z(), 0.99f) << topology->forward.transpose();  // the toes point forward
+    }
+  }
+}
+
+TEST(BodyTopologyOtherRigsTest, EverythingAtOnce) {
+  // Long clavicles, lying names, twist bones, fingers and toes, a Z-up hierarchy under an extra
+  // root, walking a circle to the right: each cue holds in every frame, so they do not interfere.
+  SyntheticRigOptions options = RigFromBits(31, "YZX");
+  options.clavicle_length = 30.0;
+  options.mirrored_names = true;
+  options.path = SyntheticPath::kCircle;
+  options.circle_radius = -150.0;
+  const BvhClip clip = MakeWalkingClip(options, FramesForTurns(-150.0, 2.0));
+  const absl::StatusOr<BodyTopology> topology = Analyse(clip);
+  ASSERT_TRUE(topology.ok()) << topology.status();
+  ExpectEveryLandmark(clip.skeleton, topology->landmarks, /*names_lie=*/true);
+}
+
+// ---------------------------------------------------------------------------------------------
 // Failure cases.
 
 Skeleton ChainSkeleton(int joints) {
