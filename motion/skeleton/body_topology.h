@@ -18,12 +18,18 @@
 //  6. Wrist / ankle = distal end of the more distal of the two longest segments of the limb
 //     chain, elbow / knee = distal end of the other one (where they meet, on a normal limb); a
 //     segment runs between joints where the chain really bends (a split bone held straight does
-//     not end one).
-//  7. Forward: two anatomical cues summed over the frames, knees bend forward (the knee's
+//     not end one). The legs first; then the arms, whose upper long segment must start at a
+//     shoulder lying wider apart from its mirror than the two hips do: a clavicle from the middle
+//     of the chest is skipped even when it is longer than the forearm (the CMU 31-joint rig).
+//  7. Sides, frame by frame (a clip's mean says nothing on a walk in a circle): in each sampled
+//     frame the hip line (hip to hip) gives the facing up to its sign, forward = hip line x up,
+//     and two anatomical cues of that same frame give the sign: knees bend forward (the knee's
 //     horizontal offset from the hip-ankle line) and toes point forward from the ankle while the
 //     foot is near its lowest (stance); when those are too weak (straight legs, no toe joints),
-//     the pelvis' horizontal travel over the clip. left = up x forward: the limb of each pair
-//     whose first joint lies farther along `left` from where it branches off is the left one.
+//     the pelvis' travel between sampled frames, each step against its own frame's facing. The
+//     arms are sided against the same per-frame body: the left shoulder lies toward each frame's
+//     left (left = up x forward). `forward` is the mean facing (the first frame's on a clip that
+//     turns around).
 //  8. Head landmark = the first branching joint on the head chain (or its end); groups = the
 //     subtree of each limb's first joint, the rest is spine; leg length, pelvis height and floor
 //     along up; unit from the leg length.
@@ -80,7 +86,9 @@ struct BodyTopology {
   int up_axis = 1;
   int up_sign = 1;
   float up_alignment = 0.0f;
-  Eigen::Vector3f forward = Eigen::Vector3f::UnitZ();  // ground-plane facing direction
+  // Ground-plane facing direction: the mean over the clip's sampled frames, or the first frame's
+  // when the clip turns so much that the mean is short (a walk in a circle).
+  Eigen::Vector3f forward = Eigen::Vector3f::UnitZ();
   // Up axis of the zero-rotation pose, which often differs (Z-up hierarchies).
   int rest_up_axis = 1;
   int rest_up_sign = 1;
