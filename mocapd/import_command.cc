@@ -34,7 +34,7 @@ void RegisterImportCommand(CLI::App& app, CommandRegistry& registry) {
   command->add_option("--frame-rate", options->import.frame_rate, "Database frame rate when creating it (fps)")
       ->check(CLI::Range(1.0, 1000.0));
   command->add_option("--units", options->unit, "Length unit of the files, overriding detection")
-      ->check(CLI::IsMember({"m", "cm", "mm", "in"}));
+      ->check(CLI::IsMember({"m", "cm", "mm", "in", "cmu"}));
   command->add_option("--batch-size", options->import.batch_size, "Files per atomic batch (0: all in one)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--keep-going", options->import.keep_going, "Skip bad files (listed) instead of rolling back");
@@ -66,10 +66,12 @@ void RegisterImportCommand(CLI::App& app, CommandRegistry& registry) {
                             {"motion_seconds", summary->motion_seconds},
                             {"wall_seconds", summary->wall_seconds},
                             {"source_frames_per_second", summary->frames_per_second()},
-                            {"problems", summary->problems}};
+                            {"problems", summary->problems},
+                            {"rig_source", summary->rig_source}};
       std::cout << out.dump(2) << "\n";
     } else {
       for (const std::string& problem : summary->problems) std::cerr << "  " << problem << "\n";
+      if (!summary->rig_source.empty()) std::cout << "rig (and unit) from " << summary->rig_source << "\n";
       std::cout << "database '" << summary->database << "'" << (summary->created_database ? " (created)" : "") << ": "
                 << summary->imported << " clips imported, " << summary->duplicates << " duplicates skipped"
                 << (summary->failed ? StrCat(", ", summary->failed, " files skipped") : std::string()) << "\n"

@@ -96,7 +96,7 @@ void RegisterInspectCommand(CLI::App& app, CommandRegistry& registry) {
   command->add_option("files", options->files, "BVH files")->required()->check(CLI::ExistingFile);
   command->add_flag("--json", options->json, "Print JSON (one array of reports)");
   command->add_option("--units", options->unit, "Override unit detection")
-      ->check(CLI::IsMember({"m", "cm", "mm", "in"}));
+      ->check(CLI::IsMember({"m", "cm", "mm", "in", "cmu"}));
   registry.Add(command, [options] {
     nlohmann::json all = nlohmann::json::array();
     int failures = 0;

@@ -139,7 +139,7 @@ void RegisterImport(CLI::App& app, Registry& registry) {
   command->add_option("inputs", options->inputs, "BVH files or folders (searched recursively)")->required();
   command->add_option("--frame-rate", options->import.frame_rate, "Frame rate of a database this import creates");
   command->add_option("--units", options->import.source_unit, "Length unit of the files, overriding detection")
-      ->check(CLI::IsMember({"m", "cm", "mm", "in"}));
+      ->check(CLI::IsMember({"m", "cm", "mm", "in", "cmu"}));
   command->add_option("--batch-size", options->import.batch_size, "Files per atomic batch (0: all in one)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--keep-going", options->import.keep_going, "Skip bad files (listed) instead of rolling back");

@@ -9,7 +9,9 @@
 
 namespace mocap {
 
-// Sorted *.bvh files under `inputs`; InvalidArgument when an input does not exist or none found.
+// The *.bvh files of `inputs` in the order named (a folder's files, recursively, in path order),
+// each once; InvalidArgument when an input does not exist or none is found. Order matters: the
+// first file names a new database's rig.
 absl::StatusOr<std::vector<std::filesystem::path>> CollectBvhFiles(const std::vector<std::string>& inputs);
 
 }  // namespace mocap

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "motion/bvh/root_convention.h"
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 
@@ -294,6 +295,15 @@ absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_
   clip.frame_time = frame_time;
 
   const int num_channels = clip.skeleton.num_channels();
+  // Checked before allocating: every value takes at least one byte, so a declared size the text
+  // cannot hold is a truncated (or hostile) file, not a reason to allocate gigabytes. (Smaller
+  // shortfalls are found by the reading below, with the line where the values end.)
+  const std::size_t remaining = text.size() - tokens.pos();
+  if (static_cast<double>(num_frames) * num_channels > static_cast<double>(remaining)) {
+    return tokens.ErrorAtLine(
+        frames_line, StrCat("'Frames: ", num_frames, "' with ", num_channels, " channels needs more values than the ",
+                            remaining, " bytes after the header can hold (truncated file?)"));
+  }
   clip.channels.resize(num_frames, num_channels);
   std::string_view data = text.substr(tokens.pos());
   int line = tokens.line();
@@ -351,6 +361,7 @@ absl::StatusOr<BvhClip> ParseBvh(std::string_view text, std::string_view source_
           line, StrCat("unexpected data after the ", num_frames, " declared frames (is 'Frames:' too small?)"));
     }
   }
+  NormaliseRootPosition(clip);
   return clip;
 }
 

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "motion/bvh/root_convention.h"
 #include "motion/core/str_cat.h"
 
 namespace mocap {
@@ -56,6 +57,11 @@ void AppendJoint(std::string& out, const Skeleton& skeleton, int index, int dept
 }  // namespace
 
 std::string FormatBvh(const BvhClip& clip) {
+  // Files that every reader places alike: a root OFFSET under position channels goes into them.
+  if (clip.skeleton.num_joints() > 0 && !clip.skeleton.joint(0).offset.isZero()) {
+    BvhClip folded = clip;
+    if (FoldRootOffsetIntoChannels(folded)) return FormatBvh(folded);
+  }
   std::string out = "HIERARCHY\n";
   if (clip.skeleton.num_joints() > 0) AppendJoint(out, clip.skeleton, 0, 0);
   out += StrCat("MOTION\nFrames: ", clip.num_frames(), "\nFrame Time: ");

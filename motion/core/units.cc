@@ -16,6 +16,8 @@ double MetresPerUnit(LengthUnit unit) {
       return 0.001;
     case LengthUnit::kInch:
       return 0.0254;
+    case LengthUnit::kCmuUnit:
+      return 0.0254 / 0.45;
   }
   return 1.0;
 }
@@ -30,6 +32,8 @@ std::string_view UnitName(LengthUnit unit) {
       return "mm";
     case LengthUnit::kInch:
       return "in";
+    case LengthUnit::kCmuUnit:
+      return "cmu";
   }
   return "?";
 }
@@ -39,13 +43,14 @@ std::optional<LengthUnit> ParseUnit(std::string_view name) {
   if (name == "cm") return LengthUnit::kCentimetre;
   if (name == "mm") return LengthUnit::kMillimetre;
   if (name == "in" || name == "inch") return LengthUnit::kInch;
+  if (name == "cmu") return LengthUnit::kCmuUnit;
   return std::nullopt;
 }
 
 LengthUnit DetectUnitFromLegLength(double leg_length) {
   constexpr double kTypicalLegMetres = 0.8;
   constexpr std::array kCandidates = {LengthUnit::kCentimetre, LengthUnit::kMetre, LengthUnit::kInch,
-                                      LengthUnit::kMillimetre};
+                                      LengthUnit::kMillimetre, LengthUnit::kCmuUnit};
   LengthUnit best = LengthUnit::kCentimetre;
   double best_error = std::numeric_limits<double>::infinity();
   for (LengthUnit unit : kCandidates) {

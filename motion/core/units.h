@@ -7,11 +7,13 @@
 
 namespace mocap {
 
-enum class LengthUnit { kMetre, kCentimetre, kMillimetre, kInch };
+// kCmuUnit: the CMU motion capture database's ASF-converted BVH files, 1 unit = 1/0.45 inch
+// (their AMC/ASF "length 0.45" scaling); read as inches they make a 0.9 m person.
+enum class LengthUnit { kMetre, kCentimetre, kMillimetre, kInch, kCmuUnit };
 
 // Metres per one `unit`.
 double MetresPerUnit(LengthUnit unit);
-std::string_view UnitName(LengthUnit unit);  // "m", "cm", "mm", "in"
+std::string_view UnitName(LengthUnit unit);  // "m", "cm", "mm", "in", "cmu"
 std::optional<LengthUnit> ParseUnit(std::string_view name);
 
 // Picks the unit under which `leg_length` (hip joint to ankle, summed bone lengths, in file units)

@@ -30,6 +30,8 @@ std::string_view LongUnitName(LengthUnit unit) {
       return "millimetres";
     case LengthUnit::kInch:
       return "inches";
+    case LengthUnit::kCmuUnit:
+      return "CMU units (1/0.45 inch)";
   }
   return "?";
 }

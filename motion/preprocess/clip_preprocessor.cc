@@ -46,6 +46,20 @@ absl::Status CheckDatabaseFrameRate(double frame_rate) {
   return absl::OkStatus();
 }
 
+absl::Status CheckBodySize(const BodyTopology& topology) {
+  // Hip joint to ankle: ~0.8 m for an adult. A detected unit must give a body between a small
+  // child's and the tallest adult's; a declared unit is the caller's word and is kept.
+  if (!topology.unit_detected) return absl::OkStatus();
+  const double leg_metres = topology.leg_length * MetresPerUnit(topology.unit);
+  if (leg_metres >= 0.4 && leg_metres <= 1.2) return absl::OkStatus();
+  const double height = leg_metres / 0.47;  // legs are ~47% of stature (hip joint to ankle)
+  return absl::InvalidArgumentError(
+      StrCat("the body would be about ", std::round(height * 100) / 100, " m tall (legs ",
+             std::round(leg_metres * 100) / 100, " m) in the detected unit '", UnitName(topology.unit),
+             "': declare the file's length unit with --units (m, cm, mm, in, or cmu for CMU's 1/0.45 inch); "
+             "a file exported at another scale needs rescaling first"));
+}
+
 absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const PreprocessOptions& options) {
   MOCAP_RETURN_IF_ERROR(first_clip.skeleton.Validate());
   RigModel rig;
@@ -54,6 +68,7 @@ absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const Preproce
   MOCAP_ASSIGN_OR_RETURN(rig.topology,
                          AnalyseBody(first_clip.skeleton, file_motion, BodyTopologyOptions{.unit = options.unit}));
   rig.unit = rig.topology.unit;
+  MOCAP_RETURN_IF_ERROR(CheckBodySize(rig.topology));
   rig.to_y_up = Eigen::Quaternionf::FromTwoVectors(rig.topology.up(), Eigen::Vector3f::UnitY());
 
   MOCAP_ASSIGN_OR_RETURN(const LocalMotion motion, ToDatabaseWorld(first_clip, rig, options));

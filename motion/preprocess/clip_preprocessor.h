@@ -42,6 +42,11 @@ struct RigModel {
   Eigen::Vector3f pelvis_up_local = Eigen::Vector3f::UnitY();  // pelvis-local "up" (for θ)
 };
 
+// InvalidArgument, naming --units, when the detected unit makes the body no person's size (legs
+// outside 0.4-1.2 m: a 0.9 m or 3.5 m person). A declared unit is the caller's word: not checked.
+absl::Status CheckBodySize(const BodyTopology& topology);
+
+// The database rig from its first clip: topology, unit, Y-up turn, reference rotations.
 absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const PreprocessOptions& options);
 
 struct PreparedClip {

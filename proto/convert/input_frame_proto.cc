@@ -24,6 +24,8 @@ absl::StatusOr<LengthUnit> UnitFromProto(v1::LengthUnit unit) {
       return LengthUnit::kMillimetre;
     case v1::LENGTH_UNIT_INCH:
       return LengthUnit::kInch;
+    case v1::LENGTH_UNIT_CMU:
+      return LengthUnit::kCmuUnit;
     default:
       return absl::InvalidArgumentError(StrCat("input_frame.unit: unknown value ", static_cast<int>(unit)));
   }
@@ -58,6 +60,8 @@ v1::LengthUnit ToProto(LengthUnit unit) {
       return v1::LENGTH_UNIT_MILLIMETRE;
     case LengthUnit::kInch:
       return v1::LENGTH_UNIT_INCH;
+    case LengthUnit::kCmuUnit:
+      return v1::LENGTH_UNIT_CMU;
   }
   return v1::LENGTH_UNIT_UNSPECIFIED;
 }

@@ -1,0 +1,33 @@
+// Which reading of a BVH root's position channels a file was written for.
+//
+// Readers disagree: Blender's importer, three.js's BVHLoader and MotionBuilder take the root's
+// position channels alone and ignore its OFFSET (and most exporters write for them, e.g. Mixamo
+// roots with a non-zero OFFSET); other files keep the hip height in the root OFFSET and small
+// channel values, so root translation = OFFSET + channels (the cmu-cc files rooted at the hip).
+// A reader has to decide per file (shared/data/README.md); a writer writes files on which both
+// readings agree: root OFFSET zero where the root has position channels.
+#pragma once
+
+#include "motion/bvh/bvh_clip.h"
+
+namespace mocap {
+
+// Decides from the evidence of the motion: with the root OFFSET left out, and with it added, which
+// reading puts the body's lowest point (its 10th percentile over the clip) nearer the floor (height
+// 0 on the body's up axis, the axis of its largest extent)? A clip spent wholly off the ground
+// (on a climbing frame) can fool it. A tie (an OFFSET with no height, or no root position
+// channels) keeps the common readers' reading, channels alone. Cost: forward kinematics of at
+// most 64 frames.
+RootPositionReading DecideRootPositionReading(const BvhClip& clip);
+
+// Applies the decision to the clip (`clip.root_reading`): where the channels alone are meant, the
+// root OFFSET's components that position channels drive are set to zero, so that everything
+// downstream can read translation = OFFSET + channels, as MotionFromChannels does.
+void NormaliseRootPosition(BvhClip& clip);
+
+// For writers: moves the root OFFSET into its position channels (every frame) and writes it as
+// zero, so that every reader places the root alike. Only for axes the root has channels for.
+// Returns whether anything changed.
+bool FoldRootOffsetIntoChannels(BvhClip& clip);
+
+}  // namespace mocap
