@@ -325,6 +325,9 @@ absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMe
     while (first <= last_allowed) {
       const int start = first == 0 ? 0 : segment_end[first - 1];
       if (MeanDistance(poses, frames, path[start], mirror_path[start]) >= min_start_separation) break;
+      // A clavicle is never the limb's longest bone: on a body whose shoulders are not wider than
+      // its hips, the upper arm (longest) stays.
+      if (segment_length[first] >= *std::max_element(segment_length.begin() + first + 1, segment_length.end())) break;
       ++first;
     }
     if (first > last_allowed) first = 0;  // no segment starts wide enough: the rule says nothing

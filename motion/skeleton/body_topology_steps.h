@@ -165,7 +165,9 @@ struct LimbJoints {
 // frames, nearer than this to its mirror joint. A clavicle starts near the middle of the chest and
 // may be longer than the forearm (the CMU rig); the upper arm starts at the shoulder, and the two
 // shoulders lie wider apart than the two hips (AnalyseBody passes the hips' separation for the
-// arms). The leading segments that start nearer are skipped when at least two segments remain.
+// arms). The leading segments that start nearer are skipped when at least two segments remain,
+// each only while it is shorter than a segment after it (a clavicle is never the limb's longest
+// bone: the upper arm of a body whose shoulders are no wider than its hips stays).
 // FailedPrecondition when the chain has fewer than two bones or segments.
 absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMetric& metric,
                                           const Eigen::VectorXf& bone, const Limb& limb, const GlobalPoses& poses,

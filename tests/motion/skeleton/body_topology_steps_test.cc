@@ -528,6 +528,37 @@ TEST(BodyStepFindLimbJointsTest, AnElbowHeldStraightStillBendsOnTheOtherArm) {
   EXPECT_EQ(NameOf(clip.skeleton, paired->start), "LeftArm");
 }
 
+TEST(BodyStepFindLimbJointsTest, AClavicleLongerThanTheForearmIsSkippedWhenItStartsInsideTheShoulders) {
+  testing::SyntheticRigOptions options;
+  options.clavicle_length = 27.0;  // forearm 25, upper arm 28 (the CMU rig's proportions)
+  const WalkingClip clip(options);
+  const Limb left{.branch = clip["Chest"], .top = clip["LeftShoulder"], .end = clip["LeftHand"]};
+  const Limb right{.branch = clip["Chest"], .top = clip["RightShoulder"], .end = clip["RightHand"]};
+  // By length alone: clavicle and upper arm.
+  absl::StatusOr<LimbJoints> joints =
+      FindLimbJoints(clip.skeleton, clip.metric, clip.bone, left, clip.poses, clip.frames, &right);
+  ASSERT_TRUE(joints.ok()) << joints.status();
+  EXPECT_EQ(NameOf(clip.skeleton, joints->end), "LeftForeArm");
+  // The clavicles start 6 apart, the shoulders 60: wider than the hips (18) only the shoulders.
+  const float hips = MeanDistance(clip.poses, clip.frames, clip["LeftUpLeg"], clip["RightUpLeg"]);
+  EXPECT_NEAR(hips, 18.0f, 0.5f);
+  joints = FindLimbJoints(clip.skeleton, clip.metric, clip.bone, left, clip.poses, clip.frames, &right, hips);
+  ASSERT_TRUE(joints.ok()) << joints.status();
+  EXPECT_EQ(NameOf(clip.skeleton, joints->end), "LeftHand");
+  EXPECT_EQ(NameOf(clip.skeleton, joints->middle), "LeftForeArm");
+  EXPECT_EQ(NameOf(clip.skeleton, joints->start), "LeftArm");
+  // Shoulders no wider than the hips (a separation no joint reaches): the clavicle is still
+  // skipped, never the upper arm, the arm's longest bone.
+  joints = FindLimbJoints(clip.skeleton, clip.metric, clip.bone, left, clip.poses, clip.frames, &right, 1000.0f);
+  ASSERT_TRUE(joints.ok()) << joints.status();
+  EXPECT_EQ(NameOf(clip.skeleton, joints->end), "LeftHand");
+  EXPECT_EQ(NameOf(clip.skeleton, joints->start), "LeftArm");
+  // Without the mirror, no separation to measure: length alone.
+  joints = FindLimbJoints(clip.skeleton, clip.metric, clip.bone, left, clip.poses, clip.frames, nullptr, hips);
+  ASSERT_TRUE(joints.ok()) << joints.status();
+  EXPECT_EQ(NameOf(clip.skeleton, joints->end), "LeftForeArm");
+}
+
 TEST(BodyStepFindLimbJointsTest, ALimbNeedsTwoBonesThatBend) {
   const WalkingClip clip;
   const Limb one_bone{.branch = clip["Neck"], .top = clip["Head"], .end = clip["Head"]};

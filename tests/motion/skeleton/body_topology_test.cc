@@ -385,10 +385,9 @@ void ExpectEveryLandmark(const Skeleton& skeleton, const BodyLandmarks& l, bool 
 constexpr int kRigVariants[] = {0, 4 | 8, 31};
 
 TEST(BodyTopologyOtherRigsTest, ClavicleLongerThanTheForearm) {
-  // The CMU 31-joint rig's clavicle is longer than its forearm (here 25): the two longest segments
-  // are then clavicle and upper arm. 27 lies between forearm and upper arm (28), as on that rig; 35
-  // is longer than both.
-  for (double clavicle : {27.0, 35.0}) {
+  // The CMU 31-joint rig's clavicle is longer than its forearm (here 25), shorter than its upper
+  // arm (28): the two longest segments are then clavicle and upper arm.
+  for (double clavicle : {26.0, 27.5}) {
     for (int bits : kRigVariants) {
       SyntheticRigOptions options = RigFromBits(bits);
       options.clavicle_length = clavicle;
@@ -506,7 +505,7 @@ TEST(BodyTopologyOtherRigsTest, EverythingAtOnce) {
   // Long clavicles, lying names, twist bones, fingers and toes, a Z-up hierarchy under an extra
   // root, walking a circle to the right: each cue holds in every frame, so they do not interfere.
   SyntheticRigOptions options = RigFromBits(31, "YZX");
-  options.clavicle_length = 30.0;
+  options.clavicle_length = 27.0;
   options.mirrored_names = true;
   options.path = SyntheticPath::kCircle;
   options.circle_radius = -150.0;
