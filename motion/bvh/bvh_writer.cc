@@ -57,10 +57,11 @@ void AppendJoint(std::string& out, const Skeleton& skeleton, int index, int dept
 }  // namespace
 
 std::string FormatBvh(const BvhClip& clip) {
-  // Files that every reader places alike: a root OFFSET under position channels goes into them.
-  if (clip.skeleton.num_joints() > 0 && !clip.skeleton.joint(0).offset.isZero()) {
-    BvhClip folded = clip;
-    if (FoldRootOffsetIntoChannels(folded)) return FormatBvh(folded);
+  // Files that every reader places alike (root_convention.h).
+  if (!ReadersAgreeOn(clip)) {
+    BvhClip agreed = clip;
+    MakeReadersAgree(agreed);
+    return FormatBvh(agreed);
   }
   std::string out = "HIERARCHY\n";
   if (clip.skeleton.num_joints() > 0) AppendJoint(out, clip.skeleton, 0, 0);

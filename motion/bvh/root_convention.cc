@@ -102,19 +102,74 @@ void NormaliseRootPosition(BvhClip& clip) {
   clip.skeleton = Skeleton(std::move(joints));
 }
 
-bool FoldRootOffsetIntoChannels(BvhClip& clip) {
-  if (clip.skeleton.num_joints() == 0) return false;
-  const std::array<int, 3> columns = RootPositionColumns(clip.skeleton);
-  std::vector<Joint> joints = clip.skeleton.joints();
-  bool changed = false;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (columns[axis] < 0 || joints[0].offset[axis] == 0.0f) continue;
-    clip.channels.col(columns[axis]).array() += joints[0].offset[axis];
-    joints[0].offset[axis] = 0.0f;
-    changed = true;
+namespace {
+
+// A non-root position channel whose value never changes: written as the joint's OFFSET instead.
+bool ConstantChannel(const BvhClip& clip, int column) {
+  return clip.num_frames() == 0 || (clip.channels.col(column).array() == clip.channels(0, column)).all();
+}
+
+}  // namespace
+
+bool ReadersAgreeOn(const BvhClip& clip) {
+  const Skeleton& skeleton = clip.skeleton;
+  for (int j = 0; j < skeleton.num_joints(); ++j) {
+    const Joint& joint = skeleton.joint(j);
+    bool has_position = false, all_constant = true;
+    for (size_t c = 0; c < joint.channels.size(); ++c) {
+      if (IsRotation(joint.channels[c])) continue;
+      if (joint.offset[ChannelAxis(joint.channels[c])] != 0.0f) return false;
+      has_position = true;
+      all_constant &= ConstantChannel(clip, skeleton.channel_start(j) + static_cast<int>(c));
+    }
+    if (j > 0 && has_position && all_constant) return false;
   }
-  if (changed) clip.skeleton = Skeleton(std::move(joints));
-  return changed;
+  return true;
+}
+
+bool MakeReadersAgree(BvhClip& clip) {
+  if (clip.skeleton.num_joints() == 0 || ReadersAgreeOn(clip)) return false;
+  const Skeleton& skeleton = clip.skeleton;
+  std::vector<Joint> joints = skeleton.joints();
+  std::vector<int> kept_columns;  // old channel columns, in the new order
+  for (int j = 0; j < skeleton.num_joints(); ++j) {
+    Joint& joint = joints[j];
+    joint.channels.clear();
+    const std::vector<ChannelType>& channels = skeleton.joint(j).channels;
+    // A joint's position channels go together: Blender reads a missing one as 0, not as the OFFSET.
+    bool all_constant = true;
+    for (size_t c = 0; c < channels.size(); ++c) {
+      if (!IsRotation(channels[c]))
+        all_constant &= ConstantChannel(clip, skeleton.channel_start(j) + static_cast<int>(c));
+    }
+    for (size_t c = 0; c < channels.size(); ++c) {
+      const int column = skeleton.channel_start(j) + static_cast<int>(c);
+      const int axis = ChannelAxis(channels[c]);
+      if (!IsRotation(channels[c])) {
+        if (j == 0) {
+          // The root: its OFFSET goes into the channels (Blender ignores it, the others add it).
+          clip.channels.col(column).array() += joint.offset[axis];
+          joint.offset[axis] = 0.0f;
+        } else if (all_constant) {
+          // A fixed translation: the OFFSET, on which every reader agrees, without the channel.
+          if (clip.num_frames() > 0) joint.offset[axis] = clip.channels(0, column);
+          continue;
+        } else {
+          // An animated translation: the channels replace the OFFSET for Blender and this reader,
+          // three.js adds the OFFSET to them; a zero OFFSET makes them agree.
+          joint.offset[axis] = 0.0f;
+        }
+      }
+      joint.channels.push_back(channels[c]);
+      kept_columns.push_back(column);
+    }
+  }
+  ChannelMatrix channels(clip.num_frames(), static_cast<Eigen::Index>(kept_columns.size()));
+  for (size_t k = 0; k < kept_columns.size(); ++k)
+    channels.col(static_cast<Eigen::Index>(k)) = clip.channels.col(kept_columns[k]);
+  clip.channels = std::move(channels);
+  clip.skeleton = Skeleton(std::move(joints));
+  return true;
 }
 
 }  // namespace mocap

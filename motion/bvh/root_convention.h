@@ -25,9 +25,16 @@ RootPositionReading DecideRootPositionReading(const BvhClip& clip);
 // downstream can read translation = OFFSET + channels, as MotionFromChannels does.
 void NormaliseRootPosition(BvhClip& clip);
 
-// For writers: moves the root OFFSET into its position channels (every frame) and writes it as
-// zero, so that every reader places the root alike. Only for axes the root has channels for.
-// Returns whether anything changed.
-bool FoldRootOffsetIntoChannels(BvhClip& clip);
+// For writers: the same motion in a form every reader places alike. Readers agree on joints
+// without position channels; on a joint with them, Blender reads the channels alone (as this
+// reader does below the root), three.js adds the OFFSET (on every joint), this reader adds it on
+// the root only. So: the root's OFFSET moves into its position channels (every frame); a non-root
+// joint whose position channels never change gets them as its OFFSET (the channels are dropped,
+// so the rest pose keeps the bone); one whose translation is animated keeps its channels over a
+// zero OFFSET. Returns
+// whether anything changed. Channel order is the skeleton's, as in Skeleton::channel_start.
+bool MakeReadersAgree(BvhClip& clip);
+// True when MakeReadersAgree would change nothing.
+bool ReadersAgreeOn(const BvhClip& clip);
 
 }  // namespace mocap

@@ -22,11 +22,11 @@ namespace {
 // practice they are identical).
 bool CloseFloat(float a, float b) { return std::abs(a - b) <= 1e-6f * std::max({1.0f, std::abs(a), std::abs(b)}); }
 
-// `written` as the writer means it: a root OFFSET under position channels is written inside them
-// (root_convention.h), which every reader places alike.
+// `written` as the writer means it: offsets under position channels are written as zero, the
+// root's inside its channels (root_convention.h), so that every reader places it alike.
 ::testing::AssertionResult SameClip(const BvhClip& written, const BvhClip& actual) {
   BvhClip expected = written;
-  FoldRootOffsetIntoChannels(expected);
+  MakeReadersAgree(expected);
   const Skeleton& a = expected.skeleton;
   const Skeleton& b = actual.skeleton;
   if (a.num_joints() != b.num_joints()) {

@@ -75,7 +75,7 @@ TEST(RootConventionTest, ChannelsThatAlreadyHoldThePositionIgnoreTheOffset) {
 
 TEST(RootConventionTest, ZeroOffsetIsUnambiguous) {
   BvhClip walk = testing::MakeWalkingClip();
-  FoldRootOffsetIntoChannels(walk);
+  MakeReadersAgree(walk);
   EXPECT_TRUE(walk.skeleton.joint(0).offset.isZero());
   EXPECT_EQ(DecideRootPositionReading(walk), RootPositionReading::kUnambiguous);
   EXPECT_EQ(DecideRootPositionReading(testing::MakeWalkingClip({.extra_root = true})),
