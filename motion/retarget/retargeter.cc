@@ -249,10 +249,17 @@ void Retargeter::Retarget(const std::vector<Eigen::Quaternionf>& source_rotation
     const int parent = skeleton.parent(j);
     out->rotations[j] = parent < 0 ? w[j] : (w[parent].conjugate() * w[j]).normalized();
   }
-  // 4: the pelvis where the source's is, scaled by the leg ratio; the root above it.
+  // 4: the pelvis where the source's is, scaled by the leg ratio about the floor under the first
+  // frame's pelvis (not the world origin, which would put a larger avatar metres from where the
+  // performer is); the root above it.
+  const Eigen::Vector3f& source_pelvis = source_positions[source_.topology.landmarks.pelvis];
+  if (!anchor_) anchor_ = Eigen::Vector3f(source_pelvis.x(), 0.0f, source_pelvis.z());
+  const auto scaled = [this](const Eigen::Vector3f& p) -> Eigen::Vector3f {
+    return *anchor_ + scale_ * (p - *anchor_);
+  };
   Eigen::Vector3f above_pelvis = Eigen::Vector3f::Zero();
   for (int j : pelvis_path_) above_pelvis += skeleton.joint(j).offset;
-  out->root_position = scale_ * source_positions[source_.topology.landmarks.pelvis] - pelvis_rotation * above_pelvis;
+  out->root_position = scaled(source_pelvis) - pelvis_rotation * above_pelvis;
   ForwardKinematics(*out);
 
   const BodyLandmarks& sl = source_.topology.landmarks;
@@ -265,9 +272,8 @@ void Retargeter::Retarget(const std::vector<Eigen::Quaternionf>& source_rotation
     const Eigen::Vector3f normal = (a - b).cross(source_positions[chain.back()] - b);
     return normal.norm() > 1e-6f ? normal : Eigen::Vector3f(body_left);
   };
-  ReachWithLimb(BodyGroup::kLeftLeg, scale_ * source_positions[sl.left_ankle], bend_of_source(BodyGroup::kLeftLeg),
-                out);
-  ReachWithLimb(BodyGroup::kRightLeg, scale_ * source_positions[sl.right_ankle], bend_of_source(BodyGroup::kRightLeg),
+  ReachWithLimb(BodyGroup::kLeftLeg, scaled(source_positions[sl.left_ankle]), bend_of_source(BodyGroup::kLeftLeg), out);
+  ReachWithLimb(BodyGroup::kRightLeg, scaled(source_positions[sl.right_ankle]), bend_of_source(BodyGroup::kRightLeg),
                 out);
   const BodyGroup arms[2] = {BodyGroup::kLeftArm, BodyGroup::kRightArm};
   const int source_wrists[2] = {sl.left_wrist, sl.right_wrist};

@@ -29,6 +29,7 @@
 // not allocate once warmed up.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -47,8 +48,10 @@ class Retargeter {
 
   const RetargetRig& source() const { return source_; }
   const RetargetRig& target() const { return target_; }
-  // k: target leg length / source leg length.
+  // k: target leg length / source leg length. Positions scale about the floor under the first
+  // retargeted frame's pelvis (anchor()), so the avatar starts where the performer stands.
   float scale() const { return scale_; }
+  const std::optional<Eigen::Vector3f>& anchor() const { return anchor_; }
 
   // One frame. `source_rotations` and `source_positions`: world transforms of every source joint
   // (metres, Y up; BodyModel::WorldTransforms). `out`: the target's root position (metres, Y up)
@@ -87,6 +90,7 @@ class Retargeter {
 
   RetargetRig source_, target_;
   float scale_ = 1.0f;
+  std::optional<Eigen::Vector3f> anchor_;  // set by the first Retarget
   std::vector<JointMap> maps_;
   std::vector<int> pelvis_path_;                                     // target joints from below the root to the pelvis
   Eigen::Matrix3f target_chest_rest_ = Eigen::Matrix3f::Identity();  // the chest's rest frame

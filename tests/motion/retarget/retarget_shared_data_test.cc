@@ -152,8 +152,10 @@ TEST(RetargetSharedDataTest, HeldOutClipsOnTheCmuRigAndOnReRiggedCopies) {
         const std::vector<Eigen::Vector3f>& target_positions = retargeter->world_positions();
         for (int m = 0; m < 4; ++m) {
           for (int side = 0; side < 2; ++side) {
-            fig.landmark_error[m] += 0.5 * (target_positions[target_marks[m][side]] / target->leg_length -
-                                            positions[source_marks[m][side]] / source->leg_length)
+            // In leg lengths from the floor point both are scaled about.
+            const Eigen::Vector3f anchor = *retargeter->anchor();
+            fig.landmark_error[m] += 0.5 * ((target_positions[target_marks[m][side]] - anchor) / target->leg_length -
+                                            (positions[source_marks[m][side]] - anchor) / source->leg_length)
                                                .norm();
           }
         }

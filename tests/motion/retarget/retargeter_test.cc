@@ -162,13 +162,19 @@ TEST(RetargeterTest, LandmarksFollowTheSourceOnEveryVariantRig) {
     const float k = retargeter->scale();
     const Result result = RetargetAll(*retargeter, source);
     const BodyLandmarks& tl = target->topology.landmarks;
+    // Scaled about the floor under the first frame's pelvis, not the world origin.
+    ASSERT_TRUE(retargeter->anchor().has_value());
+    const Eigen::Vector3f anchor = *retargeter->anchor();
+    EXPECT_NEAR(anchor.x(), source.positions[0][sl.pelvis].x(), 1e-5f);
+    EXPECT_EQ(anchor.y(), 0.0f);
+    auto scaled = [&](const Eigen::Vector3f& p) -> Eigen::Vector3f { return anchor + k * (p - anchor); };
     float largest_source_step = 0.0f, largest_target_step = 0.0f;
     for (size_t f = 0; f < result.positions.size(); ++f) {
       const auto& t = result.positions[f];
       const auto& s = source.positions[f];
-      EXPECT_LT((t[tl.pelvis] - k * s[sl.pelvis]).norm(), 1e-3f) << "frame " << f;
-      EXPECT_LT((t[tl.left_ankle] - k * s[sl.left_ankle]).norm(), 1e-3f) << "frame " << f;
-      EXPECT_LT((t[tl.right_ankle] - k * s[sl.right_ankle]).norm(), 1e-3f) << "frame " << f;
+      EXPECT_LT((t[tl.pelvis] - scaled(s[sl.pelvis])).norm(), 1e-3f) << "frame " << f;
+      EXPECT_LT((t[tl.left_ankle] - scaled(s[sl.left_ankle])).norm(), 1e-3f) << "frame " << f;
+      EXPECT_LT((t[tl.right_ankle] - scaled(s[sl.right_ankle])).norm(), 1e-3f) << "frame " << f;
       // Hands: the source's reach from the shoulder, scaled to the target's arm.
       const int arms[2] = {static_cast<int>(BodyGroup::kLeftArm), static_cast<int>(BodyGroup::kRightArm)};
       const int target_wrists[2] = {tl.left_wrist, tl.right_wrist}, source_wrists[2] = {sl.left_wrist, sl.right_wrist};
@@ -181,7 +187,8 @@ TEST(RetargeterTest, LandmarksFollowTheSourceOnEveryVariantRig) {
       }
       // The head: where the source's is, in leg lengths, give or take what the proportions move it
       // (a spine 15% longer on 20% longer legs puts it 0.1 leg lengths off).
-      const float head_error = (t[tl.head] / target->leg_length - s[sl.head] / source.rig.leg_length).norm();
+      const float head_error =
+          ((t[tl.head] - anchor) / target->leg_length - (s[sl.head] - anchor) / source.rig.leg_length).norm();
       EXPECT_LT(head_error, 0.12f) << "frame " << f;
       if (f > 0) {
         for (int j = 0; j < source.rig.skeleton.num_joints(); ++j) {
