@@ -156,7 +156,9 @@ absl::StatusOr<RetargetRig> TargetRigFromBvh(std::string_view text, std::optiona
   if (text.find("MOTION") == std::string_view::npos) {
     int channels = 0;
     for (size_t at = text.find("CHANNELS"); at != std::string_view::npos; at = text.find("CHANNELS", at + 8)) {
-      channels += std::atoi(std::string(text.substr(at + 8, 8)).c_str());
+      // A count outside 0..6 is refused by the reader at its line: never sized from here (a
+      // 90-byte "CHANNELS 99999999" asked for gigabytes of zeros; issue #24 finding 4).
+      channels += std::clamp(std::atoi(std::string(text.substr(at + 8, 8)).c_str()), 0, 6);
     }
     with_motion = StrCat(text, "\nMOTION\nFrames: 1\nFrame Time: 0.0333333\n");
     for (int c = 0; c < channels; ++c) with_motion += c ? " 0" : "0";

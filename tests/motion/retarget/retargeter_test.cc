@@ -324,6 +324,19 @@ TEST(RetargeterTest, AHierarchyWithoutFramesIsARigWhenItsRestPoseStands) {
   EXPECT_NEAR(hierarchy_only->leg_length, 0.85f, 1e-3f);
 }
 
+// Issue #24 finding 4: a 90-byte hierarchy declaring CHANNELS 99999999 made the server size a
+// frame of that many values before reading it. It is refused at its line, allocating nothing.
+TEST(RetargeterTest, AbsurdChannelCountsInAHierarchyAreRefusedBeforeSizingAFrame) {
+  const std::string hostile = "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 99999999 Xposition\n}\n";
+  std::string many;
+  for (int i = 0; i < 30; ++i) many += hostile;
+  for (const std::string& text : {hostile, many}) {
+    auto rig = TargetRigFromBvh(text);
+    ASSERT_FALSE(rig.ok());
+    EXPECT_NE(rig.status().message().find("channel count"), std::string_view::npos) << rig.status();
+  }
+}
+
 TEST(RetargeterTest, WhatIsNotARigIsRefusedWithTheReason) {
   auto garbage = TargetRigFromBvh("HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0\n");
   EXPECT_EQ(garbage.status().code(), absl::StatusCode::kInvalidArgument) << garbage.status();
