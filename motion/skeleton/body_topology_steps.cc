@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 #include "motion/core/str_cat.h"
 
@@ -366,15 +367,23 @@ float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>
   float foot_length = 0.0f;
   for (int i = 0; i < 2; ++i) {
     const int ankle = leg_joints[i].end;
-    if (ankle == legs[i].end) continue;
-    const int toe = metric.ChildToward(ankle, legs[i].end);
+    const std::optional<Eigen::Vector3f>& end_site = metric.skeleton().joint(ankle).end_site;
+    const bool toe_joint = ankle != legs[i].end;
+    if (!toe_joint && !(end_site && end_site->norm() > 0.0f)) continue;
+    const int toe = toe_joint ? metric.ChildToward(ankle, legs[i].end) : -1;
+    // Ankle -> toe in frame f.
+    auto foot = [&](int f) -> Eigen::Vector3f {
+      if (toe_joint) return poses.position(f, toe) - poses.position(f, ankle);
+      return poses.rotation(f, ankle) * *end_site;
+    };
+    auto toe_height = [&](int f) { return height(f, ankle) + foot(f).dot(up); };
     float lowest_toe = std::numeric_limits<float>::infinity();
-    for (int f : frames) lowest_toe = std::min(lowest_toe, height(f, toe));
+    for (int f : frames) lowest_toe = std::min(lowest_toe, toe_height(f));
     for (size_t k = 0; k < frames.size(); ++k) {
       const int f = frames[k];
-      const Eigen::Vector3f foot = poses.position(f, toe) - poses.position(f, ankle);
-      foot_length = std::max(foot_length, foot.norm());
-      if (height(f, toe) < lowest_toe + 0.05f * body_size) (*per_frame)[k] += Horizontal(foot, up);
+      const Eigen::Vector3f ankle_to_toe = foot(f);
+      foot_length = std::max(foot_length, ankle_to_toe.norm());
+      if (toe_height(f) < lowest_toe + 0.05f * body_size) (*per_frame)[k] += Horizontal(ankle_to_toe, up);
     }
   }
   return foot_length;

@@ -45,6 +45,7 @@ class TreeMetric {
   int ChildToward(int ancestor, int descendant) const;
   // Joints from `top` down to `end`, inclusive.
   std::vector<int> Path(int top, int end) const;
+  const Skeleton& skeleton() const { return skeleton_; }
 
  private:
   const Skeleton& skeleton_;
@@ -195,9 +196,11 @@ void AddKneeBendCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints
                     const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up,
                     std::vector<Eigen::Vector3f>* per_frame);
 // Toes point forward in stance: adds to `per_frame[i]` the horizontal ankle -> toe vector of each
-// leg with a joint below the ankle, in the sampled frames where the toe is within 5% of `body_size`
-// of its lowest height over the sampled frames (a foot kicked back in a run points its toes
-// backwards). Returns the longest ankle -> toe distance seen (0 without toes).
+// leg, in the sampled frames where the toe is within 5% of `body_size` of its lowest height over
+// the sampled frames (a foot kicked back in a run points its toes backwards). The toe is the joint
+// below the ankle, else the ankle's End Site when the leg ends at the ankle (a foot drawn only by
+// its End Site); legs with neither add nothing. Returns the longest ankle -> toe distance seen (0
+// without toes).
 float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints, const TreeMetric& metric,
                 const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up, float body_size,
                 std::vector<Eigen::Vector3f>* per_frame);

@@ -562,20 +562,38 @@ TEST(BodyTopologyTest, MotionOfTheWrongSizeIsRefused) {
   EXPECT_FALSE(topology.ok());
 }
 
-TEST(BodyTopologyTest, StandingStillWithoutToesCannotTellLeftFromRight) {
-  // The synthetic rig without toe bases, one frame of the straight-legged rest pose: no knee bend,
-  // no toes and no travel.
+// The synthetic rig without its toe bases; with `foot_end_sites`, each foot (then a leaf) keeps
+// the toes as its End Site, as rigs whose feet end at the ankle joint draw them.
+Skeleton WithoutToeJoints(bool foot_end_sites) {
   const BvhClip clip = MakeWalkingClip({}, 1);
   std::vector<Joint> joints;
   std::vector<int> new_index(clip.skeleton.num_joints(), -1);
   for (int j = 0; j < clip.skeleton.num_joints(); ++j) {
     Joint joint = clip.skeleton.joint(j);
     if (joint.name.find("ToeBase") != std::string::npos) continue;
+    if (foot_end_sites && joint.name.find("Foot") != std::string::npos) joint.end_site = Eigen::Vector3f(0, -4.5f, 13);
     joint.parent = joint.parent < 0 ? -1 : new_index[joint.parent];
     new_index[j] = static_cast<int>(joints.size());
     joints.push_back(std::move(joint));
   }
-  const Skeleton skeleton(std::move(joints));
+  return Skeleton(std::move(joints));
+}
+
+TEST(BodyTopologyTest, StandingStillWithToesOnlyAsEndSites) {
+  // One frame of the straight-legged rest pose, the feet ending at the ankle joints: the End Sites
+  // still say where the toes point.
+  const Skeleton skeleton = WithoutToeJoints(/*foot_end_sites=*/true);
+  ASSERT_TRUE(skeleton.Validate().ok());
+  const absl::StatusOr<BodyTopology> topology = AnalyseBody(skeleton, RestMotion(skeleton));
+  ASSERT_TRUE(topology.ok()) << topology.status();
+  ExpectSyntheticLandmarks(skeleton, topology->landmarks);
+  EXPECT_GT(topology->forward.z(), 0.99f) << topology->forward.transpose();
+}
+
+TEST(BodyTopologyTest, StandingStillWithoutToesCannotTellLeftFromRight) {
+  // The synthetic rig without toe bases, one frame of the straight-legged rest pose: no knee bend,
+  // no toes and no travel.
+  const Skeleton skeleton = WithoutToeJoints(/*foot_end_sites=*/false);
   ASSERT_TRUE(skeleton.Validate().ok());
   const absl::StatusOr<BodyTopology> topology = AnalyseBody(skeleton, RestMotion(skeleton));
   ASSERT_FALSE(topology.ok()) << "forward " << topology->forward.transpose() << ", left wrist "
