@@ -1,5 +1,6 @@
 #include "server/reconstruct_reactor.h"
 
+#include <new>
 #include <optional>
 
 #include <spdlog/spdlog.h>
@@ -124,8 +125,18 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
         absl::Status status = database.status();
         if (status.ok()) {
           MutexLock session(&session_mutex_);
-          absl::StatusOr<std::unique_ptr<SessionDriver>> driver = SessionDriver::Create(
-              config, *database, session_id_, state_.limits.session, state_.service.metrics, &cancelled_);
+          // This runs outside Post's catch: a throw here (an allocation a rig made impossible)
+          // must still answer the call and release its task, or the call hangs and blocks
+          // shutdown (issue #24 finding 5).
+          absl::StatusOr<std::unique_ptr<SessionDriver>> driver = absl::InternalError("session setup failed");
+          try {
+            driver = SessionDriver::Create(config, *database, session_id_, state_.limits.session,
+                                           state_.service.metrics, &cancelled_);
+          } catch (const std::bad_alloc&) {
+            driver = absl::ResourceExhaustedError("session setup needs more memory than this server can give it");
+          } catch (const std::exception& error) {
+            driver = absl::InternalError(StrCat("session setup failed: ", error.what()));
+          }
           status = driver.status();
           if (driver.ok()) {
             driver_ = std::move(*driver);
