@@ -348,7 +348,8 @@ void AddKneeBendCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints
                     const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up,
                     std::vector<Eigen::Vector3f>* per_frame) {
   for (int i = 0; i < 2; ++i) {
-    const int hip = legs[i].top;
+    // From the hip joint where the thigh starts (past a hip offset), else the leg's first joint.
+    const int hip = leg_joints[i].start >= 0 ? leg_joints[i].start : legs[i].top;
     for (size_t k = 0; k < frames.size(); ++k) {
       const int f = frames[k];
       float along;
@@ -389,14 +390,17 @@ float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>
   return foot_length;
 }
 
-Eigen::Vector3f PairLine(const std::array<LimbJoints, 2>& joints, const GlobalPoses& poses,
-                         const std::vector<int>& frames, int frame, const Eigen::Vector3f& up) {
+std::vector<Eigen::Vector3f> PairLines(const std::array<LimbJoints, 2>& joints, const GlobalPoses& poses,
+                                       const std::vector<int>& frames, const Eigen::Vector3f& up) {
   // "Apart" against the middles' separation, so that rounding in coinciding joints does not count.
   const bool starts_apart = MeanDistance(poses, frames, joints[0].start, joints[1].start) >
                             1e-4f * MeanDistance(poses, frames, joints[0].middle, joints[1].middle);
   const int a = starts_apart ? joints[0].start : joints[0].middle;
   const int b = starts_apart ? joints[1].start : joints[1].middle;
-  return Horizontal(poses.position(frame, a) - poses.position(frame, b), up);
+  std::vector<Eigen::Vector3f> lines;
+  lines.reserve(frames.size());
+  for (int f : frames) lines.push_back(Horizontal(poses.position(f, a) - poses.position(f, b), up));
+  return lines;
 }
 
 absl::StatusOr<Sides> FindSides(const ArmsAndLegs& limbs, const std::array<LimbJoints, 2>& arm_joints,
@@ -404,9 +408,10 @@ absl::StatusOr<Sides> FindSides(const ArmsAndLegs& limbs, const std::array<LimbJ
                                 const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up,
                                 float body_size) {
   // Per sampled frame: the facing if the first leg is the left one (hip line x up, unit).
+  const std::vector<Eigen::Vector3f> hip_lines = PairLines(leg_joints, poses, frames, up);
   std::vector<Eigen::Vector3f> facing(frames.size());
   for (size_t k = 0; k < frames.size(); ++k) {
-    const Eigen::Vector3f hips = PairLine(leg_joints, poses, frames, frames[k], up);
+    const Eigen::Vector3f& hips = hip_lines[k];
     facing[k] = hips.norm() > 0.0f ? Eigen::Vector3f(hips.normalized().cross(up)) : Eigen::Vector3f::Zero();
   }
   std::vector<Eigen::Vector3f> cue(frames.size(), Eigen::Vector3f::Zero());
@@ -430,11 +435,12 @@ absl::StatusOr<Sides> FindSides(const ArmsAndLegs& limbs, const std::array<LimbJ
   sides.first_leg_is_left = evidence > 0.0f;
   const float sign = sides.first_leg_is_left ? 1.0f : -1.0f;
   // The arms against the same per-frame body: left = sign * hip line.
+  const std::vector<Eigen::Vector3f> shoulder_lines = PairLines(arm_joints, poses, frames, up);
   float arm_evidence = 0.0f;
   Eigen::Vector3f mean_forward = Eigen::Vector3f::Zero();
   for (size_t k = 0; k < frames.size(); ++k) {
     const Eigen::Vector3f left = sign * up.cross(facing[k]);
-    arm_evidence += PairLine(arm_joints, poses, frames, frames[k], up).dot(left);
+    arm_evidence += shoulder_lines[k].dot(left);
     mean_forward += sign * facing[k];
   }
   sides.first_arm_is_left = arm_evidence > 0.0f;

@@ -191,7 +191,8 @@ Eigen::Vector3f Horizontal(const Eigen::Vector3f& v, const Eigen::Vector3f& up);
 
 // Knees bend forward: adds to `per_frame[i]`, for frames[i] and each leg, the horizontal part of
 // the knee's offset from its projection on the hip-ankle line (unnormalised: strongly bent frames
-// weigh more). `per_frame` has one vector per sampled frame.
+// weigh more; the hip is the leg's `start`, else its first joint). `per_frame` has one vector per
+// sampled frame.
 void AddKneeBendCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>& leg_joints,
                     const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up,
                     std::vector<Eigen::Vector3f>* per_frame);
@@ -205,11 +206,11 @@ float AddToeCue(const std::array<Limb, 2>& legs, const std::array<LimbJoints, 2>
                 const GlobalPoses& poses, const std::vector<int>& frames, const Eigen::Vector3f& up, float body_size,
                 std::vector<Eigen::Vector3f>* per_frame);
 
-// Horizontal vector from the second limb of a pair to the first in frame `frame`: between their
-// `start` joints (hips, shoulders), or their `middle` joints when the rig puts both starts at the
-// same place over the sampled frames.
-Eigen::Vector3f PairLine(const std::array<LimbJoints, 2>& joints, const GlobalPoses& poses,
-                         const std::vector<int>& frames, int frame, const Eigen::Vector3f& up);
+// Per sampled frame, the horizontal vector from the second limb of a pair to the first: between
+// their `start` joints (hips, shoulders), or their `middle` joints when the rig puts both starts at
+// the same place over the sampled frames.
+std::vector<Eigen::Vector3f> PairLines(const std::array<LimbJoints, 2>& joints, const GlobalPoses& poses,
+                                       const std::vector<int>& frames, const Eigen::Vector3f& up);
 
 struct Sides {
   bool first_leg_is_left = true;

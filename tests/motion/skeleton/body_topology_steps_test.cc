@@ -658,15 +658,21 @@ TEST(BodyStepFacingTest, ToeCueCountsOnlyFramesWithTheToeNearItsLowest) {
   EXPECT_EQ(Sum(per_frame), Eigen::Vector3f::Zero());
 }
 
-TEST(BodyStepFacingTest, PairLineRunsFromTheSecondStartToTheFirstElseBetweenTheMiddles) {
-  const GlobalPoses poses = PosesOf({LegPose({0, 90, 0}, 3, {0, -4.5f, 13}, 90)});
-  const Eigen::Vector3f line = PairLine(kLegJoints, poses, {0}, 0, Eigen::Vector3f::UnitY());
+TEST(BodyStepFacingTest, PairLinesRunFromTheSecondStartToTheFirstElseBetweenTheMiddles) {
+  const GlobalPoses poses =
+      PosesOf({LegPose({0, 90, 0}, 3, {0, -4.5f, 13}), LegPose({0, 90, 0}, 3, {0, -4.5f, 13}, 90)});
+  const std::vector<Eigen::Vector3f> lines = PairLines(kLegJoints, poses, {0, 1}, Eigen::Vector3f::UnitY());
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_TRUE(lines[0].isApprox(Eigen::Vector3f(20, 0, 0), 1e-4f)) << lines[0].transpose();
   // Turned 90 degrees about +Y, the left hip (+X) lies at -Z.
-  EXPECT_TRUE(line.isApprox(Eigen::Vector3f(0, 0, -20), 1e-4f)) << line.transpose();
+  EXPECT_TRUE(lines[1].isApprox(Eigen::Vector3f(0, 0, -20), 1e-4f)) << lines[1].transpose();
   // Both starts on one joint (a rig whose limbs start at the pelvis): the middles.
   const std::array<LimbJoints, 2> shared_start = {LimbJoints{.end = 3, .middle = 2, .start = 0},
                                                   LimbJoints{.end = 7, .middle = 6, .start = 0}};
-  EXPECT_TRUE(PairLine(shared_start, poses, {0}, 0, Eigen::Vector3f::UnitY()).isApprox(line, 1e-4f));
+  const std::vector<Eigen::Vector3f> middles = PairLines(shared_start, poses, {0, 1}, Eigen::Vector3f::UnitY());
+  ASSERT_EQ(middles.size(), 2u);
+  EXPECT_TRUE(middles[0].isApprox(lines[0], 1e-4f)) << middles[0].transpose();
+  EXPECT_TRUE(middles[1].isApprox(lines[1], 1e-4f)) << middles[1].transpose();
 }
 
 // Sides of TwoLegs (first leg = the joints built at +X, the body's left) with no arms: the legs
