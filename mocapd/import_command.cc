@@ -38,6 +38,8 @@ void RegisterImportCommand(CLI::App& app, CommandRegistry& registry) {
   command->add_option("--batch-size", options->import.batch_size, "Files per atomic batch (0: all in one)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--keep-going", options->import.keep_going, "Skip bad files (listed) instead of rolling back");
+  command->add_flag("--retarget", options->import.retarget_other_rigs,
+                    "Retarget files of another rig onto the database's rig instead of refusing them");
   command->add_option("--threads", options->import.threads, "Worker threads (0: one per core)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--json", options->json, "Print the summary as JSON");

@@ -82,7 +82,8 @@ absl::Status ImportReactor::HandleStart(const v1::ImportStart& start) {
   std::optional<LengthUnit> unit;
   if (!start.source_unit().empty()) {
     unit = ParseUnit(start.source_unit());
-    if (!unit) return absl::InvalidArgumentError(StrCat("unknown unit '", start.source_unit(), "' (m, cm, mm or in)"));
+    if (!unit)
+      return absl::InvalidArgumentError(StrCat("unknown unit '", start.source_unit(), "' (m, cm, mm, in or cmu)"));
   }
   database_ = start.database();
   MOCAP_ASSIGN_OR_RETURN(
@@ -93,6 +94,7 @@ absl::Status ImportReactor::HandleStart(const v1::ImportStart& start) {
                                                       .unit = unit,
                                                       .batch_size = start.batch_size(),
                                                       .keep_going = start.keep_going(),
+                                                      .retarget_other_rigs = start.retarget_other_rigs(),
                                                       .buffer_batch = true,
                                                       .max_pending_frames = call_.service().limits.max_batch_frames}));
   return absl::OkStatus();

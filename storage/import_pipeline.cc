@@ -114,7 +114,8 @@ absl::StatusOr<ImportSummary> RunImport(const ImportOptions& options, const Impo
                                                                   .frame_rate = options.frame_rate,
                                                                   .unit = options.unit,
                                                                   .batch_size = options.batch_size,
-                                                                  .keep_going = options.keep_going}));
+                                                                  .keep_going = options.keep_going,
+                                                                  .retarget_other_rigs = options.retarget_other_rigs}));
   if (writer->database_exists() && std::abs(options.frame_rate - writer->preprocess().frame_rate) > 1e-9) {
     spdlog::warn("database '{}' keeps its {} fps; --frame-rate {} applies only when a database is created",
                  options.database, writer->preprocess().frame_rate, options.frame_rate);

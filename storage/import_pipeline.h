@@ -17,12 +17,13 @@ struct ImportOptions {
   std::filesystem::path store;
   std::string tenant;  // tenant name; empty: the default tenant
   std::string database;
-  std::vector<std::string> inputs;  // files and folders (searched recursively for *.bvh)
-  double frame_rate = 30.0;         // used when the database is created
-  std::optional<LengthUnit> unit;   // override unit detection when the database is created
-  int batch_size = 0;               // files per atomic batch; 0 = all files in one batch
-  bool keep_going = false;          // skip bad files (reported) instead of aborting the batch
-  int threads = 0;                  // parse/preprocess workers; 0 = one per core
+  std::vector<std::string> inputs;   // files and folders (searched recursively for *.bvh)
+  double frame_rate = 30.0;          // used when the database is created
+  std::optional<LengthUnit> unit;    // override unit detection when the database is created
+  int batch_size = 0;                // files per atomic batch; 0 = all files in one batch
+  bool keep_going = false;           // skip bad files (reported) instead of aborting the batch
+  bool retarget_other_rigs = false;  // retarget files of another rig onto the database's
+  int threads = 0;                   // parse/preprocess workers; 0 = one per core
 };
 
 struct ImportSummary {

@@ -7,6 +7,7 @@
 #include "motion/bvh/bvh_reader.h"
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "motion/retarget/retarget_clip.h"
 
 namespace mocap {
 
@@ -29,6 +30,16 @@ PreparedFile PrepareBvhBytes(const std::string& bytes, const std::string& source
   }
   if (parsed != nullptr) *parsed = *clip;
   if (rig == nullptr) return prepared;
+  if (options.retarget_other_rigs && !clip->skeleton.SameRigAs(rig->skeleton)) {
+    absl::StatusOr<BvhClip> retargeted = RetargetClipOntoRig(*clip, *rig);
+    if (!retargeted.ok()) {
+      prepared.status =
+          absl::Status(retargeted.status().code(),
+                       StrCat(source_name, ": retargeting onto the database's rig: ", retargeted.status().message()));
+      return prepared;
+    }
+    *clip = std::move(*retargeted);
+  }
   absl::StatusOr<PreparedClip> ready = PrepareClip(*clip, *rig, options);
   if (ready.ok()) {
     prepared.clip = std::move(*ready);
@@ -55,7 +66,10 @@ absl::StatusOr<std::unique_ptr<ImportWriter>> ImportWriter::Start(MotionStore& s
 }
 
 ImportWriter::ImportWriter(MotionStore& store, ImportTarget target)
-    : store_(store), target_(std::move(target)), preprocess_{.frame_rate = target_.frame_rate, .unit = target_.unit} {}
+    : store_(store),
+      target_(std::move(target)),
+      preprocess_{
+          .frame_rate = target_.frame_rate, .unit = target_.unit, .retarget_other_rigs = target_.retarget_other_rigs} {}
 
 ImportWriter::~ImportWriter() = default;  // an uncommitted batch rolls back
 

@@ -35,10 +35,11 @@ PreparedFile PrepareBvhBytes(const std::string& bytes, const std::string& source
 struct ImportTarget {
   TenantId tenant = kDefaultTenantId;
   std::string database;
-  double frame_rate = 30.0;        // used when the database is created
-  std::optional<LengthUnit> unit;  // override unit detection when the rig is fixed
-  int batch_size = 0;              // files per atomic batch; 0: one batch until Finish
-  bool keep_going = false;         // record bad files instead of failing the batch
+  double frame_rate = 30.0;          // used when the database is created
+  std::optional<LengthUnit> unit;    // override unit detection when the rig is fixed
+  int batch_size = 0;                // files per atomic batch; 0: one batch until Finish
+  bool keep_going = false;           // record bad files instead of failing the batch
+  bool retarget_other_rigs = false;  // clips of another rig are retargeted onto the database's
   // Hold the batch's clips in memory and write them in one short transaction when it commits,
   // instead of keeping the store's write lock while files arrive (the RPC, whose files come at
   // the client's pace). Refuses batches over max_pending_frames then.

@@ -143,6 +143,8 @@ void RegisterImport(CLI::App& app, Registry& registry) {
   command->add_option("--batch-size", options->import.batch_size, "Files per atomic batch (0: all in one)")
       ->check(CLI::NonNegativeNumber);
   command->add_flag("--keep-going", options->import.keep_going, "Skip bad files (listed) instead of rolling back");
+  command->add_flag("--retarget", options->import.retarget_other_rigs,
+                    "Retarget files of another rig onto the database's rig instead of refusing them");
   command->add_flag("--quiet", options->quiet, "No progress bar");
   registry.Add(command, [global, options](client::Client& client) {
     auto files = CollectBvhFiles(options->inputs);

@@ -103,6 +103,7 @@ absl::StatusOr<v1::ImportBvhResponse> Client::ImportFiles(const std::string& dat
   start->set_source_unit(options.source_unit);
   start->set_batch_size(options.batch_size);
   start->set_keep_going(options.keep_going);
+  start->set_retarget_other_rigs(options.retarget_other_rigs);
   open = writer->Write(message);
   std::string buffer(options.chunk_bytes, '\0');
   for (size_t i = 0; open && i < files.size(); ++i) {

@@ -20,6 +20,9 @@ namespace mocap {
 struct PreprocessOptions {
   double frame_rate = 30.0;        // database rate, frames per second (METHOD.md A8: 30 fps)
   std::optional<LengthUnit> unit;  // override unit detection
+  // For importers: a clip of another rig is retargeted onto the database's rig instead of being
+  // refused (motion/retarget/retarget_clip.h; its own unit is detected).
+  bool retarget_other_rigs = false;
 };
 
 // Limits checked before any resampling or allocation (a request names them in its error).

@@ -45,7 +45,7 @@ Skeleton ScaledSkeleton(const Skeleton& skeleton, float factor) {
   return Skeleton(std::move(joints));
 }
 
-absl::StatusOr<RetargetRig> TargetRigFromClip(BvhClip clip, std::optional<LengthUnit> unit) {
+absl::StatusOr<RetargetRig> RigFromClip(BvhClip clip, std::optional<LengthUnit> unit) {
   MOCAP_RETURN_IF_ERROR(clip.skeleton.Validate());
   if (clip.num_frames() > kMaxTargetFrames) clip.channels.conservativeResize(kMaxTargetFrames, Eigen::NoChange);
   // Without frames the analysis reads the zero-rotation pose itself.
@@ -170,14 +170,18 @@ absl::StatusOr<RetargetRig> TargetRigFromBvh(std::string_view text, std::optiona
     return absl::InvalidArgumentError(
         StrCat("the target rig has ", clip.skeleton.num_joints(), " joints (at most ", kMaxTargetJoints, ")"));
   }
-  return TargetRigFromClip(std::move(clip), unit);
+  return RigFromClip(std::move(clip), unit);
+}
+
+absl::StatusOr<RetargetRig> TargetRigFromClip(const BvhClip& clip, std::optional<LengthUnit> unit) {
+  return RigFromClip(clip, unit);
 }
 
 absl::StatusOr<RetargetRig> TargetRigFromSkeleton(const Skeleton& skeleton, std::optional<LengthUnit> unit) {
   BvhClip clip;
   clip.skeleton = skeleton;
   clip.frame_time = 1.0 / 30;
-  return TargetRigFromClip(std::move(clip), unit);
+  return RigFromClip(std::move(clip), unit);
 }
 
 }  // namespace mocap

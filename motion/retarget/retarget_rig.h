@@ -73,6 +73,8 @@ inline constexpr int kMaxTargetFrames = 2000;  // frames of a target BVH used by
 // body's size). InvalidArgument for text that is not BVH; FailedPrecondition, with the analysis'
 // reason, for a rig that is not a recognisable humanoid.
 absl::StatusOr<RetargetRig> TargetRigFromBvh(std::string_view text, std::optional<LengthUnit> unit = std::nullopt);
+// The same from a clip already read (its frames, at most kMaxTargetFrames, help the analysis).
+absl::StatusOr<RetargetRig> TargetRigFromClip(const BvhClip& clip, std::optional<LengthUnit> unit = std::nullopt);
 // A caller's rig given as joints (parents before children, offsets in the rig's unit and axes);
 // the analysis sees only the zero-rotation pose, which must be a standing one (T- or A-pose).
 absl::StatusOr<RetargetRig> TargetRigFromSkeleton(const Skeleton& skeleton,

@@ -58,6 +58,8 @@ struct ImportOptions {
   int batch_size = 0;
   // Skip bad files (reported per file) instead of failing the import at the first.
   bool keep_going = false;
+  // Retarget files of another rig onto the database's rig instead of refusing them.
+  bool retarget_other_rigs = false;
   // Bytes per message (the server accepts up to 1 MiB of file data per message).
   std::size_t chunk_bytes = 1 << 20;
 };
