@@ -77,6 +77,9 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   }
   std::nth_element(lower_ankle.begin(), lower_ankle.begin() + total / 10, lower_ankle.end());
   db->planted_ankle_height_ = lower_ankle[total / 10];
+  std::vector<std::span<const FrameFeatures>> clip_features;
+  for (const DatabaseClip& clip : clips) clip_features.emplace_back(clip.features);
+  db->motion_limits_ = MeasureMotionLimits(clip_features, frame_time);
   if (absl::Status status = db->wrist_index_.Build(db->frames_, {.position_weight = position_weight}); !status.ok()) {
     return status;
   }

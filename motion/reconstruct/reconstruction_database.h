@@ -15,6 +15,7 @@
 #include "motion/core/kd_tree.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/body_model.h"
+#include "motion/reconstruct/plausibility.h"
 #include "motion/reconstruct/wrist_feature_index.h"
 
 namespace mocap {
@@ -57,6 +58,9 @@ class ReconstructionDatabase {
   // Typical height of a planted ankle (10th percentile of the lower ankle's height): A7's ground.
   float planted_ankle_height() const { return planted_ankle_height_; }
   double frame_time() const { return frame_time_; }
+  // How fast the database's own bodies move (plausibility.h), measured when it is built: the
+  // motion guard's bounds and the plausibility measures' reference.
+  const MotionLimits& motion_limits() const { return motion_limits_; }
   // K nearest frames by eq. 8 (exact kd-tree).
   absl::StatusOr<std::vector<Neighbour>> NearestByWristsAndAnkles(const float query[kWristAnkleFeatureDims],
                                                                   int k) const;
@@ -77,6 +81,7 @@ class ReconstructionDatabase {
   std::optional<BodyModel> body_;
   float planted_ankle_height_ = 0.0f;
   double frame_time_ = 1.0 / 30.0;
+  MotionLimits motion_limits_;
 };
 
 }  // namespace mocap

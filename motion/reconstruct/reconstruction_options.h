@@ -4,6 +4,7 @@
 
 #include "motion/reconstruct/ankle_path.h"
 #include "motion/reconstruct/footskate_cleanup.h"
+#include "motion/reconstruct/motion_guard.h"
 #include "motion/reconstruct/pose_solver.h"
 #include "motion/reconstruct/wrist_smoother.h"
 
@@ -48,6 +49,10 @@ struct ReconstructionOptions {
   // on their pins): the input smoothed by a centred Gaussian of this σ over the samples that have
   // arrived (zero phase where the lag allows, unlike A2's exponential smoothing); < 0 = off.
   float hand_target_sigma = 1.0f;
+
+  // Last: the output pelvis moves no faster, and accelerates no harder, than the database's
+  // bodies; frames whose input jumps are flagged (issue #22).
+  MotionGuardOptions motion_guard;
 
   double max_gap_seconds = 0.25;  // longer input dropouts end the segment
 };

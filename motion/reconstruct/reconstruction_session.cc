@@ -83,7 +83,11 @@ struct ReconstructionSession::Segment {
 
 ReconstructionSession::ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database,
                                              const ReconstructionOptions& options)
-    : database_(std::move(database)), options_(options), resampler_(database_->frame_time(), options.max_gap_seconds) {
+    : database_(std::move(database)),
+      options_(options),
+      resampler_(database_->frame_time(), options.max_gap_seconds),
+      motion_guard_(database_->motion_limits(), database_->frame_time(), options.motion_guard),
+      jump_detector_(database_->motion_limits(), database_->frame_time(), options.motion_guard) {
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
   ankle_kernel_ = GaussianKernel(options_.ankle_path.smoothing_sigma_frames);
   joint_kernel_ = GaussianKernel(options_.joint_smoothing_sigma);
@@ -370,6 +374,8 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   frame.frame_in_segment = f;
   frame.time = s.times[f];
   frame.pose = db.body().Pose(solved.pelvis_rotation, solved.pelvis_position, solved.pose_feature.data() + 2);
+  frame.pelvis_position = solved.pelvis_position;  // the joint filter averages it (EmitFiltered)
+  frame.pelvis_rotation = solved.pelvis_rotation;
   if (!full) {
     // Baselines estimate no ankles: report where their pose puts them.
     std::vector<Eigen::Quaternionf> rotations;
@@ -408,22 +414,44 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       const BodyPose& centre = s.post[e - s.post_first].pose;
       const int joints = static_cast<int>(centre.rotations.size());
       std::vector<Eigen::Vector3f> log_sum(joints, Eigen::Vector3f::Zero());
-      Eigen::Vector3f root = Eigen::Vector3f::Zero();
+      Eigen::Vector3f pelvis = Eigen::Vector3f::Zero();
       for (int i = -radius; i <= radius; ++i) {
         const int k = std::clamp(e + i, s.post_first, last);  // segment edges (and the lag) clamp
         const BodyPose& p = s.post[k - s.post_first].pose;
         const float w = joint_kernel_[i + radius];
-        root += w * p.root_position;
+        pelvis += w * s.post[k - s.post_first].pelvis_position;
         for (int j = 0; j < joints; ++j)
           log_sum[j] += w * RotationVector(Eigen::Quaternionf(centre.rotations[j].conjugate() * p.rotations[j]));
       }
-      frame.pose.root_position = root;
       for (int j = 0; j < joints; ++j)
         frame.pose.rotations[j] = (centre.rotations[j] * FromRotationVector(log_sum[j])).normalized();
+      // The pelvis goes to the mean of its positions. (Averaging the root's translation instead
+      // moved it wherever the root's rotation differed between the frames: the root can be far
+      // from the pelvis — Bandai's joint_Root sits at the capture's origin, metres away — and a
+      // turn of a few degrees then swung the body by up to a metre in one frame, issue #22.)
+      body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
+      frame.pose.root_position += pelvis - world_positions[database_->rig().topology.landmarks.pelvis];
       const BodyLandmarks& l = database_->rig().topology.landmarks;
       const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
       for (int side = 0; side < 2; ++side) {
         if (frame.ankle_targets[side]) SolveLegIk(body, ankle_joints[side], *frame.ankle_targets[side], &frame.pose);
+      }
+    }
+    for (int side = 0; side < 2; ++side) {  // the step into this frame's input
+      auto input_at = [&](int f) { return f >= s.input.first() && f >= 0 ? &s.input[f][side] : nullptr; };
+      if (jump_detector_.Implausible(input_at(e - 2), input_at(e - 1), s.input[e][side]))
+        frame.hand_state[side] = TrackingState::kImplausible;
+    }
+    if (options_.motion_guard.enabled) {
+      // The guard moves the whole body (and its pins) rigidly to where the pelvis may go; the
+      // hands then reach for the input from there.
+      body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
+      const Eigen::Vector3f solved = world_positions[database_->rig().topology.landmarks.pelvis];
+      const Eigen::Vector3f hands = 0.5f * (s.input[e][0] + s.input[e][1]);
+      const Eigen::Vector3f offset = motion_guard_.Next(frame.time, solved, hands, &frame.motion_limited) - solved;
+      frame.pose.root_position += offset;
+      for (auto& target : frame.ankle_targets) {
+        if (target) *target += offset;
       }
     }
     if (options_.hand_target_sigma >= 0.0f) {

@@ -22,6 +22,7 @@
 #include <Eigen/Geometry>
 
 #include "absl/status/statusor.h"
+#include "motion/reconstruct/motion_guard.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/reconstruction_options.h"
 #include "motion/reconstruct/wrist_resampler.h"
@@ -39,6 +40,14 @@ struct FrameDiagnostics {
   bool bridged = false;                  // input interpolated across a dropout
 };
 
+// What the engine makes of one hand's input in a frame (the states of issue #25; only these two
+// so far).
+enum class TrackingState {
+  kTracked,      // the input moves as a hand can
+  kImplausible,  // the input stepped faster than any hand in the database (a controller's jump,
+                 // a tracker that repeated samples and caught up): the body does not follow it
+};
+
 struct ReconstructedFrame {
   int segment = 0;  // increments after each long input gap
   int index = 0;    // frame number in the session's output
@@ -50,6 +59,13 @@ struct ReconstructedFrame {
   std::array<Eigen::Vector3f, 2> ankles;  // A4 estimates (left, right), world metres
   std::array<Eigen::Vector3f, 2> wrists;  // A2-smoothed input
   FrameDiagnostics diagnostics;
+  std::array<TrackingState, 2> hand_state{TrackingState::kTracked, TrackingState::kTracked};  // left, right
+  // The motion guard (motion_guard.h) did not let the pelvis go where the solve put it: it moved
+  // no faster than the database's bodies do instead.
+  bool motion_limited = false;
+  bool implausible_input() const {
+    return hand_state[0] == TrackingState::kImplausible || hand_state[1] == TrackingState::kImplausible;
+  }
   // A7: where the footskate cleanup held each ankle (planted or releasing), re-imposed by leg IK
   // after the joint-space filter, which would otherwise let planted feet slide again.
   FootskateCleaner::AnkleTargets ankle_targets;
@@ -115,6 +131,9 @@ class ReconstructionSession {
   int ankle_lag_ = 0;
   int lookahead_ = 0;  // A2 frames (local linear smoothing)
   std::vector<float> ankle_kernel_, joint_kernel_, hand_kernel_, wrist_kernel_;
+  // Issue #22: the output pelvis moves as the database's bodies do, across segments too.
+  MotionGuard motion_guard_;
+  InputJumpDetector jump_detector_;
   SessionStatistics statistics_;
   const std::atomic<bool>* cancel_ = nullptr;
 };

@@ -1,0 +1,102 @@
+#include "motion/reconstruct/motion_guard.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mocap {
+namespace {
+
+// `v` shortened to at most `limit` (unchanged when no limit is known).
+Eigen::Vector3f Clamped(const Eigen::Vector3f& v, float limit) {
+  const float norm = v.norm();
+  if (!(limit > 0) || norm <= limit) return v;
+  return v * (limit / norm);
+}
+
+float OrUnbounded(float value, float margin) {
+  return value > 0 ? value * margin : std::numeric_limits<float>::infinity();
+}
+
+}  // namespace
+
+MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const MotionGuardOptions& options)
+    : frame_time_(frame_time),
+      speed_limit_(OrUnbounded(limits.pelvis_speed_max, options.speed_margin)),
+      acceleration_limit_(OrUnbounded(limits.pelvis_acceleration_max, options.acceleration_margin)),
+      beyond_hands_limit_(OrUnbounded(limits.pelvis_speed_beyond_hands_max, options.beyond_hands_margin)),
+      hands_(HandsWindowFrames(frame_time) + 1) {}
+
+Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& target, const Eigen::Vector3f& hands,
+                                  bool* limited) {
+  *limited = false;
+  const bool continuous = has_previous_ && time - previous_time_ <= 1.5 * frame_time_;
+  // The hands' mean speed over the window (as MeasureMotionLimits measures it); none yet at the
+  // start of a stretch.
+  if (!continuous) hands_count_ = 0;
+  const int window = static_cast<int>(hands_.size());
+  hands_[hands_next_] = {time, hands};
+  hands_next_ = (hands_next_ + 1) % window;
+  hands_count_ = std::min(hands_count_ + 1, window);
+  const HandsSample& oldest = hands_[(hands_next_ - hands_count_ + window) % window];
+  const float hands_speed =
+      hands_count_ > 1 ? static_cast<float>((hands - oldest.midpoint).norm() / (time - oldest.time)) : 0.0f;
+  if (!has_previous_) {
+    has_previous_ = true;
+    has_velocity_ = false;
+    previous_time_ = time;
+    previous_output_ = previous_target_ = target;
+    previous_velocity_.setZero();
+    return target;
+  }
+  const float dt = static_cast<float>(std::max(time - previous_time_, 0.5 * frame_time_));
+  // The velocity before the first step of a stream, or across a gap, is unknown: that step is
+  // bounded by speed only.
+  const bool velocity_known = has_velocity_ && continuous;
+  // The velocity that follows the target: its own motion, plus closing the gap left at the
+  // previous frame, at once when it is small, else no faster than one can still brake from
+  // (√(2·a·gap) with half the acceleration bound, the other half for following the target).
+  const Eigen::Vector3f target_velocity = (target - previous_target_) / dt;
+  const Eigen::Vector3f gap = previous_target_ - previous_output_;
+  const float gap_length = gap.norm();
+  Eigen::Vector3f wanted = target_velocity;
+  if (gap_length > 0) {
+    const float closing = std::min(gap_length / dt, std::sqrt(acceleration_limit_ * gap_length));
+    wanted += gap * (closing / gap_length);
+  }
+  // A body's bounds: speed (no faster than the database's bodies, nor faster than its hands
+  // allow), then acceleration. The second always holds, and so does the first: the step from the
+  // previous velocity towards one within the speed bound stays within it, unless the bound itself
+  // shrank (the hands stopped), when the body brakes as hard as a body can.
+  Eigen::Vector3f velocity = Clamped(wanted, std::min(speed_limit_, hands_speed + beyond_hands_limit_));
+  if (velocity_known) velocity = previous_velocity_ + Clamped(velocity - previous_velocity_, acceleration_limit_ * dt);
+  Eigen::Vector3f output = previous_output_ + velocity * dt;
+  if ((output - target).norm() <= 1e-3f) {
+    output = target;
+  } else {
+    *limited = true;
+  }
+  previous_velocity_ = (output - previous_output_) / dt;
+  has_velocity_ = true;
+  previous_time_ = time;
+  previous_output_ = output;
+  previous_target_ = target;
+  return output;
+}
+
+InputJumpDetector::InputJumpDetector(const MotionLimits& limits, double frame_time, const MotionGuardOptions& options)
+    : rate_(static_cast<float>(1.0 / frame_time)),
+      speed_limit_(OrUnbounded(limits.wrist_speed_max, options.input_speed_margin)),
+      acceleration_limit_(OrUnbounded(limits.wrist_acceleration_max, options.input_acceleration_margin)) {}
+
+bool InputJumpDetector::Implausible(const Eigen::Vector3f* before_previous, const Eigen::Vector3f* previous,
+                                    const Eigen::Vector3f& current) const {
+  if (previous == nullptr) return false;
+  const Eigen::Vector3f velocity = (current - *previous) * rate_;
+  if (velocity.norm() > speed_limit_) return true;
+  if (before_previous == nullptr) return false;
+  const Eigen::Vector3f previous_velocity = (*previous - *before_previous) * rate_;
+  return (velocity - previous_velocity).norm() * rate_ > acceleration_limit_;
+}
+
+}  // namespace mocap

@@ -1,0 +1,80 @@
+// The last step of every reconstruction (issue #22, "never teleport"): the body moves only as the
+// database's bodies move. MotionGuard follows the solved pelvis while it moves as a body can, and
+// otherwise approaches it with bounded speed and acceleration (a body that the solve put 1 m away
+// in one frame walks there instead), and no faster than its hands allow (when the hands' midpoint
+// stays put, so does the body: a standing user's avatar does not run off); InputJumpDetector says when a hand's input
+// does what no hand does (a controller's 20 cm step in one frame, a tracker that repeats samples and then jumps).
+//
+// The bounds are the database's own (MotionLimits, measured when it is built) times margins: no
+// constant here comes from a test set. Causal and allocation-free, so every mode (fixed lag, sub-
+// intervals, whole clip) runs it the same way on the frames it emits, in order.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "motion/reconstruct/plausibility.h"
+
+namespace mocap {
+
+struct MotionGuardOptions {
+  bool enabled = true;
+  // Pelvis bounds: the database's fastest pelvis speed and acceleration, and the most its pelvis
+  // outran its hands (MotionLimits::pelvis_speed_beyond_hands_max), times these margins (room for
+  // performers a little faster than the database's and for the solve's own jitter).
+  float speed_margin = 1.25f;
+  float acceleration_margin = 1.5f;
+  float beyond_hands_margin = 1.25f;
+  // A hand's input is implausible when it is faster than `input_speed_margin` × the database's
+  // fastest wrist, or accelerates faster than `input_acceleration_margin` × its fastest.
+  float input_speed_margin = 1.25f;
+  float input_acceleration_margin = 1.25f;
+};
+
+class MotionGuard {
+ public:
+  MotionGuard(const MotionLimits& limits, double frame_time, const MotionGuardOptions& options);
+
+  // The next output frame at `time` (seconds, increasing; a gap counts as its length): `target`
+  // is where the solve put the pelvis, `hands` the midpoint of the input wrists (world metres).
+  // Returns where the pelvis goes; `*limited` is set when that is not the target (more than 1 mm
+  // away).
+  Eigen::Vector3f Next(double time, const Eigen::Vector3f& target, const Eigen::Vector3f& hands, bool* limited);
+  void Reset() { has_previous_ = false; }
+
+  float speed_limit() const { return speed_limit_; }
+
+ private:
+  double frame_time_;
+  float speed_limit_, acceleration_limit_, beyond_hands_limit_;
+  bool has_previous_ = false, has_velocity_ = false;
+  double previous_time_ = 0;
+  Eigen::Vector3f previous_output_ = Eigen::Vector3f::Zero(), previous_target_ = Eigen::Vector3f::Zero(),
+                  previous_velocity_ = Eigen::Vector3f::Zero();
+  // The hands' midpoint over the last HandsWindowFrames() frames of the current stretch without a
+  // gap (a ring, sized once).
+  struct HandsSample {
+    double time;
+    Eigen::Vector3f midpoint;
+  };
+  std::vector<HandsSample> hands_;
+  int hands_next_ = 0, hands_count_ = 0;
+};
+
+// Flags input samples no hand could produce, from the resampled input's last three frames.
+class InputJumpDetector {
+ public:
+  InputJumpDetector(const MotionLimits& limits, double frame_time, const MotionGuardOptions& options);
+  // `before_previous`, `previous`, `current`: one wrist's input at three consecutive frames
+  // (nullptr when the segment has not reached back that far). True when the step into `current`
+  // is implausible.
+  bool Implausible(const Eigen::Vector3f* before_previous, const Eigen::Vector3f* previous,
+                   const Eigen::Vector3f& current) const;
+
+ private:
+  float rate_, speed_limit_, acceleration_limit_;
+};
+
+}  // namespace mocap

@@ -1,0 +1,214 @@
+#include "motion/reconstruct/plausibility.h"
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+namespace mocap {
+namespace {
+
+Eigen::Vector3f Vec(const float v[3]) { return {v[0], v[1], v[2]}; }
+
+// World rotation and origin of a frame's wrist reference frame (frame_features.h).
+Eigen::Matrix3f RotationOf(const FrameFeatures& f) {
+  return Eigen::AngleAxisf(f.ref_heading, Eigen::Vector3f::UnitY()).toRotationMatrix();
+}
+Eigen::Vector3f OriginOf(const FrameFeatures& f) { return {f.ref_origin_x, 0.0f, f.ref_origin_z}; }
+
+float Percentile(std::vector<float> values, double q) {
+  if (values.empty()) return 0.0f;
+  const size_t k = std::min(values.size() - 1, static_cast<size_t>(q * static_cast<double>(values.size())));
+  std::nth_element(values.begin(), values.begin() + static_cast<long>(k), values.end());
+  return values[k];
+}
+
+float Max(const std::vector<float>& values) {
+  return values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());
+}
+
+}  // namespace
+
+int HandsWindowFrames(double frame_time) {
+  return std::max(1, static_cast<int>(std::lround(kHandsWindowSeconds / frame_time)));
+}
+
+MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>> clips, double frame_time) {
+  const float rate = static_cast<float>(1.0 / frame_time);
+  std::vector<float> pelvis_speed, pelvis_acceleration, wrist_acceleration;
+  MotionLimits limits;
+  const int window = HandsWindowFrames(frame_time);
+  limits.pelvis_speed_beyond_hands_max = -std::numeric_limits<float>::infinity();
+  for (std::span<const FrameFeatures> clip : clips) {
+    std::vector<Eigen::Vector3f> midpoints;
+    Eigen::Vector3f previous_pelvis = Eigen::Vector3f::Zero(), previous_velocity = Eigen::Vector3f::Zero();
+    std::array<Eigen::Vector3f, 2> previous_wrist_velocity{};
+    for (size_t f = 0; f < clip.size(); ++f) {
+      const Eigen::Matrix3f rotation = RotationOf(clip[f]);
+      const Eigen::Vector3f pelvis = OriginOf(clip[f]) + rotation * Vec(clip[f].pelvis_position);
+      midpoints.push_back(OriginOf(clip[f]) +
+                          rotation * (0.5f * (Vec(clip[f].wrist_position[0]) + Vec(clip[f].wrist_position[1]))));
+      std::array<Eigen::Vector3f, 2> wrist_velocity;
+      for (int side = 0; side < 2; ++side) wrist_velocity[side] = rotation * Vec(clip[f].wrist_velocity[side]);
+      // Frame 0's velocities are the forward difference (= frame 1's): start at frame 1.
+      if (f >= 1) {
+        const Eigen::Vector3f velocity = (pelvis - previous_pelvis) * rate;
+        pelvis_speed.push_back(velocity.norm());
+        const int back = std::min<int>(window, static_cast<int>(f));
+        const float hands_speed = (midpoints[f] - midpoints[f - back]).norm() * rate / static_cast<float>(back);
+        limits.pelvis_speed_beyond_hands_max =
+            std::max(limits.pelvis_speed_beyond_hands_max, velocity.norm() - hands_speed);
+        for (int side = 0; side < 2; ++side)
+          limits.wrist_speed_max = std::max(limits.wrist_speed_max, wrist_velocity[side].norm());
+        if (f >= 2) {
+          pelvis_acceleration.push_back((velocity - previous_velocity).norm() * rate);
+          for (int side = 0; side < 2; ++side)
+            wrist_acceleration.push_back((wrist_velocity[side] - previous_wrist_velocity[side]).norm() * rate);
+        }
+        previous_velocity = velocity;
+      }
+      previous_pelvis = pelvis;
+      previous_wrist_velocity = wrist_velocity;
+    }
+  }
+  if (pelvis_speed.empty()) limits.pelvis_speed_beyond_hands_max = 0;
+  limits.pelvis_speed_p99 = Percentile(pelvis_speed, 0.99);
+  limits.pelvis_speed_max = Max(pelvis_speed);
+  limits.pelvis_acceleration_p99 = Percentile(pelvis_acceleration, 0.99);
+  limits.pelvis_acceleration_max = Max(pelvis_acceleration);
+  limits.wrist_acceleration_p99 = Percentile(wrist_acceleration, 0.99);
+  limits.wrist_acceleration_max = Max(wrist_acceleration);
+  return limits;
+}
+
+PlausibilityRig MakePlausibilityRig(const Skeleton& skeleton, const BodyLandmarks& landmarks) {
+  PlausibilityRig rig;
+  rig.pelvis = landmarks.pelvis;
+  rig.wrists = {landmarks.left_wrist, landmarks.right_wrist};
+  rig.ankles = {landmarks.left_ankle, landmarks.right_ankle};
+  const std::array<int, 2> shoulders = {landmarks.left_shoulder, landmarks.right_shoulder};
+  for (int side = 0; side < 2; ++side) {
+    int shoulder = shoulders[side];
+    if (shoulder < 0) {  // older rigs: wrist → elbow → shoulder joint
+      shoulder = rig.wrists[side];
+      for (int up = 0; up < 2 && shoulder >= 0 && skeleton.parent(shoulder) >= 0; ++up)
+        shoulder = skeleton.parent(shoulder);
+    }
+    rig.shoulders[side] = shoulder;
+    float reach = 0.0f;
+    for (int j = rig.wrists[side]; j >= 0 && j != shoulder; j = skeleton.parent(j))
+      reach += skeleton.joint(j).offset.norm();
+    rig.arm_reach[side] = reach;
+  }
+  std::vector<bool> above_pelvis(skeleton.num_joints(), false);
+  if (rig.pelvis >= 0) {
+    for (int j = skeleton.parent(rig.pelvis); j >= 0; j = skeleton.parent(j)) above_pelvis[j] = true;
+  }
+  for (int j = 0; j < skeleton.num_joints(); ++j) {
+    if (!above_pelvis[j]) rig.body_joints.push_back(j);
+  }
+  return rig;
+}
+
+PlausibilityFrame MakePlausibilityFrame(const PlausibilityRig& rig, std::span<const Eigen::Vector3f> joints,
+                                        const std::array<Eigen::Vector3f, 2>& input, double time, int segment,
+                                        bool flagged, bool motion_limited) {
+  PlausibilityFrame frame;
+  frame.time = time;
+  frame.segment = segment;
+  frame.pelvis = joints[rig.pelvis];
+  frame.input = input;
+  frame.flagged = flagged;
+  frame.motion_limited = motion_limited;
+  for (int side = 0; side < 2; ++side) {
+    frame.hands[side] = joints[rig.wrists[side]];
+    frame.ankles[side] = joints[rig.ankles[side]];
+    // A centimetre of slack: a straight arm's wrist is exactly at its reach.
+    frame.input_in_reach[side] = (input[side] - joints[rig.shoulders[side]]).norm() <= rig.arm_reach[side] + 0.01f;
+  }
+  frame.lowest_point = std::numeric_limits<float>::infinity();
+  for (int j : rig.body_joints) frame.lowest_point = std::min(frame.lowest_point, joints[j].y());
+  return frame;
+}
+
+void Histogram::Add(float value) {
+  value = std::max(0.0f, value);
+  ++bins_[static_cast<long>(std::floor(value / bin_width_))];
+  ++count_;
+  max_ = std::max(max_, value);
+}
+
+void Histogram::Merge(const Histogram& other) {
+  for (const auto& [bin, count] : other.bins_) bins_[bin] += count;
+  count_ += other.count_;
+  max_ = std::max(max_, other.max_);
+}
+
+float Histogram::Quantile(double q) const {
+  if (count_ == 0) return 0.0f;
+  const double wanted = std::clamp(q, 0.0, 1.0) * static_cast<double>(count_);
+  long seen = 0;
+  for (const auto& [bin, count] : bins_) {
+    seen += count;
+    if (static_cast<double>(seen) >= wanted) return std::min(max_, static_cast<float>(bin + 1) * bin_width_);
+  }
+  return max_;
+}
+
+void PlausibilityStats::Merge(const PlausibilityStats& o) {
+  frames += o.frames;
+  pelvis_speed.Merge(o.pelvis_speed);
+  pelvis_acceleration_max = std::max(pelvis_acceleration_max, o.pelvis_acceleration_max);
+  frames_over_speed_limit += o.frames_over_speed_limit;
+  hand_distance.Merge(o.hand_distance);
+  hand_frames_out_of_reach += o.hand_frames_out_of_reach;
+  hand_distance_out_of_reach_max = std::max(hand_distance_out_of_reach_max, o.hand_distance_out_of_reach_max);
+  lower_foot_height.Merge(o.lower_foot_height);
+  penetration_max = std::max(penetration_max, o.penetration_max);
+  penetrating_frames += o.penetrating_frames;
+  flagged_frames += o.flagged_frames;
+  motion_limited_frames += o.motion_limited_frames;
+}
+
+PlausibilityStats MeasurePlausibility(std::span<const PlausibilityFrame> frames, float planted_ankle_height,
+                                      float speed_limit) {
+  PlausibilityStats stats;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const PlausibilityFrame& f = frames[i];
+    ++stats.frames;
+    stats.flagged_frames += f.flagged;
+    stats.motion_limited_frames += f.motion_limited;
+    if (i >= 1 && f.time > frames[i - 1].time) {
+      // Across a gap too: a body that reappears far away has moved that fast.
+      const PlausibilityFrame& p = frames[i - 1];
+      const double dt = f.time - p.time;
+      const float speed = static_cast<float>((f.pelvis - p.pelvis).norm() / dt);
+      stats.pelvis_speed.Add(speed);
+      if (speed_limit > 0 && speed > speed_limit) ++stats.frames_over_speed_limit;
+      if (i >= 2 && p.segment == f.segment && frames[i - 2].segment == f.segment && p.time > frames[i - 2].time) {
+        const PlausibilityFrame& q = frames[i - 2];
+        const Eigen::Vector3d v1 = (p.pelvis - q.pelvis).cast<double>() / (p.time - q.time);
+        const Eigen::Vector3d v2 = (f.pelvis - p.pelvis).cast<double>() / dt;
+        stats.pelvis_acceleration_max =
+            std::max(stats.pelvis_acceleration_max, static_cast<float>((v2 - v1).norm() / (0.5 * (f.time - q.time))));
+      }
+    }
+    for (int side = 0; side < 2; ++side) {
+      const float distance = (f.hands[side] - f.input[side]).norm();
+      if (f.input_in_reach[side]) {
+        stats.hand_distance.Add(distance);
+      } else {
+        ++stats.hand_frames_out_of_reach;
+        stats.hand_distance_out_of_reach_max = std::max(stats.hand_distance_out_of_reach_max, distance);
+      }
+    }
+    stats.lower_foot_height.Add(std::min(f.ankles[0].y(), f.ankles[1].y()) - planted_ankle_height);
+    if (f.lowest_point < 0.0f) {
+      stats.penetration_max = std::max(stats.penetration_max, -f.lowest_point);
+      if (f.lowest_point < -0.01f) ++stats.penetrating_frames;
+    }
+  }
+  return stats;
+}
+
+}  // namespace mocap

@@ -1,0 +1,277 @@
+// Issue #22, "never teleport": the motion guard and the input-jump flag on their own, then the
+// whole session on a synthetic walk whose wrists arrive as real trackers send them (a 20 cm step
+// in one frame, 1 cm quantisation, repeated samples then a catch-up jump, 2–3 cm jitter, a 1 s
+// gap), in every mode: the output pelvis never moves faster than max(2 × the clip's own fastest,
+// its fastest + 1 m/s), and the jump frames — only they — are flagged.
+#include "motion/reconstruct/motion_guard.h"
+
+#include <cmath>
+#include <functional>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "motion/reconstruct/plausibility.h"
+#include "motion/reconstruct/reconstruction_session.h"
+#include "tests/support/synthetic_database.h"
+
+namespace mocap {
+namespace {
+
+constexpr double kDt = 1.0 / 30.0;
+
+MotionLimits Limits() {
+  MotionLimits limits;
+  limits.pelvis_speed_max = 2.0f;
+  limits.pelvis_acceleration_max = 10.0f;
+  limits.pelvis_speed_beyond_hands_max = 1.0f;
+  limits.wrist_speed_max = 4.0f;
+  limits.wrist_acceleration_max = 60.0f;
+  return limits;
+}
+
+// The database's bounds as they are, no margins.
+MotionGuardOptions Exact() {
+  MotionGuardOptions options;
+  options.speed_margin = options.acceleration_margin = options.beyond_hands_margin = 1.0f;
+  options.input_speed_margin = options.input_acceleration_margin = 1.0f;
+  return options;
+}
+
+TEST(MotionGuardTest, FollowsMotionWithinTheBoundsExactly) {
+  MotionGuard guard(Limits(), kDt, Exact());
+  for (int f = 0; f < 60; ++f) {
+    const float t = static_cast<float>(f * kDt);
+    const Eigen::Vector3f target(1.2f * t, 0.9f + 0.02f * std::sin(6.0f * t), 0.0f);
+    bool limited = true;
+    const Eigen::Vector3f out = guard.Next(f * kDt, target, Eigen::Vector3f(1.2f * t, 1.0f, 0.0f), &limited);
+    EXPECT_FALSE(limited) << f;
+    EXPECT_LT((out - target).norm(), 1e-6f) << f;
+  }
+}
+
+TEST(MotionGuardTest, AJumpOfTheTargetBecomesBoundedMotionThatArrives) {
+  const MotionLimits limits = Limits();
+  MotionGuard guard(limits, kDt, Exact());
+  Eigen::Vector3f previous = Eigen::Vector3f::Zero(), previous_velocity = Eigen::Vector3f::Zero();
+  int limited_frames = 0;
+  for (int f = 0; f < 120; ++f) {
+    // The solve put the body 1 m away in one frame, and the hands went along.
+    const Eigen::Vector3f target = f < 10 ? Eigen::Vector3f::Zero() : Eigen::Vector3f(1.0f, 0, 0);
+    bool limited = false;
+    const Eigen::Vector3f out = guard.Next(f * kDt, target, target + Eigen::Vector3f(0, 0.3f, 0.2f), &limited);
+    limited_frames += limited;
+    if (f > 0) {
+      const Eigen::Vector3f velocity = (out - previous) / kDt;
+      EXPECT_LE(velocity.norm(), limits.pelvis_speed_max + 1e-3f) << f;
+      EXPECT_LE((velocity - previous_velocity).norm() / kDt, limits.pelvis_acceleration_max * 1.001f) << f;
+      previous_velocity = velocity;
+    }
+    previous = out;
+  }
+  EXPECT_LT((previous - Eigen::Vector3f(1.0f, 0, 0)).norm(), 1e-3f);  // it got there
+  EXPECT_GT(limited_frames, 5);
+  EXPECT_LT(limited_frames, 60);  // in about a second, no endless oscillation
+}
+
+TEST(MotionGuardTest, ABodyDoesNotRunOffWhileItsHandsStayPut) {
+  const MotionLimits limits = Limits();
+  MotionGuard guard(limits, kDt, Exact());
+  Eigen::Vector3f previous = Eigen::Vector3f::Zero();
+  for (int f = 0; f < 60; ++f) {
+    const Eigen::Vector3f target(1.8f * static_cast<float>(f * kDt), 0.9f, 0.0f);  // 1.8 m/s: a body could
+    bool limited = false;
+    const Eigen::Vector3f out = guard.Next(f * kDt, target, Eigen::Vector3f(0, 1.0f, 0.3f), &limited);
+    if (f > 0) EXPECT_LE((out - previous).norm() / kDt, limits.pelvis_speed_beyond_hands_max + 1e-3f) << f;
+    previous = out;
+  }
+}
+
+TEST(MotionGuardTest, AGapAllowsWhatItsLengthAllows) {
+  MotionGuard guard(Limits(), kDt, Exact());
+  bool limited = false;
+  guard.Next(0.0, Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero(), &limited);
+  // 0.8 m away after a 1 s gap: 0.8 m/s, within the bounds.
+  const Eigen::Vector3f out = guard.Next(1.0, Eigen::Vector3f(0.8f, 0, 0), Eigen::Vector3f(0.8f, 0.2f, 0.2f), &limited);
+  EXPECT_FALSE(limited);
+  EXPECT_LT((out - Eigen::Vector3f(0.8f, 0, 0)).norm(), 1e-6f);
+}
+
+TEST(InputJumpDetectorTest, FlagsStepsNoHandMakes) {
+  const InputJumpDetector detector(Limits(), kDt, Exact());
+  const Eigen::Vector3f a(0, 1, 0), b(0.02f, 1, 0), c(0.04f, 1, 0);  // 0.6 m/s, steady
+  EXPECT_FALSE(detector.Implausible(&a, &b, c));
+  EXPECT_FALSE(detector.Implausible(nullptr, nullptr, c));
+  const Eigen::Vector3f step = b + Eigen::Vector3f(0.2f, 0, 0);  // 20 cm in a frame: 6 m/s
+  EXPECT_TRUE(detector.Implausible(&a, &b, step));
+  const Eigen::Vector3f small_step = b + Eigen::Vector3f(0.1f, 0, 0);  // 3 m/s, but from 0.6 in a frame
+  EXPECT_TRUE(detector.Implausible(&a, &b, small_step));
+}
+
+TEST(PlausibilityTest, MeasuresSpeedHandsFeetAndFloor) {
+  std::vector<PlausibilityFrame> frames(3);
+  for (int f = 0; f < 3; ++f) {
+    frames[f].time = f * kDt;
+    frames[f].pelvis = Eigen::Vector3f(f == 2 ? 0.5f : 0.0f, 0.9f, 0.0f);  // 15 m/s into frame 2
+    frames[f].hands = {Eigen::Vector3f(0.3f, 1, 0), Eigen::Vector3f(-0.3f, 1, 0)};
+    frames[f].input = {Eigen::Vector3f(0.3f, 1.02f, 0), Eigen::Vector3f(-0.3f, 1, 0)};
+    frames[f].ankles = {Eigen::Vector3f(0.1f, 0.08f, 0), Eigen::Vector3f(-0.1f, 0.28f, 0)};
+    frames[f].lowest_point = f == 1 ? -0.03f : 0.01f;
+  }
+  frames[2].flagged = true;
+  const PlausibilityStats stats = MeasurePlausibility(frames, 0.08f, 2.0f);
+  EXPECT_EQ(stats.frames, 3);
+  EXPECT_NEAR(stats.pelvis_speed.max(), 15.0f, 1e-3f);
+  EXPECT_EQ(stats.frames_over_speed_limit, 1);
+  EXPECT_NEAR(stats.pelvis_acceleration_max, 15.0f / kDt, 1.0f);
+  EXPECT_NEAR(stats.hand_distance.max(), 0.02f, 1e-4f);
+  EXPECT_LE(stats.hand_distance.Quantile(0.5), 0.001f);
+  EXPECT_NEAR(stats.lower_foot_height.max(), 0.0f, 1e-6f);
+  EXPECT_NEAR(stats.penetration_max, 0.03f, 1e-6f);
+  EXPECT_EQ(stats.penetrating_frames, 1);
+  EXPECT_EQ(stats.flagged_frames, 1);
+  EXPECT_FLOAT_EQ(AllowedPelvisSpeed(0.6f), 1.6f);
+  EXPECT_FLOAT_EQ(AllowedPelvisSpeed(1.5f), 3.0f);
+}
+
+// --- The session on degraded synthetic input --------------------------------------------------
+
+class NeverTeleportTest : public ::testing::Test {
+ protected:
+  static constexpr int kFrames = 150;  // 5 s of walking
+  static constexpr int kJumpFrame = 70;
+
+  void SetUp() override {
+    setup_ = testing::MakeSyntheticReconstructionSetup({}, kFrames);
+    options_.ankle_candidates = 60;  // the synthetic database is small
+    options_.pose_neighbours = 40;
+    const int pelvis = setup_.rig.topology.landmarks.pelvis;
+    for (int f = 1; f < setup_.truth.num_frames(); ++f) {
+      own_max_speed_ = std::max(
+          own_max_speed_,
+          static_cast<float>((setup_.truth.position(f, pelvis) - setup_.truth.position(f - 1, pelvis)).norm() / kDt));
+    }
+  }
+
+  struct Mode {
+    std::string name;
+    StreamMode mode;
+    int window_or_lag;
+  };
+  static std::vector<Mode> Modes() {
+    return {{"lag 0", StreamMode::kFixedLag, 0},         {"lag 5", StreamMode::kFixedLag, 5},
+            {"lag 15", StreamMode::kFixedLag, 15},       {"window 10", StreamMode::kSubInterval, 10},
+            {"window 50", StreamMode::kSubInterval, 50}, {"whole clip", StreamMode::kSubInterval, 0}};
+  }
+
+  std::vector<ReconstructedFrame> Reconstruct(const std::vector<WristSample>& samples, const Mode& mode) const {
+    ReconstructionOptions options = options_;
+    options.mode = mode.mode;
+    (mode.mode == StreamMode::kFixedLag ? options.lag : options.window) = mode.window_or_lag;
+    auto frames = ReconstructOffline(setup_.database, options, samples);
+    EXPECT_TRUE(frames.ok()) << frames.status();
+    return frames.ok() ? *frames : std::vector<ReconstructedFrame>{};
+  }
+
+  float MaxPelvisSpeed(const std::vector<ReconstructedFrame>& frames) const {
+    std::vector<PlausibilityFrame> measured;
+    for (const ReconstructedFrame& f : frames) {
+      PlausibilityFrame p;
+      p.time = f.time;
+      p.segment = f.segment;
+      p.pelvis = f.pelvis_position;
+      measured.push_back(p);
+    }
+    return MeasurePlausibility(measured, 0.0f, 0.0f).pelvis_speed.max();
+  }
+
+  // Every mode: the pelvis bound holds; returns the lag-5 frames for flag checks.
+  void ExpectNoTeleport(const std::vector<WristSample>& samples, const std::string& what) {
+    const float allowed = AllowedPelvisSpeed(own_max_speed_);
+    for (const Mode& mode : Modes()) {
+      const std::vector<ReconstructedFrame> frames = Reconstruct(samples, mode);
+      ASSERT_FALSE(frames.empty()) << what << ", " << mode.name;
+      EXPECT_LE(MaxPelvisSpeed(frames), allowed)
+          << what << ", " << mode.name << ": the capture's own pelvis moves at most " << own_max_speed_ << " m/s";
+    }
+  }
+
+  std::vector<WristSample> Clean() const { return testing::WristSamplesOf(setup_); }
+
+  testing::SyntheticReconstructionSetup setup_;
+  ReconstructionOptions options_;
+  float own_max_speed_ = 0;
+};
+
+TEST_F(NeverTeleportTest, CleanInputIsNeitherFlaggedNorHeldBack) {
+  ExpectNoTeleport(Clean(), "clean");
+  for (const Mode& mode : Modes()) {
+    for (const ReconstructedFrame& f : Reconstruct(Clean(), mode)) {
+      EXPECT_FALSE(f.implausible_input()) << mode.name << ", frame " << f.index;
+    }
+  }
+}
+
+TEST_F(NeverTeleportTest, AControllerStepOf20CmInOneFrameIsFlaggedAndNotFollowedAtOnce) {
+  std::vector<WristSample> samples = Clean();
+  for (size_t i = kJumpFrame; i < samples.size(); ++i) samples[i].right += Eigen::Vector3f(0.2f, 0.0f, 0.0f);
+  ExpectNoTeleport(samples, "20 cm step");
+  for (const Mode& mode : Modes()) {
+    const std::vector<ReconstructedFrame> frames = Reconstruct(samples, mode);
+    ASSERT_EQ(frames.size(), samples.size());
+    EXPECT_EQ(frames[kJumpFrame].hand_state[1], TrackingState::kImplausible) << mode.name;
+    EXPECT_EQ(frames[kJumpFrame].hand_state[0], TrackingState::kTracked) << mode.name;
+    for (const ReconstructedFrame& f : frames) {
+      if (std::abs(f.frame_in_segment - kJumpFrame) > 2)
+        EXPECT_FALSE(f.implausible_input()) << mode.name << ", frame " << f.frame_in_segment;
+    }
+  }
+}
+
+TEST_F(NeverTeleportTest, BothWristsJumping20CmForOneFrameAreFlagged) {
+  std::vector<WristSample> samples = Clean();
+  samples[kJumpFrame].left += Eigen::Vector3f(0.0f, 0.0f, 0.2f);
+  samples[kJumpFrame].right += Eigen::Vector3f(0.0f, 0.0f, 0.2f);
+  ExpectNoTeleport(samples, "one-frame glitch");
+  const std::vector<ReconstructedFrame> frames = Reconstruct(samples, Modes()[1]);
+  ASSERT_EQ(frames.size(), samples.size());
+  EXPECT_TRUE(frames[kJumpFrame].implausible_input());
+  for (const ReconstructedFrame& f : frames) {
+    if (std::abs(f.frame_in_segment - kJumpFrame) > 2) EXPECT_FALSE(f.implausible_input()) << f.frame_in_segment;
+  }
+}
+
+TEST_F(NeverTeleportTest, QuantisedRepeatedJitteredAndGappedInputNeverTeleports) {
+  std::vector<WristSample> quantised = Clean();
+  for (WristSample& s : quantised) {
+    for (Eigen::Vector3f* p : {&s.left, &s.right}) *p = (*p * 100.0f).array().round().matrix() / 100.0f;
+  }
+  ExpectNoTeleport(quantised, "1 cm quantisation");
+
+  std::vector<WristSample> repeated = Clean();  // the tracker updates every 4th frame only
+  for (size_t i = 0; i < repeated.size(); ++i) {
+    if (i % 4 != 0) {
+      repeated[i].left = repeated[i - i % 4].left;
+      repeated[i].right = repeated[i - i % 4].right;
+    }
+  }
+  ExpectNoTeleport(repeated, "repeated samples then a jump");
+
+  std::vector<WristSample> jittered = Clean();
+  std::mt19937 random(22);
+  std::normal_distribution<float> noise(0.0f, 0.015f);  // per axis: about 2.6 cm in 3-D
+  for (WristSample& s : jittered) {
+    for (Eigen::Vector3f* p : {&s.left, &s.right}) *p += Eigen::Vector3f(noise(random), noise(random), noise(random));
+  }
+  ExpectNoTeleport(jittered, "2–3 cm jitter");
+
+  std::vector<WristSample> gapped;  // 1 s without samples: a new segment
+  for (const WristSample& s : Clean()) {
+    if (s.time < 2.0 || s.time >= 3.0) gapped.push_back(s);
+  }
+  ExpectNoTeleport(gapped, "1 s gap");
+}
+
+}  // namespace
+}  // namespace mocap
