@@ -1,5 +1,6 @@
 #include "eval/eval_metrics.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mocap::eval {
@@ -21,6 +22,11 @@ void Metrics::Add(const Metrics& o) {
   jitter += o.jitter;
   truth_jitter += o.truth_jitter;
   seconds += o.seconds;
+  plausibility.Merge(o.plausibility);
+  clips += o.clips;
+  truth_pelvis_speed_max = std::max(truth_pelvis_speed_max, o.truth_pelvis_speed_max);
+  clips_over_allowed_speed += o.clips_over_allowed_speed;
+  worst_speed_over_allowed = std::max(worst_speed_over_allowed, o.worst_speed_over_allowed);
 }
 
 Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip, const GlobalPoses& truth,
@@ -46,9 +52,14 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
   const int wrists[2] = {l.left_wrist, l.right_wrist};
   std::vector<std::vector<Eigen::Vector3f>> positions(frames.size());
   std::vector<Eigen::Quaternionf> rotations;
+  const PlausibilityRig plausibility_rig = MakePlausibilityRig(database.body().skeleton(), l);
+  std::vector<PlausibilityFrame> plausibility_frames;
   for (size_t i = 0; i < frames.size(); ++i) {
     const int f = frames[i].frame_in_segment;
     database.body().WorldTransforms(frames[i].pose, &rotations, &positions[i]);
+    plausibility_frames.push_back(MakePlausibilityFrame(plausibility_rig, positions[i], frames[i].wrists,
+                                                        frames[i].time, frames[i].segment,
+                                                        frames[i].implausible_input(), frames[i].motion_limited));
     const std::vector<Eigen::Vector3f>& p = positions[i];
     double all = 0, legs = 0, upper = 0, angle = 0, angle_sq = 0;
     int leg_count = 0, upper_count = 0;
@@ -107,6 +118,17 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
       m.truth_jitter += truth_jitter / measured_count * rate * rate * rate;
     }
   }
+  m.plausibility = MeasurePlausibility(plausibility_frames, database.planted_ankle_height(),
+                                       database.motion_limits().pelvis_speed_max);
+  for (int f = 1; f < truth.num_frames(); ++f) {
+    m.truth_pelvis_speed_max =
+        std::max(m.truth_pelvis_speed_max,
+                 static_cast<double>((truth.position(f, l.pelvis) - truth.position(f - 1, l.pelvis)).norm()) * rate);
+  }
+  m.clips = 1;
+  const double allowed = AllowedPelvisSpeed(static_cast<float>(m.truth_pelvis_speed_max));
+  m.worst_speed_over_allowed = m.plausibility.pelvis_speed.max() / allowed;
+  m.clips_over_allowed_speed = m.worst_speed_over_allowed > 1.0 ? 1 : 0;
   return m;
 }
 

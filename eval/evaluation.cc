@@ -133,7 +133,11 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<cons
     if (progress) {
       progress(StrCat(experiment.name, ": MPJPE ", 100 * result.overall.Mean(result.overall.joint_error_m), " cm over ",
                       result.overall.frames, " frames, ",
-                      result.overall.frames / std::max(1e-9, result.overall.seconds), " frames/s"));
+                      result.overall.frames / std::max(1e-9, result.overall.seconds), " frames/s; pelvis max ",
+                      result.overall.plausibility.pelvis_speed.max(), " m/s (capture's ",
+                      result.overall.truth_pelvis_speed_max, "), ", result.overall.clips_over_allowed_speed,
+                      " clips over the allowed speed, hands p99 ",
+                      100 * result.overall.plausibility.hand_distance.Quantile(0.99), " cm from the input"));
     }
     results.push_back(std::move(result));
   }

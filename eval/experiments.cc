@@ -14,6 +14,7 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   nn.method = ReconstructionMethod::kNearestNeighbour;
   nn.joint_smoothing_sigma = 0.0f;  // a plain lookup, as motion matching would return it
   nn.hand_target_sigma = -1.0f;
+  nn.motion_guard.enabled = false;  // nor does a lookup guard its motion
   add("nearest_neighbour", "main", 0, nn, noise_cm);
   ReconstructionOptions average = nn;
   average.method = ReconstructionMethod::kNearestAverage;  // K = options.average_neighbours (10)
@@ -21,6 +22,7 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions wrists = base;
   wrists.method = ReconstructionMethod::kWristsOnly;
   wrists.hand_target_sigma = -1.0f;  // the patent's baseline: the pose model alone
+  wrists.motion_guard.enabled = false;
   add("wrists_only", "main", 0, wrists, noise_cm);
   if (!ablations) return runs;
   for (int window : {10, 50, 100}) {

@@ -102,6 +102,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--smoothing", base.smoothing.smoothing, "A2 exponential smoothing s (1 = none)")
       ->capture_default_str();
+  bool no_motion_guard = false;
+  app.add_flag("--no-motion-guard", no_motion_guard,
+               "do not bound the output pelvis by the database's speed and acceleration (issue #22)");
   std::vector<std::string> only_runs;
   app.add_option("--runs", only_runs, "only these runs (full, nearest_neighbour, nearest_average, wrists_only, ...)");
   app.add_flag("--no-bvh", no_bvh, "do not write the reconstructions as BVH");
@@ -110,6 +113,7 @@ int main(int argc, char** argv) {
   app.add_option("--shared-data", shared_data,
                  "the shared data folder (its unpack.sh; default: $MOCAP_SHARED_DATA_DIR, else ../shared/data)");
   CLI11_PARSE(app, argc, argv);
+  if (no_motion_guard) base.motion_guard.enabled = false;
   base.footskate.contact_source = contacts == "database"    ? mocap::ContactSource::kDatabaseFrame
                                   : contacts == "estimated" ? mocap::ContactSource::kEstimatedAnkles
                                                             : mocap::ContactSource::kBoth;
@@ -187,6 +191,13 @@ int main(int argc, char** argv) {
     for (auto& t : *more) tests->push_back(std::move(t));
   }
   context["database_frames"] = (*database)->num_frames();
+  const mocap::MotionLimits& motion_limits = (*database)->motion_limits();
+  context["database_pelvis_speed_max_m_per_s"] = motion_limits.pelvis_speed_max;
+  context["database_pelvis_speed_p99_m_per_s"] = motion_limits.pelvis_speed_p99;
+  context["database_pelvis_acceleration_max_m_per_s2"] = motion_limits.pelvis_acceleration_max;
+  context["database_pelvis_speed_beyond_hands_max_m_per_s"] = motion_limits.pelvis_speed_beyond_hands_max;
+  context["database_wrist_speed_max_m_per_s"] = motion_limits.wrist_speed_max;
+  context["database_wrist_acceleration_max_m_per_s2"] = motion_limits.wrist_acceleration_max;
   context["test_clips"] = tests->size();
   context["seed"] = seed;
   context["noise_cm"] = noise_cm;

@@ -29,6 +29,33 @@ const ExperimentResult* Find(const std::vector<ExperimentResult>& results, const
 
 }  // namespace
 
+nlohmann::json PlausibilityJson(const Metrics& m) {
+  const PlausibilityStats& p = m.plausibility;
+  const Histogram& hands = p.hand_distance;
+  return {
+      {"pelvis_speed_max_m_per_s", p.pelvis_speed.max()},
+      {"pelvis_speed_p99_m_per_s", p.pelvis_speed.Quantile(0.99)},
+      {"capture_pelvis_speed_max_m_per_s", m.truth_pelvis_speed_max},
+      {"pelvis_acceleration_max_m_per_s2", p.pelvis_acceleration_max},
+      {"frames_faster_than_database", p.frames_over_speed_limit},
+      {"clips", m.clips},
+      {"clips_faster_than_allowed", m.clips_over_allowed_speed},
+      {"worst_speed_over_allowed", m.worst_speed_over_allowed},
+      {"hand_to_input_p50_cm", 100 * hands.Quantile(0.5)},
+      {"hand_to_input_p99_cm", 100 * hands.Quantile(0.99)},
+      {"hand_to_input_max_cm", 100 * hands.max()},
+      {"hand_frames_in_reach", hands.count()},
+      {"hand_frames_out_of_reach", p.hand_frames_out_of_reach},
+      {"hand_to_input_out_of_reach_max_cm", 100 * p.hand_distance_out_of_reach_max},
+      {"lower_foot_height_p99_cm", 100 * p.lower_foot_height.Quantile(0.99)},
+      {"lower_foot_height_max_cm", 100 * p.lower_foot_height.max()},
+      {"ground_penetration_max_cm", 100 * p.penetration_max},
+      {"penetrating_frames", p.penetrating_frames},
+      {"implausible_input_frames", p.flagged_frames},
+      {"motion_limited_frames", p.motion_limited_frames},
+  };
+}
+
 nlohmann::json MetricsJson(const Metrics& m) {
   const double planted = std::max(1.0, m.planted_frames), jitter_frames = std::max(1.0, m.jitter_frames);
   return {
@@ -47,6 +74,7 @@ nlohmann::json MetricsJson(const Metrics& m) {
       {"jitter_m_per_s3", m.jitter / jitter_frames},
       {"truth_jitter_m_per_s3", m.truth_jitter / jitter_frames},
       {"frames_per_second", m.seconds > 0 ? m.frames / m.seconds : 0.0},
+      {"plausibility", PlausibilityJson(m)},
   };
 }
 
@@ -146,6 +174,26 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
                  Fixed(m["foot_skate_cm_per_frame"]), " (", Fixed(m["truth_foot_skate_cm_per_frame"]), ") | ",
                  Fixed(m["jitter_m_per_s3"], 1), " (", Fixed(m["truth_jitter_m_per_s3"], 1), ") | ",
                  Fixed(m["frames_per_second"], 0), " |\n");
+  }
+  md += StrCat("\n## Plausibility (no truth needed)\n\nThe database's bodies move at most ",
+               Fixed(context.value("database_pelvis_speed_max_m_per_s", 0.0)), " m/s (pelvis; 99th percentile ",
+               Fixed(context.value("database_pelvis_speed_p99_m_per_s", 0.0)), ") and accelerate at most ",
+               Fixed(context.value("database_pelvis_acceleration_max_m_per_s2", 0.0), 1),
+               " m/s². Allowed per clip: max(2 × the capture's fastest pelvis, its fastest + 1 m/s). Hands against the "
+               "smoothed input where it is within the arm's reach; the lower foot above the planted ankle height.\n\n"
+               "| run | pelvis max m/s (capture's) | p99 m/s | accel max m/s² | clips over allowed | worst / allowed | "
+               "hand–input p99 cm (max) | hand-frames out of reach | lower foot p99 cm (max) | under floor max cm | "
+               "implausible-input frames | guarded frames |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const ExperimentResult& r : results) {
+    const nlohmann::json p = MetricsJson(r.overall)["plausibility"];
+    md += StrCat("| ", r.experiment.name, " | ", Fixed(p["pelvis_speed_max_m_per_s"]), " (",
+                 Fixed(p["capture_pelvis_speed_max_m_per_s"]), ") | ", Fixed(p["pelvis_speed_p99_m_per_s"]), " | ",
+                 Fixed(p["pelvis_acceleration_max_m_per_s2"], 1), " | ", p["clips_faster_than_allowed"].get<double>(),
+                 " | ", Fixed(p["worst_speed_over_allowed"]), " | ", Fixed(p["hand_to_input_p99_cm"]), " (",
+                 Fixed(p["hand_to_input_max_cm"]), ") | ", p["hand_frames_out_of_reach"].get<long>(), " | ",
+                 Fixed(p["lower_foot_height_p99_cm"]), " (", Fixed(p["lower_foot_height_max_cm"]), ") | ",
+                 Fixed(p["ground_penetration_max_cm"]), " | ", p["implausible_input_frames"].get<long>(), " | ",
+                 p["motion_limited_frames"].get<long>(), " |\n");
   }
   if (!headline.empty()) {
     md +=
