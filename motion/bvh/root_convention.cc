@@ -62,6 +62,10 @@ RootPositionReading DecideRootPositionReading(const BvhClip& clip) {
   const Skeleton channels_only(std::move(joints));
   const GlobalPoses poses =
       ForwardKinematics(channels_only, MotionFromChannels(channels_only, sampled, clip.frame_time));
+  // Values too large to pose (a hostile or broken file) give no evidence: keep the common reading.
+  if (!poses.px.allFinite() || !poses.py.allFinite() || !poses.pz.allFinite()) {
+    return RootPositionReading::kChannelsOnly;
+  }
 
   // Up: the axis of the body's largest extent (a standing or moving body is taller than wide).
   int up = 1;
