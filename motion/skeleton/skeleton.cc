@@ -1,5 +1,6 @@
 #include "motion/skeleton/skeleton.h"
 
+#include <algorithm>
 #include <unordered_set>
 
 #include "motion/core/str_cat.h"
@@ -47,8 +48,18 @@ absl::Status Skeleton::Validate() const {
   std::unordered_set<std::string_view> names;
   for (int i = 0; i < num_joints(); ++i) {
     const Joint& joint = joints_[i];
-    if (joint.name.empty() || joint.name.find_first_of(" \t\r\n") != std::string::npos) {
-      return absl::InvalidArgumentError(StrCat("joint ", i, " has an invalid name '", joint.name, "'"));
+    // Names are echoed in errors, logs and replies: no white space or control characters, and
+    // short enough for any of them (issue #24: a 3 MiB name overflowed the reply's metadata).
+    if (joint.name.size() > kMaxJointNameBytes) {
+      return absl::InvalidArgumentError(
+          StrCat("joint ", i, " has a name of ", joint.name.size(), " bytes (at most ", kMaxJointNameBytes, ")"));
+    }
+    if (joint.name.empty() || std::any_of(joint.name.begin(), joint.name.end(),
+                                          [](char c) { return static_cast<unsigned char>(c) <= ' ' || c == '\x7f'; })) {
+      std::string shown;
+      for (const char c : joint.name) shown += static_cast<unsigned char>(c) < ' ' || c == '\x7f' ? '?' : c;
+      return absl::InvalidArgumentError(
+          StrCat("joint ", i, " has an invalid name '", shown, "' (white space or control characters)"));
     }
     if (!names.insert(joint.name).second) {
       return absl::InvalidArgumentError(StrCat("duplicate joint name '", joint.name, "'"));

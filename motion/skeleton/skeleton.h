@@ -31,6 +31,8 @@ struct Joint {
 // Invariants (checked by Validate): exactly one root at index 0, every parent index smaller than
 // the child's, unique non-empty names without white space, at most kMaxJoints joints, channels
 // without repeats.
+inline constexpr size_t kMaxJointNameBytes = 256;
+
 class Skeleton {
  public:
   static constexpr int kMaxJoints = 1024;
