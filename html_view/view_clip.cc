@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "motion/bvh/bvh_reader.h"
+#include "motion/bvh/bvh_writer.h"
 #include "motion/core/units.h"
 #include "motion/skeleton/body_topology.h"
 #include "motion/skeleton/local_motion.h"
@@ -33,6 +34,9 @@ nlohmann::json ClipJson(std::string_view name, std::string_view bvh_text) {
     clip["error"] = std::string(parsed.status().message());
     return clip;
   }
+  // The page reads what the product read: the clip as it writes files (the root's position as
+  // this reader decided it, root_convention.h), on which three.js's BVHLoader agrees.
+  clip["bvh"] = FormatBvh(*parsed);
   clip["note"] = Note(*parsed);
   const LocalMotion motion = MotionFromChannels(parsed->skeleton, parsed->channels, parsed->frame_time);
   absl::StatusOr<BodyTopology> body = AnalyseBody(parsed->skeleton, motion);
