@@ -59,9 +59,9 @@ class ExportReactor : public OwnedReactor<grpc::ServerWriteReactor<v1::ExportCli
     MOCAP_RETURN_IF_ERROR(call_.store().FindClip(database.id, request_.clip_id()).status());
     MOCAP_ASSIGN_OR_RETURN(RigModel rig, call_.store().LoadRig(database.id));
     MOCAP_ASSIGN_OR_RETURN(StoredClip clip, call_.store().LoadClip(request_.clip_id(), rig));
-    BvhClip bvh{.skeleton = clip.skeleton, .frame_time = 1.0 / database.frame_rate, .channels = {}};
-    bvh.channels = ChannelsFromMotion(bvh.skeleton, clip.motion);
-    text_ = FormatBvh(bvh);
+    // In the rig's own unit and axes: the exported file reads like the file imported.
+    clip.motion.frame_time = 1.0 / database.frame_rate;
+    text_ = FormatBvh(ToFileConventions(clip.skeleton, clip.motion, rig));
     call_.service().metrics.BytesSent(static_cast<std::int64_t>(text_.size()));
     return absl::OkStatus();
   }

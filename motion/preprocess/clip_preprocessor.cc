@@ -38,6 +38,23 @@ absl::StatusOr<LocalMotion> ToDatabaseWorld(const BvhClip& clip, const RigModel&
 
 }  // namespace
 
+BvhClip ToFileConventions(const Skeleton& skeleton_in_metres, const LocalMotion& motion, const RigModel& rig) {
+  LocalMotion file_motion = motion;
+  RotateWorld(file_motion, rig.to_y_up.conjugate());
+  const float to_file = static_cast<float>(1.0 / MetresPerUnit(rig.unit));
+  ScaleTranslations(file_motion, to_file);
+  std::vector<Joint> joints = skeleton_in_metres.joints();
+  for (Joint& joint : joints) {
+    joint.offset *= to_file;
+    if (joint.end_site) *joint.end_site *= to_file;
+  }
+  BvhClip clip;
+  clip.skeleton = Skeleton(std::move(joints));
+  clip.frame_time = motion.frame_time;
+  clip.channels = ChannelsFromMotion(clip.skeleton, file_motion);
+  return clip;
+}
+
 absl::Status CheckDatabaseFrameRate(double frame_rate) {
   if (!(frame_rate >= kMinDatabaseFrameRate && frame_rate <= kMaxDatabaseFrameRate)) {
     return absl::InvalidArgumentError(StrCat("frame rate ", frame_rate, " fps is outside the limits [",

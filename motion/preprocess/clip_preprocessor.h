@@ -52,6 +52,12 @@ absl::Status CheckBodySize(const BodyTopology& topology);
 // The database rig from its first clip: topology, unit, Y-up turn, reference rotations.
 absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const PreprocessOptions& options);
 
+// The inverse of the import's conversion: a clip as stored (`skeleton` in metres, `motion` in
+// metres, world Y up, at the database rate) as BVH in its rig's own file conventions: the rig's
+// length unit and up axis, joint order and channels (`mocap export`: a file exported reads like
+// the file imported, at the database rate).
+BvhClip ToFileConventions(const Skeleton& skeleton_in_metres, const LocalMotion& motion, const RigModel& rig);
+
 struct PreparedClip {
   Skeleton skeleton;   // this clip's own offsets in metres (performers differ in bone lengths)
   LocalMotion motion;  // database rate, metres, world Y up
