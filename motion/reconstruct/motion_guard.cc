@@ -71,7 +71,11 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& target, co
   Eigen::Vector3f velocity = Clamped(wanted, std::min(speed_limit_, hands_speed + beyond_hands_limit_));
   if (velocity_known) velocity = previous_velocity_ + Clamped(velocity - previous_velocity_, acceleration_limit_ * dt);
   Eigen::Vector3f output = previous_output_ + velocity * dt;
-  if ((output - target).norm() <= 1e-3f) {
+  // Within a millimetre: on the target (unless that step would break the acceleration bound).
+  const bool snap =
+      (output - target).norm() <= 1e-3f &&
+      (!velocity_known || ((target - previous_output_) / dt - previous_velocity_).norm() <= acceleration_limit_ * dt);
+  if (snap) {
     output = target;
   } else {
     *limited = true;

@@ -26,7 +26,7 @@ struct MotionGuardOptions {
   // performers a little faster than the database's and for the solve's own jitter).
   float speed_margin = 1.25f;
   float acceleration_margin = 1.5f;
-  float beyond_hands_margin = 1.25f;
+  float beyond_hands_margin = 1.0f;
   // A hand's input is implausible when it is faster than `input_speed_margin` × the database's
   // fastest wrist, or accelerates faster than `input_acceleration_margin` × its fastest.
   float input_speed_margin = 1.25f;

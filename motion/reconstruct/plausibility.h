@@ -24,7 +24,7 @@ namespace mocap {
 
 // The window over which the hands' motion bounds the body's (MotionLimits::pelvis_speed_beyond_hands_max):
 // long enough that an arm's swing or wave averages out, short enough to follow a start or a stop.
-inline constexpr double kHandsWindowSeconds = 0.25;
+inline constexpr double kHandsWindowSeconds = 0.5;
 int HandsWindowFrames(double frame_time);
 
 // How fast the database's bodies move (its captured clips, consecutive frames of one clip only).
