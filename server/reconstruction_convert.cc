@@ -215,6 +215,12 @@ void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool 
   ToProto(frame.ankles[1], s, out->mutable_right_ankle());
   ToProto(frame.wrists[0], s, out->mutable_left_wrist());
   ToProto(frame.wrists[1], s, out->mutable_right_wrist());
+  auto state = [](TrackingState t) {
+    return t == TrackingState::kImplausible ? v1::TRACKING_STATE_IMPLAUSIBLE : v1::TRACKING_STATE_TRACKED;
+  };
+  out->set_left_hand_state(state(frame.hand_state[0]));
+  out->set_right_hand_state(state(frame.hand_state[1]));
+  out->set_motion_limited(frame.motion_limited);
   if (!diagnostics) return;
   const FrameDiagnostics& d = frame.diagnostics;
   v1::FrameDiagnostics* o = out->mutable_diagnostics();

@@ -5,13 +5,17 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
+#include <optional>
 #include <thread>
 
 #include "client/cli/input_frame_flags.h"
 #include "client/cli/reconstruction_bvh.h"
 #include "client/cli/target_rig_file.h"
 #include "client/wrist_input/wrist_source.h"
+#include "motion/reconstruct/plausibility.h"
+#include "motion/skeleton/forward_kinematics.h"
 #include "tools/command_line/progress_bar.h"
 
 namespace mocap::cli {
@@ -109,6 +113,74 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
   return result;
 }
 
+// Issue #22: how plausible the body that came back is, without truth — the motion library's
+// measures (motion/reconstruct/plausibility.h) on the frames as received (metres, Y up). The
+// client does not know the database's ground, so a planted ankle's height is taken the way the
+// database takes it: the 10th percentile of the lower ankle's height, here over the output.
+struct Plausibility {
+  PlausibilityStats stats;
+  float input_speed_max = 0;  // m/s, the input wrists' midpoint (the smoothed wrists the frames were given)
+};
+
+std::optional<Plausibility> PlausibilityOf(const v1::SessionStarted& started, const std::vector<v1::Frame>& frames) {
+  const v1::Skeleton& rig = started.skeleton();
+  std::vector<Joint> joints;
+  for (const v1::Joint& joint : rig.joints())
+    joints.push_back({joint.name(), joint.parent(), {joint.offset().x(), joint.offset().y(), joint.offset().z()}});
+  const Skeleton skeleton(std::move(joints));
+  const v1::BodyLandmarks& l = rig.landmarks();
+  BodyLandmarks landmarks;
+  landmarks.pelvis = l.pelvis();
+  landmarks.left_wrist = l.left_wrist();
+  landmarks.right_wrist = l.right_wrist();
+  landmarks.left_ankle = l.left_ankle();
+  landmarks.right_ankle = l.right_ankle();
+  const int count = skeleton.num_joints();
+  for (int j :
+       {landmarks.pelvis, landmarks.left_wrist, landmarks.right_wrist, landmarks.left_ankle, landmarks.right_ankle}) {
+    if (j < 0 || j >= count) return std::nullopt;
+  }
+  if (frames.empty() || !skeleton.Validate().ok()) return std::nullopt;
+  LocalMotion motion;
+  motion.Resize(static_cast<int>(frames.size()), count);
+  for (int f = 0; f < static_cast<int>(frames.size()); ++f) {
+    if (frames[f].rotations_size() != count) return std::nullopt;
+    for (int j = 0; j < count; ++j) {
+      const v1::Quaternion& q = frames[f].rotations(j);
+      const v1::Vec3& root = frames[f].root_position();
+      motion.SetRotation(f, j, Eigen::Quaternionf(q.w(), q.x(), q.y(), q.z()).normalized());
+      motion.SetTranslation(f, j, j == 0 ? Eigen::Vector3f(root.x(), root.y(), root.z()) : skeleton.joint(j).offset);
+    }
+  }
+  const GlobalPoses poses = ForwardKinematics(skeleton, motion);
+  const PlausibilityRig plausibility_rig = MakePlausibilityRig(skeleton, landmarks);
+  auto vec = [](const v1::Vec3& v) { return Eigen::Vector3f(v.x(), v.y(), v.z()); };
+  std::vector<PlausibilityFrame> measured;
+  std::vector<float> lower_ankle;
+  std::vector<Eigen::Vector3f> positions(count);
+  Plausibility result;
+  for (int f = 0; f < static_cast<int>(frames.size()); ++f) {
+    const v1::Frame& frame = frames[f];
+    for (int j = 0; j < count; ++j) positions[j] = poses.position(f, j);
+    const bool implausible = frame.left_hand_state() == v1::TRACKING_STATE_IMPLAUSIBLE ||
+                             frame.right_hand_state() == v1::TRACKING_STATE_IMPLAUSIBLE;
+    measured.push_back(MakePlausibilityFrame(plausibility_rig, positions,
+                                             {vec(frame.left_wrist()), vec(frame.right_wrist())}, frame.time(),
+                                             frame.segment(), implausible, frame.motion_limited()));
+    lower_ankle.push_back(std::min(measured.back().ankles[0].y(), measured.back().ankles[1].y()));
+    if (f > 0 && frames[f - 1].segment() == frame.segment() && frame.time() > frames[f - 1].time()) {
+      const Eigen::Vector3f step = 0.5f * (vec(frame.left_wrist()) + vec(frame.right_wrist()) -
+                                           vec(frames[f - 1].left_wrist()) - vec(frames[f - 1].right_wrist()));
+      result.input_speed_max =
+          std::max(result.input_speed_max, static_cast<float>(step.norm() / (frame.time() - frames[f - 1].time())));
+    }
+  }
+  const size_t tenth = lower_ankle.size() / 10;
+  std::nth_element(lower_ankle.begin(), lower_ankle.begin() + static_cast<long>(tenth), lower_ankle.end());
+  result.stats = MeasurePlausibility(measured, lower_ankle[tenth], 0.0f);
+  return result;
+}
+
 absl::Status WriteFile(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
@@ -148,8 +220,26 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
   if (absl::Status s = WriteFile(bvh_path, *bvh); !s.ok()) return ReportError(s);
   if (absl::Status s = WriteFile(json_path, Json(*result)); !s.ok()) return ReportError(s);
   const v1::SessionSummary& summary = result->summary();
+  const std::optional<Plausibility> plausibility = PlausibilityOf(result->started(), frames);
   if (global.json) {
     nlohmann::json out = nlohmann::json::parse(Json(summary));
+    if (plausibility) {
+      const PlausibilityStats& p = plausibility->stats;
+      out["plausibility"] = {
+          {"pelvis_speed_max_m_per_s", p.pelvis_speed.max()},
+          {"pelvis_speed_p99_m_per_s", p.pelvis_speed.Quantile(0.99)},
+          {"pelvis_acceleration_max_m_per_s2", p.pelvis_acceleration_max},
+          {"input_wrists_speed_max_m_per_s", plausibility->input_speed_max},
+          {"hand_to_input_p99_cm", 100 * p.hand_distance.Quantile(0.99)},
+          {"hand_to_input_max_cm", 100 * p.hand_distance.max()},
+          {"hand_frames_out_of_reach", p.hand_frames_out_of_reach},
+          {"lower_foot_height_p99_cm", 100 * p.lower_foot_height.Quantile(0.99)},
+          {"lower_foot_height_max_cm", 100 * p.lower_foot_height.max()},
+          {"ground_penetration_max_cm", 100 * p.penetration_max},
+          {"implausible_input_frames", p.flagged_frames},
+          {"motion_limited_frames", p.motion_limited_frames},
+      };
+    }
     out["bvh"] = bvh_path;
     out["json"] = json_path;
     out["session_id"] = result->started().session_id();
@@ -169,7 +259,24 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
                                            : "")
             << "\n  per frame: cloud " << summary.cloud_ms_per_frame() << " ms, ankle path "
             << summary.path_ms_per_frame() << " ms, pose " << summary.pose_ms_per_frame() << " ms, cleanup "
-            << summary.cleanup_ms_per_frame() << " ms\n  wrote " << bvh_path << " and " << json_path << "\n";
+            << summary.cleanup_ms_per_frame() << " ms\n";
+  if (plausibility) {
+    const PlausibilityStats& p = plausibility->stats;
+    std::cout << std::fixed << std::setprecision(2) << "  plausibility: pelvis at most " << p.pelvis_speed.max()
+              << " m/s (99% ≤ " << p.pelvis_speed.Quantile(0.99) << "; input wrists at most "
+              << plausibility->input_speed_max << " m/s), acceleration ≤ " << p.pelvis_acceleration_max
+              << " m/s²; hands within " << 100 * p.hand_distance.Quantile(0.99) << " cm of the input in 99% of "
+              << "frames (max " << 100 * p.hand_distance.max() << " cm"
+              << (p.hand_frames_out_of_reach
+                      ? ", " + std::to_string(p.hand_frames_out_of_reach) + " hand-frames out of reach"
+                      : std::string())
+              << "); lower foot ≤ " << 100 * p.lower_foot_height.Quantile(0.99) << " cm above the ground in 99% (max "
+              << 100 * p.lower_foot_height.max() << "); under the floor ≤ " << 100 * p.penetration_max << " cm; "
+              << p.flagged_frames << " frames with implausible input, " << p.motion_limited_frames
+              << " frames where the body was held to a body's speed\n";
+    std::cout.unsetf(std::ios::floatfield);
+  }
+  std::cout << "  wrote " << bvh_path << " and " << json_path << "\n";
   return 0;
 }
 
