@@ -11,8 +11,10 @@
 #include "motion/bvh/bvh_writer.h"
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "motion/core/units.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/reconstruct/reconstruction_export.h"
+#include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
 
 namespace mocap::eval {
@@ -73,10 +75,47 @@ std::vector<WristSample> NoisyWrists(const TestClip& test, const RigModel& rig, 
   return samples;
 }
 
+// Issue #23: the file written must be what was scored. Reads it back (Blender's importer and
+// three.js's BVHLoader read written files as this reader does: tests/motion/bvh/
+// bvh_conformance_test.cc) and gives the largest distance, over the pelvis and every joint below
+// it (those above stay at rest in written files), from the scored body, in metres.
+absl::StatusOr<double> WrittenFileDeviation(const ReconstructionDatabase& database,
+                                            const std::vector<ReconstructedFrame>& frames,
+                                            const std::filesystem::path& file) {
+  MOCAP_ASSIGN_OR_RETURN(BvhClip written, ReadBvhFile(file));
+  if (written.num_frames() != static_cast<int>(frames.size())) {
+    return absl::DataLossError(
+        StrCat(file.string(), ": written with ", written.num_frames(), " frames, scored ", frames.size()));
+  }
+  const RigModel& rig = database.rig();
+  LocalMotion motion = MotionFromChannels(written.skeleton, written.channels, written.frame_time);
+  ScaleTranslations(motion, static_cast<float>(MetresPerUnit(rig.unit)));
+  RotateWorld(motion, rig.to_y_up);
+  const GlobalPoses read = ForwardKinematics(written.skeleton, motion);
+  const int pelvis = rig.topology.landmarks.pelvis;
+  std::vector<bool> below_pelvis(written.skeleton.num_joints(), false);
+  for (int j = 0; j < written.skeleton.num_joints(); ++j) {
+    below_pelvis[j] = j == pelvis || (written.skeleton.parent(j) >= 0 && below_pelvis[written.skeleton.parent(j)]);
+  }
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  double worst = 0.0;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    database.body().WorldTransforms(frames[f].pose, &rotations, &positions);
+    for (int j = 0; j < written.skeleton.num_joints(); ++j) {
+      if (below_pelvis[j])
+        worst = std::max(worst, double((read.position(static_cast<int>(f), j) - positions[j]).norm()));
+    }
+  }
+  return worst;
+}
+
 // The captured clip as measured (database rate, cut, metres, Y up) on its own skeleton.
 BvhClip TruthBvh(const TestClip& test) {
   return {test.clip.skeleton, test.clip.motion.frame_time, ChannelsFromMotion(test.clip.skeleton, test.clip.motion)};
 }
+
+constexpr double kMaxWrittenDeviationMetres = 0.001;
 
 }  // namespace
 
@@ -113,6 +152,15 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<cons
         if (experiment.name == "full" && !config.bvh_dir.empty()) {
           const std::filesystem::path out = config.bvh_dir / tests[i].name;
           absl::Status status = WriteBvhFile(ReconstructionToBvh(*database, *frames), out);
+          if (status.ok()) {
+            absl::StatusOr<double> deviation = WrittenFileDeviation(*database, *frames, out);
+            status = deviation.status();
+            if (status.ok() && *deviation > kMaxWrittenDeviationMetres) {
+              status = absl::InternalError(StrCat(out.string(), ": the file written is ", 1000 * *deviation,
+                                                  " mm from the reconstruction scored (at most ",
+                                                  1000 * kMaxWrittenDeviationMetres, " mm)"));
+            }
+          }
           if (status.ok()) status = WriteBvhFile(TruthBvh(tests[i]), config.bvh_dir / "truth" / tests[i].name);
           if (!status.ok()) {
             std::lock_guard<std::mutex> lock(mutex);
