@@ -39,10 +39,14 @@ absl::StatusOr<LocalMotion> ToDatabaseWorld(const BvhClip& clip, const RigModel&
 }  // namespace
 
 BvhClip ToFileConventions(const Skeleton& skeleton_in_metres, const LocalMotion& motion, const RigModel& rig) {
-  LocalMotion file_motion = motion;
-  RotateWorld(file_motion, rig.to_y_up.conjugate());
-  const float to_file = static_cast<float>(1.0 / MetresPerUnit(rig.unit));
-  ScaleTranslations(file_motion, to_file);
+  return ToFileConventions(skeleton_in_metres, motion, rig.to_y_up, rig.unit);
+}
+
+BvhClip ToFileConventions(const Skeleton& skeleton_in_metres, LocalMotion motion, const Eigen::Quaternionf& to_y_up,
+                          LengthUnit unit) {
+  RotateWorld(motion, to_y_up.conjugate());
+  const float to_file = static_cast<float>(1.0 / MetresPerUnit(unit));
+  ScaleTranslations(motion, to_file);
   std::vector<Joint> joints = skeleton_in_metres.joints();
   for (Joint& joint : joints) {
     joint.offset *= to_file;
@@ -51,7 +55,7 @@ BvhClip ToFileConventions(const Skeleton& skeleton_in_metres, const LocalMotion&
   BvhClip clip;
   clip.skeleton = Skeleton(std::move(joints));
   clip.frame_time = motion.frame_time;
-  clip.channels = ChannelsFromMotion(clip.skeleton, file_motion);
+  clip.channels = ChannelsFromMotion(clip.skeleton, motion);
   return clip;
 }
 

@@ -57,6 +57,9 @@ absl::StatusOr<RigModel> BuildRigModel(const BvhClip& first_clip, const Preproce
 // length unit and up axis, joint order and channels (`mocap export`: a file exported reads like
 // the file imported, at the database rate).
 BvhClip ToFileConventions(const Skeleton& skeleton_in_metres, const LocalMotion& motion, const RigModel& rig);
+// The same for any rig given its turn to Y up and its unit (a retargeting target's).
+BvhClip ToFileConventions(const Skeleton& skeleton_in_metres, LocalMotion motion, const Eigen::Quaternionf& to_y_up,
+                          LengthUnit unit);
 
 struct PreparedClip {
   Skeleton skeleton;   // this clip's own offsets in metres (performers differ in bone lengths)

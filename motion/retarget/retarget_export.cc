@@ -1,5 +1,6 @@
 #include "motion/retarget/retarget_export.h"
 
+#include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/reconstruction_export.h"
 #include "motion/skeleton/local_motion.h"
 
@@ -23,19 +24,7 @@ BvhClip RetargetedToBvh(const RetargetRig& target, const std::vector<BodyPose>& 
   HoldJointsAbovePelvis(skeleton, target.topology.landmarks.pelvis, held, target.to_y_up * skeleton.joint(0).offset,
                         motion);
   // Back to the file's world: undo the Y-up rotation and the conversion to metres.
-  RotateWorld(motion, target.to_y_up.conjugate());
-  const float to_file = static_cast<float>(1.0 / MetresPerUnit(target.unit));
-  ScaleTranslations(motion, to_file);
-  std::vector<Joint> file_joints = skeleton.joints();
-  for (Joint& joint : file_joints) {
-    joint.offset *= to_file;
-    if (joint.end_site) *joint.end_site *= to_file;
-  }
-  BvhClip clip;
-  clip.skeleton = Skeleton(std::move(file_joints));
-  clip.frame_time = frame_time;
-  clip.channels = ChannelsFromMotion(clip.skeleton, motion);
-  return clip;
+  return ToFileConventions(skeleton, std::move(motion), target.to_y_up, target.unit);
 }
 
 }  // namespace mocap
