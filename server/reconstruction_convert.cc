@@ -100,6 +100,11 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
        }) {
     if (!s.ok()) return s;
   }
+  // An unknown value (a newer client, or 7, -1) is refused, not silently taken as the default.
+  if (!v1::OutputFrame_IsValid(config.output_frame())) {
+    return absl::InvalidArgumentError(StrCat("output_frame: unknown value ", static_cast<int>(config.output_frame()),
+                                             " (OUTPUT_FRAME_INPUT or OUTPUT_FRAME_SERVER)"));
+  }
   return options;
 }
 
@@ -253,7 +258,8 @@ absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig) {
   if (!rig.unit().empty()) {
     unit = ParseUnit(rig.unit());
     if (!unit)
-      return absl::InvalidArgumentError("target_rig.unit must be \"m\", \"cm\", \"mm\" or \"in\" (or empty: detected)");
+      return absl::InvalidArgumentError(
+          "target_rig.unit must be \"m\", \"cm\", \"mm\", \"in\" or \"cmu\" (or empty: detected)");
   }
   switch (rig.rig_case()) {
     case v1::TargetRig::kBvh:
@@ -276,7 +282,12 @@ absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig) {
         joint.offset = FromProto(entry.offset(), 1.0f);
         if (!joint.offset.allFinite())
           return absl::InvalidArgumentError(StrCat("target_rig joint '", entry.name(), "': offset is not finite"));
-        if (entry.has_end_site()) joint.end_site = FromProto(entry.end_site(), 1.0f);
+        if (entry.has_end_site()) {
+          joint.end_site = FromProto(entry.end_site(), 1.0f);
+          if (!joint.end_site->allFinite()) {  // never echoed back as NaN in SessionStarted
+            return absl::InvalidArgumentError(StrCat("target_rig joint '", entry.name(), "': end_site is not finite"));
+          }
+        }
         using C = ChannelType;
         joint.channels = {C::kZrotation, C::kXrotation, C::kYrotation};
         if (joint.parent < 0)

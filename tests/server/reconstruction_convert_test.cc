@@ -122,6 +122,8 @@ TEST(OptionsFromConfigTest, EveryOutOfRangeFieldIsRefusedByName) {
        [](auto& c) { c.mutable_overrides()->set_foot_contacts(static_cast<v1::FootContacts>(9)); }},
       {"min_confidence", [](auto& c) { c.set_min_confidence(1.01f); }},
       {"min_confidence", [](auto& c) { c.set_min_confidence(NAN); }},
+      {"output_frame", [](auto& c) { c.set_output_frame(static_cast<v1::OutputFrame>(7)); }},
+      {"output_frame", [](auto& c) { c.set_output_frame(static_cast<v1::OutputFrame>(-1)); }},
   };
   for (const BadConfig& bad : cases) {
     v1::SessionConfig config;
@@ -131,6 +133,19 @@ TEST(OptionsFromConfigTest, EveryOutOfRangeFieldIsRefusedByName) {
     const std::string named = bad.field == "unknown method" ? "method" : bad.field;
     EXPECT_NE(options.status().message().find(named), std::string::npos) << options.status();
   }
+}
+
+// Issue #24: a target rig's NaN End Site was echoed back in SessionStarted.
+TEST(TargetRigFromProtoTest, NonFiniteEndSitesAreRefusedByJoint) {
+  v1::TargetRig rig;
+  v1::TargetJoint* joint = rig.mutable_joints()->add_joints();
+  joint->set_name("Hips");
+  joint->set_parent(-1);
+  joint->mutable_end_site()->set_y(NAN);
+  auto converted = FromProto(rig);
+  EXPECT_EQ(converted.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(converted.status().message().find("'Hips': end_site is not finite"), std::string::npos)
+      << converted.status();
 }
 
 TEST(OptionsFromConfigTest, TheEffectiveConfigReadsBackIntoTheSameOptions) {
