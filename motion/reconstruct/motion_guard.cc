@@ -30,6 +30,7 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
 Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& target, const Eigen::Vector3f& hands,
                                   bool* limited) {
   *limited = false;
+  if (has_previous_ && !(time > previous_time_)) has_previous_ = false;  // a new clock (a reused session)
   const bool continuous = has_previous_ && time - previous_time_ <= 1.5 * frame_time_;
   // The hands' mean speed over the window (as MeasureMotionLimits measures it); none yet at the
   // start of a stretch.
