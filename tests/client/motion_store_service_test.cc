@@ -186,7 +186,7 @@ TEST_F(MotionStoreServiceTest, ImportOutlivingItsDatabaseNeverLandsInAnother) {
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   auto import = OpenRawImport("acme");  // on the existing "walks"
   ASSERT_TRUE(import->WriteChunk("b.bvh", bytes, true));
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the server has looked the database up
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // the server has looked the database up
   ASSERT_TRUE(acme->DeleteDatabase("walks").ok());
   auto other = Connect(keys_["other"]);
   ASSERT_TRUE(other->CreateDatabase("walks").ok());
@@ -195,12 +195,18 @@ TEST_F(MotionStoreServiceTest, ImportOutlivingItsDatabaseNeverLandsInAnother) {
   ASSERT_TRUE(import->writer->Write(end));
   import->writer->WritesDone();
   const grpc::Status status = import->writer->Finish();
-  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND) << status.error_message();
   auto theirs = other->DescribeDatabase("walks");
   ASSERT_TRUE(theirs.ok()) << theirs.status();
   EXPECT_EQ(theirs->clip_count(), 0);
   EXPECT_EQ(theirs->skeleton().joints_size(), 0);  // no rig
-  EXPECT_EQ(acme->DescribeDatabase("walks").status().code(), absl::StatusCode::kNotFound);
+  if (status.ok()) {
+    // Only on a machine so slow (a sanitizer build under load) that the server read the start
+    // after the delete: the import then made acme a database of its own, still never B's.
+    EXPECT_EQ(acme->DescribeDatabase("walks")->clip_count(), 1);
+  } else {
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND) << status.error_message();
+    EXPECT_EQ(acme->DescribeDatabase("walks").status().code(), absl::StatusCode::kNotFound);
+  }
 }
 
 TEST_F(MotionStoreServiceTest, OversizeMessageIsResourceExhausted) {
