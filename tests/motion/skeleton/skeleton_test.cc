@@ -11,7 +11,7 @@ namespace {
 Skeleton OneJoint(std::string name) { return Skeleton({Joint{.name = std::move(name), .parent = -1}}); }
 
 TEST(SkeletonTest, NamesWithControlCharactersOrWhiteSpaceAreRefusedWithoutEchoingThem) {
-  for (const std::string name :
+  for (const std::string& name :
        {std::string("a\x01"
                     "b"),
         std::string("a\x1b[31mb"), std::string("a b"), std::string("a\x7f"), std::string("")}) {
