@@ -60,11 +60,14 @@ struct PlausibilityFrame {
   double time = 0;  // seconds
   int segment = 0;  // accelerations are measured within a segment only
   Eigen::Vector3f pelvis = Eigen::Vector3f::Zero();
-  std::array<Eigen::Vector3f, 2> hands{}, input{}, ankles{};  // input: the wrists the frame was given
-  std::array<bool, 2> input_in_reach{true, true};             // input within the arm's reach of the shoulder
-  float lowest_point = 0;                                     // lowest body joint, m above the ground
-  bool flagged = false;                                       // the engine flagged the frame's input implausible
-  bool motion_limited = false;                                // the engine's motion guard held the pelvis back
+  // input: the wrists the frame was given (Eigen's vectors are not zeroed by {}: spelled out).
+  std::array<Eigen::Vector3f, 2> hands{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  std::array<Eigen::Vector3f, 2> input{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  std::array<Eigen::Vector3f, 2> ankles{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  std::array<bool, 2> input_in_reach{true, true};  // input within the arm's reach of the shoulder
+  float lowest_point = 0;                          // lowest body joint, m above the ground
+  bool flagged = false;                            // the engine flagged the frame's input implausible
+  bool motion_limited = false;                     // the engine's motion guard held the pelvis back
 };
 // `joints`: world positions of every joint of the rig's skeleton.
 PlausibilityFrame MakePlausibilityFrame(const PlausibilityRig& rig, std::span<const Eigen::Vector3f> joints,

@@ -332,7 +332,7 @@ BvhClip MakeClip(const SyntheticRigOptions& options, int frames, double frame_ti
 
   std::vector<Quaterniond> local(body.joints.size());
   for (int f = 0; f < frames; ++f) {
-    Vector3d hips_world;
+    Vector3d hips_world = Vector3d::Zero();
     pose_at(body, f * frame_time, local, hips_world);
     hips_world *= scale;
     for (int j = 0; j < skeleton.num_joints(); ++j) {

@@ -83,7 +83,9 @@ TEST(MotionGuardTest, ABodyDoesNotRunOffWhileItsHandsStayPut) {
     const Eigen::Vector3f target(1.8f * static_cast<float>(f * kDt), 0.9f, 0.0f);  // 1.8 m/s: a body could
     bool limited = false;
     const Eigen::Vector3f out = guard.Next(f * kDt, target, Eigen::Vector3f(0, 1.0f, 0.3f), &limited);
-    if (f > 0) EXPECT_LE((out - previous).norm() / kDt, limits.pelvis_speed_beyond_hands_max + 1e-3f) << f;
+    if (f > 0) {
+      EXPECT_LE((out - previous).norm() / kDt, limits.pelvis_speed_beyond_hands_max + 1e-3f) << f;
+    }
     previous = out;
   }
 }
@@ -223,8 +225,9 @@ TEST_F(NeverTeleportTest, AControllerStepOf20CmInOneFrameIsFlaggedAndNotFollowed
     EXPECT_EQ(frames[kJumpFrame].hand_state[1], TrackingState::kImplausible) << mode.name;
     EXPECT_EQ(frames[kJumpFrame].hand_state[0], TrackingState::kTracked) << mode.name;
     for (const ReconstructedFrame& f : frames) {
-      if (std::abs(f.frame_in_segment - kJumpFrame) > 2)
+      if (std::abs(f.frame_in_segment - kJumpFrame) > 2) {
         EXPECT_FALSE(f.implausible_input()) << mode.name << ", frame " << f.frame_in_segment;
+      }
     }
   }
 }
@@ -238,7 +241,9 @@ TEST_F(NeverTeleportTest, BothWristsJumping20CmForOneFrameAreFlagged) {
   ASSERT_EQ(frames.size(), samples.size());
   EXPECT_TRUE(frames[kJumpFrame].implausible_input());
   for (const ReconstructedFrame& f : frames) {
-    if (std::abs(f.frame_in_segment - kJumpFrame) > 2) EXPECT_FALSE(f.implausible_input()) << f.frame_in_segment;
+    if (std::abs(f.frame_in_segment - kJumpFrame) > 2) {
+      EXPECT_FALSE(f.implausible_input()) << f.frame_in_segment;
+    }
   }
 }
 
