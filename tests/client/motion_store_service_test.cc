@@ -224,12 +224,19 @@ TEST_F(MotionStoreServiceTest, OversizeMessageIsResourceExhausted) {
 TEST_F(MotionStoreServiceTest, TooManyCallsPerTenantAreRefused) {
   StartServer({"--max-calls-per-tenant", "1"});
   auto import = OpenRawImport("acme");
-  // The open import holds acme's one call; wait until the server has admitted it.
+  // The open import holds acme's one call once the server has admitted it. Under load a list can
+  // be admitted first and the import refused instead: a refused import's stream is closed, so a
+  // chunk written to it fails, and another import is opened.
   auto client = Connect(keys_["acme"]);
   absl::Status refused;
   for (int i = 0; i < 500 && refused.code() != absl::StatusCode::kResourceExhausted; ++i) {
     refused = client->ListDatabases().status();
-    if (refused.ok()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!refused.ok()) continue;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!import->WriteChunk("a.bvh", "HIERARCHY\n", false)) {
+      import->writer->Finish();
+      import = OpenRawImport("acme");
+    }
   }
   EXPECT_EQ(refused.code(), absl::StatusCode::kResourceExhausted);
   EXPECT_NE(refused.message().find("calls in progress"), std::string_view::npos) << refused;

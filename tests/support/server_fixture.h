@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <string>
@@ -33,6 +34,19 @@ class ServerFixture : public ::testing::Test {
       ASSERT_TRUE(tenant.ok()) << tenant.status();
       keys_[name] = tenants.AddKey(tenant->id)->key;
     }
+  }
+
+  // A failed test shows the end of the server's log (the temporary folder goes with the test), so
+  // a failure seen only in CI can be read there.
+  void TearDown() override {
+    if (!HasFailure()) return;
+    server_.reset();  // stopped: its log is complete
+    std::ifstream log(dir_ / "server.log");
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(log, line);) lines.push_back(line);
+    const size_t first = lines.size() > 40 ? lines.size() - 40 : 0;
+    std::cerr << "--- last " << lines.size() - first << " lines of the server's log ---\n";
+    for (size_t i = first; i < lines.size(); ++i) std::cerr << lines[i] << "\n";
   }
 
   void StartServer(const std::vector<std::string>& extra = {}, long max_file_bytes = 0) {
