@@ -1,11 +1,9 @@
 #include "eval/evaluation.h"
 
-#include <atomic>
 #include <chrono>
-#include <mutex>
 #include <random>
-#include <thread>
 
+#include "eval/parallel_for.h"
 #include "eval/standard_split.h"
 #include "motion/bvh/bvh_reader.h"
 #include "motion/bvh/bvh_writer.h"
@@ -52,18 +50,16 @@ absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::files
   return tests;
 }
 
-namespace {
-
-std::vector<WristSample> NoisyWrists(const TestClip& test, const RigModel& rig, double noise_cm, unsigned seed) {
+std::vector<WristSample> NoisyWristSamples(int frames, double frame_time,
+                                           const std::function<std::array<Eigen::Vector3f, 2>(int)>& wrists,
+                                           double noise_cm, unsigned seed) {
   std::mt19937 random(seed);
   std::normal_distribution<float> noise(0.0f, static_cast<float>(noise_cm / 100.0));
-  const BodyLandmarks& l = rig.topology.landmarks;
   std::vector<WristSample> samples;
-  for (int f = 0; f < test.truth.num_frames(); ++f) {
-    WristSample s;
-    s.time = f * test.clip.motion.frame_time;
-    s.left = test.truth.position(f, l.left_wrist);
-    s.right = test.truth.position(f, l.right_wrist);
+  samples.reserve(frames);
+  for (int f = 0; f < frames; ++f) {
+    const std::array<Eigen::Vector3f, 2> at = wrists(f);
+    WristSample s{.time = f * frame_time, .left = at[0], .right = at[1]};
     if (noise_cm > 0) {
       for (int axis = 0; axis < 3; ++axis) {
         s.left[axis] += noise(random);
@@ -74,6 +70,8 @@ std::vector<WristSample> NoisyWrists(const TestClip& test, const RigModel& rig, 
   }
   return samples;
 }
+
+namespace {
 
 // Issue #23: the file written must be what was scored. Reads it back (Blender's importer and
 // three.js's BVHLoader read written files as this reader does: tests/motion/bvh/
@@ -129,50 +127,34 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<cons
   for (const Experiment& experiment : experiments) {
     ExperimentResult result{experiment, {}, {}};
     std::vector<Metrics> per_clip(tests.size());
-    std::atomic<size_t> next{0};
-    std::mutex mutex;
-    absl::Status error = absl::OkStatus();
-    auto work = [&] {
-      for (size_t i = next++; i < tests.size(); i = next++) {
-        // One seed per clip: the same noise whatever the thread count or experiment order.
-        const std::vector<WristSample> wrists =
-            NoisyWrists(tests[i], database->rig(), experiment.noise_cm, config.seed + static_cast<unsigned>(i));
-        const auto start = std::chrono::steady_clock::now();
-        absl::StatusOr<std::vector<ReconstructedFrame>> frames =
-            ReconstructOffline(database, experiment.options, wrists);
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (!frames.ok()) {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (error.ok())
-            error = absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
-          continue;
-        }
-        per_clip[i] = Measure(*database, tests[i].clip, tests[i].truth, *frames);
-        per_clip[i].seconds = seconds;
-        if (experiment.name == "full" && !config.bvh_dir.empty()) {
-          const std::filesystem::path out = config.bvh_dir / tests[i].name;
-          absl::Status status = WriteBvhFile(ReconstructionToBvh(*database, *frames), out);
-          if (status.ok()) {
-            absl::StatusOr<double> deviation = WrittenFileDeviation(*database, *frames, out);
-            status = deviation.status();
-            if (status.ok() && *deviation > kMaxWrittenDeviationMetres) {
-              status = absl::InternalError(StrCat(out.string(), ": the file written is ", 1000 * *deviation,
-                                                  " mm from the reconstruction scored (at most ",
-                                                  1000 * kMaxWrittenDeviationMetres, " mm)"));
-            }
-          }
-          if (status.ok()) status = WriteBvhFile(TruthBvh(tests[i]), config.bvh_dir / "truth" / tests[i].name);
-          if (!status.ok()) {
-            std::lock_guard<std::mutex> lock(mutex);
-            if (error.ok()) error = status;
-          }
-        }
+    MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), config.threads, [&](size_t i) -> absl::Status {
+      const TestClip& test = tests[i];
+      const BodyLandmarks& l = database->rig().topology.landmarks;
+      // One seed per clip: the same noise whatever the thread count or experiment order.
+      const std::vector<WristSample> wrists = NoisyWristSamples(
+          test.truth.num_frames(), test.clip.motion.frame_time,
+          [&](int f) {
+            return std::array<Eigen::Vector3f, 2>{test.truth.position(f, l.left_wrist),
+                                                  test.truth.position(f, l.right_wrist)};
+          },
+          experiment.noise_cm, config.seed + static_cast<unsigned>(i));
+      const auto start = std::chrono::steady_clock::now();
+      absl::StatusOr<std::vector<ReconstructedFrame>> frames = ReconstructOffline(database, experiment.options, wrists);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (!frames.ok()) return absl::Status(frames.status().code(), StrCat(test.name, ": ", frames.status().message()));
+      per_clip[i] = Measure(*database, test.clip, test.truth, *frames);
+      per_clip[i].seconds = seconds;
+      if (experiment.name != "full" || config.bvh_dir.empty()) return absl::OkStatus();
+      const std::filesystem::path out = config.bvh_dir / test.name;
+      MOCAP_RETURN_IF_ERROR(WriteBvhFile(ReconstructionToBvh(*database, *frames), out));
+      MOCAP_ASSIGN_OR_RETURN(const double deviation, WrittenFileDeviation(*database, *frames, out));
+      if (deviation > kMaxWrittenDeviationMetres) {
+        return absl::InternalError(StrCat(out.string(), ": the file written is ", 1000 * deviation,
+                                          " mm from the reconstruction scored (at most ",
+                                          1000 * kMaxWrittenDeviationMetres, " mm)"));
       }
-    };
-    std::vector<std::thread> threads;
-    for (int t = 0; t < std::max(1, config.threads); ++t) threads.emplace_back(work);
-    for (std::thread& t : threads) t.join();
-    MOCAP_RETURN_IF_ERROR(error);
+      return WriteBvhFile(TruthBvh(test), config.bvh_dir / "truth" / test.name);
+    }));
     for (size_t i = 0; i < tests.size(); ++i) {
       result.overall.Add(per_clip[i]);
       result.by_content[tests[i].content].Add(per_clip[i]);

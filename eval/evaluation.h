@@ -2,6 +2,7 @@
 // (forward kinematics plus Gaussian noise, fixed seed) with every experiment, and measures.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -42,6 +43,12 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
 absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files,
                                                     const RigModel& rig, int max_frames,
                                                     const std::string& content_prefix);
+
+// The input a test gives the engine: `frames` samples `frame_time` apart from time 0, the wrists of
+// each frame (left, right; metres, Y up) plus Gaussian noise of σ `noise_cm` drawn from `seed`.
+std::vector<WristSample> NoisyWristSamples(int frames, double frame_time,
+                                           const std::function<std::array<Eigen::Vector3f, 2>(int)>& wrists,
+                                           double noise_cm, unsigned seed);
 
 struct EvaluationConfig {
   unsigned seed = 1;

@@ -11,8 +11,10 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "eval/cross_dataset.h"
 #include "eval/datasets/shared_data.h"
 #include "eval/evaluation.h"
+#include "eval/landmark_report.h"
 #include "eval/quick_thresholds.h"
 #include "eval/report.h"
 #include "eval/standard_split.h"
@@ -47,6 +49,40 @@ std::vector<std::filesystem::path> QuickSubset(const std::vector<std::filesystem
   return subset;
 }
 
+// Tests scored on landmarks (clips on any rig; the cross-dataset protocol): runs, writes
+// landmarks.md / landmarks.json, prints the per-source table.
+int RunLandmarkTests(std::shared_ptr<const mocap::ReconstructionDatabase> database,
+                     const mocap::eval::LandmarkTestSet& tests, const std::vector<mocap::eval::Experiment>& experiments,
+                     nlohmann::json context, const std::string& out_dir, unsigned seed, int threads) {
+  if (tests.clips.empty()) {
+    std::cerr << "mocap-eval: no test clip can be scored\n";
+    return kExitError;
+  }
+  context["test_clips"] = tests.clips.size();
+  std::cerr << "reconstructing " << tests.clips.size() << " clips (scored on landmarks) with " << experiments.size()
+            << " runs...\n";
+  auto results = mocap::eval::RunLandmarkEvaluation(database, tests.clips, experiments, seed, threads,
+                                                    [](const std::string& line) { std::cerr << "  " << line << "\n"; });
+  if (!results.ok()) {
+    std::cerr << "mocap-eval: " << results.status().message() << "\n";
+    return kExitError;
+  }
+  if (absl::Status status = mocap::eval::WriteLandmarkReport(out_dir, context, tests.left_out, *results);
+      !status.ok()) {
+    std::cerr << "mocap-eval: " << status.message() << "\n";
+    return kExitError;
+  }
+  std::ifstream summary(std::filesystem::path(out_dir) / "landmarks.md");
+  std::string line;
+  for (bool in_table = false; std::getline(summary, line);) {  // the per-source table
+    if (line == "## Per source") in_table = true;
+    if (line.starts_with("## Per source and")) break;
+    if (in_table) std::cout << line << "\n";
+  }
+  std::cout << "wrote " << out_dir << "/landmarks.md, landmarks.json\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -68,6 +104,12 @@ int main(int argc, char** argv) {
                "report on the standard split");
   app.add_flag("--quick", quick, "one held-out clip per content type, 120 frames each; fails on regression");
   app.add_flag("--ablations", ablations, "also run window L ∈ {10,50,100}, noise σ ∈ {0,1,2} cm, lag D ∈ {0,5,15,30}");
+  bool cross_dataset = false, landmarks = false;
+  app.add_flag("--cross-dataset", cross_dataset,
+               "the cross-dataset protocol of shared/data/README: database = all of bandai-namco-2; tests = "
+               "bandai-namco-1, cmu-cc and the moving other-rigs clips, scored on body landmarks");
+  app.add_flag("--landmarks", landmarks,
+               "score the --test clips on body landmarks (automatic when a clip's rig is not the database's)");
   app.add_flag("--generalisation", generalisation,
                "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
   app.add_option("--noise-cm", noise_cm, "wrist noise σ in cm (METHOD.md A8: 0.5)");
@@ -122,7 +164,20 @@ int main(int argc, char** argv) {
   if (!shared_data.empty()) data.shared_dir = shared_data;
   nlohmann::json context;
   std::vector<std::filesystem::path> database_files, test_files;
-  if (database_dirs.empty()) {
+  if (cross_dataset) {
+    std::string why;
+    auto folder = mocap::datasets::UnpackedSet(data, "bandai-namco-2", &why);
+    if (!folder) {
+      std::cerr << "mocap-eval: --cross-dataset needs bandai-namco-2: " << why << "\n";
+      return kExitNoData;
+    }
+    if (database_dirs.empty()) database_dirs.push_back(folder->string());
+    if (!CollectInto(database_dirs, &database_files)) return kExitError;
+    context["database"] = database_dirs.size() == 1 && database_dirs[0] == folder->string()
+                              ? std::string("all of bandai-namco-2 (cross-dataset protocol)")
+                              : database_dirs[0];
+    context["test_set"] = "every bandai-namco-1 and cmu-cc clip, the other-rigs clips that move";
+  } else if (database_dirs.empty()) {
     auto split = development ? mocap::eval::LoadDevelopmentSplit(data) : mocap::eval::LoadStandardSplit(data);
     if (!split.ok()) {
       std::cerr << "mocap-eval: " << split.status().message() << "\n";
@@ -150,12 +205,12 @@ int main(int argc, char** argv) {
     context["database"] = folders;  // one string: the report prints it
     context["test_set"] = "named on the command line";
   }
-  if (quick) {
+  if (quick && !cross_dataset) {
     test_files = QuickSubset(test_files);
     if (max_frames == 0) max_frames = 120;
   }
   if (max_clips > 0 && static_cast<int>(test_files.size()) > max_clips) test_files.resize(max_clips);
-  if (test_files.empty()) {
+  if (test_files.empty() && !cross_dataset) {
     std::cerr << "mocap-eval: no test clips\n";
     return kExitError;
   }
@@ -165,7 +220,36 @@ int main(int argc, char** argv) {
     std::cerr << "mocap-eval: database: " << database.status().message() << "\n";
     return kExitError;
   }
-  auto tests = mocap::eval::LoadTestClips(test_files, (*database)->rig(), max_frames, "");
+  auto make_experiments = [&] {
+    auto experiments = mocap::eval::MakeExperiments(base, noise_cm, ablations);
+    std::erase_if(experiments, [&](const mocap::eval::Experiment& e) {
+      if (!only_runs.empty()) return std::find(only_runs.begin(), only_runs.end(), e.name) == only_runs.end();
+      return (cross_dataset || landmarks) && e.name == "wrists_only";  // landmarks: the method and the lookups
+    });
+    return experiments;
+  };
+  auto add_limits = [&] {
+    const mocap::MotionLimits& limits = (*database)->motion_limits();
+    context["database_frames"] = (*database)->num_frames();
+    context["database_pelvis_speed_max_m_per_s"] = limits.pelvis_speed_max;
+    context["seed"] = seed;
+    context["noise_cm"] = noise_cm;
+  };
+  auto tests = landmarks || cross_dataset
+                   ? absl::StatusOr<std::vector<mocap::eval::TestClip>>(absl::FailedPreconditionError("landmarks"))
+                   : mocap::eval::LoadTestClips(test_files, (*database)->rig(), max_frames, "");
+  if (!tests.ok() && tests.status().code() == absl::StatusCode::kFailedPrecondition) {
+    // Another rig (or asked for): every test clip is scored on its body landmarks.
+    auto landmark_tests = cross_dataset ? mocap::eval::LoadCrossDatasetTests(data, max_frames)
+                                        : mocap::eval::LoadLandmarkTests(test_files, max_frames);
+    if (!landmark_tests.ok()) {
+      std::cerr << "mocap-eval: test clips: " << landmark_tests.status().message() << "\n";
+      return landmark_tests.status().code() == absl::StatusCode::kNotFound ? kExitNoData : kExitError;
+    }
+    if (!cross_dataset) context["test_set"] = "named on the command line, scored on landmarks";
+    add_limits();
+    return RunLandmarkTests(*database, *landmark_tests, make_experiments(), context, out_dir, seed, threads);
+  }
   if (!tests.ok()) {
     std::cerr << "mocap-eval: test clips: " << tests.status().message() << "\n";
     return kExitError;
@@ -204,12 +288,7 @@ int main(int argc, char** argv) {
   context["k1"] = base.ankle_candidates;
   context["k2"] = base.pose_neighbours;
   context["quick"] = quick;
-  auto experiments = mocap::eval::MakeExperiments(base, noise_cm, ablations);
-  if (!only_runs.empty()) {
-    std::erase_if(experiments, [&](const mocap::eval::Experiment& e) {
-      return std::find(only_runs.begin(), only_runs.end(), e.name) == only_runs.end();
-    });
-  }
+  auto experiments = make_experiments();
   mocap::eval::EvaluationConfig config{
       .seed = seed, .threads = threads, .bvh_dir = no_bvh ? "" : std::filesystem::path(out_dir) / "bvh"};
   std::cerr << "reconstructing " << tests->size() << " clips with " << experiments.size() << " runs...\n";

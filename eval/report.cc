@@ -7,6 +7,7 @@
 
 #include "eval/fixed_format.h"
 #include "eval/html_report.h"
+#include "eval/plausibility_json.h"
 #include "eval/svg_chart.h"
 #include "motion/core/str_cat.h"
 
@@ -28,33 +29,6 @@ const ExperimentResult* Find(const std::vector<ExperimentResult>& results, const
 }
 
 }  // namespace
-
-nlohmann::json PlausibilityJson(const Metrics& m) {
-  const PlausibilityStats& p = m.plausibility;
-  const Histogram& hands = p.hand_distance;
-  return {
-      {"pelvis_speed_max_m_per_s", p.pelvis_speed.max()},
-      {"pelvis_speed_p99_m_per_s", p.pelvis_speed.Quantile(0.99)},
-      {"capture_pelvis_speed_max_m_per_s", m.truth_pelvis_speed_max},
-      {"pelvis_acceleration_max_m_per_s2", p.pelvis_acceleration_max},
-      {"frames_faster_than_database", p.frames_over_speed_limit},
-      {"clips", m.clips},
-      {"clips_faster_than_allowed", m.clips_over_allowed_speed},
-      {"worst_speed_over_allowed", m.worst_speed_over_allowed},
-      {"hand_to_input_p50_cm", 100 * hands.Quantile(0.5)},
-      {"hand_to_input_p99_cm", 100 * hands.Quantile(0.99)},
-      {"hand_to_input_max_cm", 100 * hands.max()},
-      {"hand_frames_in_reach", hands.count()},
-      {"hand_frames_out_of_reach", p.hand_frames_out_of_reach},
-      {"hand_to_input_out_of_reach_max_cm", 100 * p.hand_distance_out_of_reach_max},
-      {"lower_foot_height_p99_cm", 100 * p.lower_foot_height.Quantile(0.99)},
-      {"lower_foot_height_max_cm", 100 * p.lower_foot_height.max()},
-      {"ground_penetration_max_cm", 100 * p.penetration_max},
-      {"penetrating_frames", p.penetrating_frames},
-      {"implausible_input_frames", p.flagged_frames},
-      {"motion_limited_frames", p.motion_limited_frames},
-  };
-}
 
 nlohmann::json MetricsJson(const Metrics& m) {
   const double planted = std::max(1.0, m.planted_frames), jitter_frames = std::max(1.0, m.jitter_frames);

@@ -1,10 +1,6 @@
 #include "eval/standard_split.h"
 
-#include <algorithm>
-#include <atomic>
-#include <mutex>
-#include <thread>
-
+#include "eval/parallel_for.h"
 #include "motion/bvh/bvh_reader.h"
 #include "motion/core/status_macros.h"
 #include "motion/preprocess/clip_labels.h"
@@ -40,27 +36,12 @@ absl::StatusOr<StandardSplit> LoadDevelopmentSplit(const datasets::DataLocation&
 
 absl::Status PrepareAll(const std::vector<std::filesystem::path>& files, const RigModel& rig,
                         const std::function<void(size_t, PreparedClip&&)>& consume) {
-  std::atomic<size_t> next{0};
-  std::mutex mutex;
-  absl::Status first_error = absl::OkStatus();
-  auto work = [&] {
-    for (size_t i = next++; i < files.size(); i = next++) {
-      absl::StatusOr<BvhClip> clip = ReadBvhFile(files[i]);
-      absl::StatusOr<PreparedClip> prepared =
-          clip.ok() ? PrepareClip(*clip, rig, {}) : absl::StatusOr<PreparedClip>(clip.status());
-      if (!prepared.ok()) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (first_error.ok()) first_error = prepared.status();
-        continue;
-      }
-      consume(i, std::move(*prepared));
-    }
-  };
-  std::vector<std::thread> threads;
-  const unsigned count = std::max(1u, std::thread::hardware_concurrency());
-  for (unsigned t = 0; t < count; ++t) threads.emplace_back(work);
-  for (std::thread& t : threads) t.join();
-  return first_error;
+  return ParallelFor(files.size(), AllCores(), [&](size_t i) -> absl::Status {
+    MOCAP_ASSIGN_OR_RETURN(BvhClip clip, ReadBvhFile(files[i]));
+    MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared, PrepareClip(clip, rig, {}));
+    consume(i, std::move(prepared));
+    return absl::OkStatus();
+  });
 }
 
 }  // namespace mocap::eval

@@ -18,4 +18,13 @@ for f in report.json report.md plots/error_by_content.svg bvh; do
 done
 grep -q "my database" "$work/out/report.json" || { echo "FAIL: report.json does not name the database folder"; exit 1; }
 grep -q "nearest_average" "$work/out/report.json" || { echo "FAIL: no average-of-10 baseline"; exit 1; }
-echo "ok: report written for folders given on the command line"
+# Test clips on another rig (issue #22): scored on body landmarks at their own rate and unit.
+"$shared/unpack.sh" "$cache" other-rigs >/dev/null
+mkdir -p "$work/their rig"
+ln -s "$cache/other-rigs/mixamo_test_freebvh.bvh" "$cache/other-rigs/xia_dme_neutral_01_000.bvh" "$work/their rig/"
+"$eval_bin" --database-dir "$work/my database" --test "$work/their rig" --max-frames 60 --k1 200 --k2 50 --threads 1 \
+  --out "$work/out-rigs" >"$work/log" 2>&1 || { cat "$work/log"; echo "FAIL: mocap-eval on another rig exited $?"; exit 1; }
+[ -e "$work/out-rigs/landmarks.json" ] || { cat "$work/log"; echo "FAIL: no landmarks.json"; exit 1; }
+grep -q '"xia_dme_neutral_01_000.bvh"' "$work/out-rigs/landmarks.json" || { echo "FAIL: clip not scored"; exit 1; }
+grep -q "^| named | 2 |" "$work/out-rigs/landmarks.md" || { cat "$work/out-rigs/landmarks.md"; echo "FAIL: no row"; exit 1; }
+echo "ok: report written for folders given on the command line, and for clips on other rigs"

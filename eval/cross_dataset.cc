@@ -1,0 +1,197 @@
+#include "eval/cross_dataset.h"
+
+#include <chrono>
+#include <fstream>
+
+#include "eval/evaluation.h"
+#include "eval/parallel_for.h"
+#include "motion/bvh/bvh_reader.h"
+#include "motion/core/status_macros.h"
+#include "motion/core/str_cat.h"
+#include "motion/preprocess/clip_labels.h"
+#include "motion/preprocess/clip_preprocessor.h"
+#include "motion/skeleton/forward_kinematics.h"
+
+namespace mocap::eval {
+
+absl::StatusOr<LandmarkTestClip> LoadLandmarkTestClip(const std::filesystem::path& file, std::string source,
+                                                      std::string content, int max_frames) {
+  MOCAP_ASSIGN_OR_RETURN(BvhClip clip, ReadBvhFile(file));
+  if (max_frames > 0 && clip.num_frames() > max_frames) clip.channels.conservativeResize(max_frames, Eigen::NoChange);
+  if (clip.num_frames() < 2) {
+    return absl::FailedPreconditionError(StrCat(file.filename().string(), ": one frame, nothing moves"));
+  }
+  MOCAP_ASSIGN_OR_RETURN(RigModel rig, BuildRigModel(clip, {}));
+  const std::array<int, kNumScoredLandmarks> joints = ScoredLandmarkJoints(rig.topology.landmarks);
+  for (int k = 0; k < kNumScoredLandmarks; ++k) {
+    if (joints[k] < 0) {
+      return absl::FailedPreconditionError(
+          StrCat(file.filename().string(), ": the rig's analysis found no ", kLandmarkGroupNames[kLandmarkGroup[k]]));
+    }
+  }
+  // At its own rate: the engine resamples the wrists as it would a device's.
+  MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared, PrepareClip(clip, rig, {.frame_rate = 1.0 / clip.frame_time}));
+  const GlobalPoses poses = ForwardKinematics(prepared.skeleton, prepared.motion);
+  LandmarkTestClip test{file.filename().string(), std::move(source), std::move(content), {}};
+  test.truth.frame_time = prepared.motion.frame_time;
+  test.truth.positions.resize(poses.num_frames());
+  for (int f = 0; f < poses.num_frames(); ++f) {
+    for (int k = 0; k < kNumScoredLandmarks; ++k) test.truth.positions[f][k] = poses.position(f, joints[k]);
+  }
+  return test;
+}
+
+bool Moves(const LandmarkTruth& truth) {
+  constexpr float kMovedMetres = 0.05f;
+  for (const auto& frame : truth.positions) {
+    for (int k = 0; k < kNumScoredLandmarks; ++k) {
+      if ((frame[k] - truth.positions.front()[k]).norm() >= kMovedMetres) return true;
+    }
+  }
+  return false;
+}
+
+namespace {
+
+struct NamedFile {
+  std::filesystem::path path;
+  std::string source, content;
+};
+
+absl::StatusOr<LandmarkTestSet> LoadAll(const std::vector<NamedFile>& files, int max_frames) {
+  std::vector<absl::StatusOr<LandmarkTestClip>> loaded(files.size(), absl::UnknownError("not loaded"));
+  MOCAP_RETURN_IF_ERROR(ParallelFor(files.size(), AllCores(), [&](size_t i) {
+    loaded[i] = LoadLandmarkTestClip(files[i].path, files[i].source, files[i].content, max_frames);
+    return absl::OkStatus();
+  }));
+  LandmarkTestSet set;
+  for (size_t i = 0; i < files.size(); ++i) {
+    if (!loaded[i].ok()) {
+      // A file the reader refuses is an error; one whose landmarks cannot all be found is left out.
+      if (loaded[i].status().code() != absl::StatusCode::kFailedPrecondition) {
+        return absl::Status(loaded[i].status().code(),
+                            StrCat(files[i].path.string(), ": ", loaded[i].status().message()));
+      }
+      set.left_out.push_back(std::string(loaded[i].status().message()));
+    } else if (!Moves(loaded[i]->truth)) {
+      set.left_out.push_back(StrCat(files[i].path.filename().string(), ": does not move"));
+    } else {
+      set.clips.push_back(*std::move(loaded[i]));
+    }
+  }
+  return set;
+}
+
+std::string ContentFromName(const std::filesystem::path& file) {
+  const std::string content = LabelValue(ParseClipLabels(file.filename().string()), "content");
+  return content.empty() ? "other" : content;
+}
+
+// The fields of one CSV line (double quotes around fields that hold commas).
+std::vector<std::string> CsvFields(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      fields.emplace_back();
+    } else if (c != '\r') {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+// cmu-cc: what each trial shows, from cmu-descriptions.csv ("dance - small jetes, pirouette" →
+// "dance"), keyed "subject_trial" as the file names ("005_12").
+std::map<std::string, std::string> CmuContents(const std::filesystem::path& folder) {
+  std::map<std::string, std::string> contents;
+  std::ifstream in(folder / "cmu-descriptions.csv");
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> f = CsvFields(line);
+    if (f.size() < 3 || f[0].empty() || !std::isdigit(static_cast<unsigned char>(f[0][0]))) continue;
+    std::string content = f[2].substr(0, std::min(f[2].find(" - "), f[2].find(',')));
+    char key[32];
+    std::snprintf(key, sizeof key, "%03d_%02d", std::atoi(f[0].c_str()), std::atoi(f[1].c_str()));
+    contents[key] = content.empty() ? "other" : content;
+  }
+  return contents;
+}
+
+}  // namespace
+
+absl::StatusOr<LandmarkTestSet> LoadLandmarkTests(const std::vector<std::filesystem::path>& files, int max_frames) {
+  std::vector<NamedFile> named;
+  for (const auto& file : files) named.push_back({file, "named", ContentFromName(file)});
+  return LoadAll(named, max_frames);
+}
+
+absl::StatusOr<LandmarkTestSet> LoadCrossDatasetTests(const datasets::DataLocation& data, int max_frames) {
+  std::vector<NamedFile> files;
+  for (const char* set : {"bandai-namco-1", "cmu-cc", "other-rigs"}) {
+    std::string why;
+    const std::optional<std::filesystem::path> folder = datasets::UnpackedSet(data, set, &why);
+    if (!folder) return absl::NotFoundError(StrCat("the cross-dataset protocol needs ", set, ": ", why));
+    const std::map<std::string, std::string> cmu =
+        set == std::string_view("cmu-cc") ? CmuContents(*folder) : std::map<std::string, std::string>{};
+    for (const std::filesystem::path& file : datasets::BvhFilesIn(*folder)) {
+      std::string content;
+      if (set == std::string_view("bandai-namco-1")) {
+        content = ContentFromName(file);
+      } else if (set == std::string_view("cmu-cc")) {
+        const auto found = cmu.find(file.stem().string());
+        content = found == cmu.end() ? "other" : found->second;
+      } else {  // other-rigs: the exporter or lab, the file name's first word
+        content = file.stem().string().substr(0, file.stem().string().find('_'));
+      }
+      files.push_back({file, set, content});
+    }
+  }
+  return LoadAll(files, max_frames);
+}
+
+absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
+    std::shared_ptr<const ReconstructionDatabase> database, const std::vector<LandmarkTestClip>& tests,
+    const std::vector<Experiment>& experiments, unsigned seed, int threads,
+    const std::function<void(const std::string&)>& progress) {
+  std::vector<LandmarkExperimentResult> results;
+  for (const Experiment& experiment : experiments) {
+    std::vector<LandmarkMetrics> per_clip(tests.size());
+    MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), threads, [&](size_t i) -> absl::Status {
+      const LandmarkTruth& truth = tests[i].truth;
+      const std::vector<WristSample> wrists = NoisyWristSamples(
+          truth.num_frames(), truth.frame_time,
+          [&](int f) {
+            return std::array<Eigen::Vector3f, 2>{truth.positions[f][kLeftWristLandmark],
+                                                  truth.positions[f][kRightWristLandmark]};
+          },
+          experiment.noise_cm, seed + static_cast<unsigned>(i));
+      const auto start = std::chrono::steady_clock::now();
+      absl::StatusOr<std::vector<ReconstructedFrame>> frames = ReconstructOffline(database, experiment.options, wrists);
+      if (!frames.ok())
+        return absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
+      per_clip[i] = MeasureLandmarks(*database, truth, *frames);
+      per_clip[i].seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return absl::OkStatus();
+    }));
+    LandmarkExperimentResult result{experiment, {}, {}, {}, {}};
+    for (size_t i = 0; i < tests.size(); ++i) {
+      result.overall.Add(per_clip[i]);
+      result.by_source[tests[i].source].Add(per_clip[i]);
+      result.by_content[StrCat(tests[i].source, "/", tests[i].content)].Add(per_clip[i]);
+      result.clips.push_back({tests[i].name, tests[i].source, tests[i].content, per_clip[i]});
+    }
+    if (progress) {
+      const LandmarkMetrics& o = result.overall;
+      progress(StrCat(experiment.name, ": landmarks ", 100 * o.Mean(o.landmark_error_m), " cm, wrists ",
+                      100 * o.Mean(o.wrist_error_m()), " cm over ", o.frames, " frames; ", o.clips_over_allowed_speed,
+                      " clips over the allowed pelvis speed"));
+    }
+    results.push_back(std::move(result));
+  }
+  return results;
+}
+
+}  // namespace mocap::eval

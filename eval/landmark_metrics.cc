@@ -1,0 +1,88 @@
+#include "eval/landmark_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mocap::eval {
+
+std::array<int, kNumScoredLandmarks> ScoredLandmarkJoints(const BodyLandmarks& l) {
+  return {l.pelvis,      l.head,     l.left_shoulder, l.right_shoulder, l.left_elbow, l.right_elbow, l.left_wrist,
+          l.right_wrist, l.left_hip, l.right_hip,     l.left_knee,      l.right_knee, l.left_ankle,  l.right_ankle};
+}
+
+void LandmarkMetrics::Add(const LandmarkMetrics& o) {
+  frames += o.frames;
+  landmark_error_m += o.landmark_error_m;
+  for (int g = 0; g < kNumLandmarkGroups; ++g) group_error_m[g] += o.group_error_m[g];
+  seconds += o.seconds;
+  plausibility.Merge(o.plausibility);
+  clips += o.clips;
+  truth_pelvis_speed_max = std::max(truth_pelvis_speed_max, o.truth_pelvis_speed_max);
+  clips_over_allowed_speed += o.clips_over_allowed_speed;
+  worst_speed_over_allowed = std::max(worst_speed_over_allowed, o.worst_speed_over_allowed);
+}
+
+namespace {
+
+// The capture's fastest pelvis, measured over the database's frame time (the output's), so a
+// 120 fps capture's marker noise is not taken for speed.
+double TruthPelvisSpeedMax(const LandmarkTruth& truth, double database_frame_time) {
+  const int step = std::max(1, static_cast<int>(std::lround(database_frame_time / truth.frame_time)));
+  double fastest = 0;
+  for (int f = step; f < truth.num_frames(); ++f) {
+    const double moved = (truth.positions[f][kPelvisLandmark] - truth.positions[f - step][kPelvisLandmark]).norm();
+    fastest = std::max(fastest, moved / (step * truth.frame_time));
+  }
+  return fastest;
+}
+
+}  // namespace
+
+LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const LandmarkTruth& truth,
+                                 const std::vector<ReconstructedFrame>& frames) {
+  LandmarkMetrics m;
+  const std::array<int, kNumScoredLandmarks> joints = ScoredLandmarkJoints(database.rig().topology.landmarks);
+  const PlausibilityRig plausibility_rig =
+      MakePlausibilityRig(database.body().skeleton(), database.rig().topology.landmarks);
+  std::vector<std::array<Eigen::Vector3f, kNumScoredLandmarks>> output(frames.size());
+  std::vector<PlausibilityFrame> plausibility_frames;
+  plausibility_frames.reserve(frames.size());
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    database.body().WorldTransforms(frames[i].pose, &rotations, &positions);
+    for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = positions[joints[k]];
+    plausibility_frames.push_back(MakePlausibilityFrame(plausibility_rig, positions, frames[i].wrists, frames[i].time,
+                                                        frames[i].segment, frames[i].implausible_input(),
+                                                        frames[i].motion_limited));
+  }
+  size_t next = 1;  // the first output frame at or after the truth frame's time
+  for (int f = 0; f < truth.num_frames() && frames.size() >= 2; ++f) {
+    const double t = f * truth.frame_time;
+    if (t < frames.front().time - 1e-9 || t > frames.back().time + 1e-9) continue;
+    while (next + 1 < frames.size() && frames[next].time < t) ++next;
+    const double t0 = frames[next - 1].time, t1 = frames[next].time;
+    const float w = t1 > t0 ? static_cast<float>(std::clamp((t - t0) / (t1 - t0), 0.0, 1.0)) : 0.0f;
+    double sum = 0;
+    std::array<double, kNumLandmarkGroups> group{};
+    for (int k = 0; k < kNumScoredLandmarks; ++k) {
+      const Eigen::Vector3f at = (1.0f - w) * output[next - 1][k] + w * output[next][k];
+      const double e = (at - truth.positions[f][k]).norm();
+      sum += e;
+      group[kLandmarkGroup[k]] += e;
+    }
+    m.frames += 1;
+    m.landmark_error_m += sum / kNumScoredLandmarks;
+    for (int g = 0; g < kNumLandmarkGroups; ++g) m.group_error_m[g] += g < 2 ? group[g] : group[g] / 2;
+  }
+  m.plausibility = MeasurePlausibility(plausibility_frames, database.planted_ankle_height(),
+                                       database.motion_limits().pelvis_speed_max);
+  m.clips = 1;
+  m.truth_pelvis_speed_max = TruthPelvisSpeedMax(truth, database.frame_time());
+  m.worst_speed_over_allowed =
+      m.plausibility.pelvis_speed.max() / AllowedPelvisSpeed(static_cast<float>(m.truth_pelvis_speed_max));
+  m.clips_over_allowed_speed = m.worst_speed_over_allowed > 1.0 ? 1 : 0;
+  return m;
+}
+
+}  // namespace mocap::eval

@@ -1,0 +1,62 @@
+// Scoring a reconstruction on body landmarks (issue #22, shared/data/README "Beyond the lab"): the
+// test clip may be on any rig, at any rate and in any unit, so the reconstruction (on the
+// database's rig) and the capture (on its own) are compared where both rigs have the same body
+// point, found by the name-free analysis (motion/skeleton/body_topology.h): pelvis, head,
+// shoulders, elbows, wrists, hips, knees, ankles, at the test clip's own frame times.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "motion/reconstruct/plausibility.h"
+#include "motion/reconstruct/reconstruction_database.h"
+#include "motion/reconstruct/reconstruction_session.h"
+#include "motion/skeleton/body_topology.h"
+
+namespace mocap::eval {
+
+// The scored landmarks, in this order; the groups pair left and right.
+inline constexpr int kNumScoredLandmarks = 14;
+inline constexpr int kNumLandmarkGroups = 8;
+inline constexpr std::array<const char*, kNumLandmarkGroups> kLandmarkGroupNames = {
+    "pelvis", "head", "shoulders", "elbows", "wrists", "hips", "knees", "ankles"};
+// Group of each scored landmark (pelvis, head, then left/right of each pair).
+inline constexpr std::array<int, kNumScoredLandmarks> kLandmarkGroup = {0, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7};
+inline constexpr int kLeftWristLandmark = 6, kRightWristLandmark = 7, kPelvisLandmark = 0;
+
+// The joints of `landmarks` in scoring order; -1 where the rig's analysis found none.
+std::array<int, kNumScoredLandmarks> ScoredLandmarkJoints(const BodyLandmarks& landmarks);
+
+// A captured clip seen through its landmarks: world metres, Y up, frames `frame_time` apart from
+// time 0.
+struct LandmarkTruth {
+  double frame_time = 0;
+  std::vector<std::array<Eigen::Vector3f, kNumScoredLandmarks>> positions;  // per frame
+  int num_frames() const { return static_cast<int>(positions.size()); }
+};
+
+// Sums over scored frames; Mean() turns them into figures.
+struct LandmarkMetrics {
+  double frames = 0;
+  double landmark_error_m = 0;  // Σ per-frame mean distance over the 14 landmarks
+  std::array<double, kNumLandmarkGroups> group_error_m{};
+  double seconds = 0;  // engine wall time
+  PlausibilityStats plausibility;
+  double clips = 0;
+  double truth_pelvis_speed_max = 0;  // m/s, the fastest clip (at its own rate)
+  double clips_over_allowed_speed = 0;
+  double worst_speed_over_allowed = 0;
+
+  void Add(const LandmarkMetrics& other);
+  double Mean(double sum) const { return frames > 0 ? sum / frames : 0.0; }
+  double wrist_error_m() const { return group_error_m[4]; }
+};
+
+// Scores `frames` (the database's rig, its rate, on the input's clock starting at time 0) at each
+// of the truth's frame times, the output's landmarks interpolated linearly between the two output
+// frames around that time. Truth frames outside the output's time span are not scored.
+LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const LandmarkTruth& truth,
+                                 const std::vector<ReconstructedFrame>& frames);
+
+}  // namespace mocap::eval
