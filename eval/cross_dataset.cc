@@ -3,7 +3,7 @@
 #include <chrono>
 #include <fstream>
 
-#include "eval/evaluation.h"
+#include "eval/device_input.h"
 #include "eval/parallel_for.h"
 #include "motion/bvh/bvh_reader.h"
 #include "motion/core/status_macros.h"
@@ -157,22 +157,27 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     const std::vector<Experiment>& experiments, unsigned seed, int threads,
     const std::function<void(const std::string&)>& progress) {
   std::vector<LandmarkExperimentResult> results;
+  const LandmarkBodySize database_size = BodySizeOf(*database);
   for (const Experiment& experiment : experiments) {
     std::vector<LandmarkMetrics> per_clip(tests.size());
     MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), threads, [&](size_t i) -> absl::Status {
       const LandmarkTruth& truth = tests[i].truth;
-      const std::vector<WristSample> wrists = NoisyWristSamples(
-          truth.num_frames(), truth.frame_time,
-          [&](int f) {
-            return std::array<Eigen::Vector3f, 2>{truth.positions[f][kLeftWristLandmark],
-                                                  truth.positions[f][kRightWristLandmark]};
-          },
-          experiment.noise_cm, seed + static_cast<unsigned>(i));
+      std::vector<WristSample> wrists =
+          DeviceSamples(truth, experiment.device, experiment.noise_cm, seed + static_cast<unsigned>(i));
+      float scale = 1.0f;  // the input is multiplied by it, the output divided
+      if (experiment.size == PerformerSize::kTruth) {
+        const LandmarkBodySize performer = BodySizeOf(truth.positions.front());
+        scale = (database_size.leg + database_size.arm) / (performer.leg + performer.arm);
+      }
+      for (WristSample& sample : wrists) {
+        sample.left *= scale;
+        sample.right *= scale;
+      }
       const auto start = std::chrono::steady_clock::now();
       absl::StatusOr<std::vector<ReconstructedFrame>> frames = ReconstructOffline(database, experiment.options, wrists);
       if (!frames.ok())
         return absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
-      per_clip[i] = MeasureLandmarks(*database, truth, *frames);
+      per_clip[i] = MeasureLandmarks(*database, truth, *frames, 1.0f / scale);
       per_clip[i].seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return absl::OkStatus();
     }));
@@ -181,7 +186,8 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       result.overall.Add(per_clip[i]);
       result.by_source[tests[i].source].Add(per_clip[i]);
       result.by_content[StrCat(tests[i].source, "/", tests[i].content)].Add(per_clip[i]);
-      result.clips.push_back({tests[i].name, tests[i].source, tests[i].content, per_clip[i]});
+      result.clips.push_back({tests[i].name, tests[i].source, tests[i].content,
+                              BodySizeOf(tests[i].truth.positions.front()), per_clip[i]});
     }
     if (progress) {
       const LandmarkMetrics& o = result.overall;

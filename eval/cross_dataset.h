@@ -45,6 +45,7 @@ absl::StatusOr<LandmarkTestSet> LoadCrossDatasetTests(const datasets::DataLocati
 
 struct LandmarkClipResult {
   std::string name, source, content;
+  LandmarkBodySize size;  // the performer's
   LandmarkMetrics metrics;
 };
 

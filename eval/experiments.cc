@@ -40,4 +40,16 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   return runs;
 }
 
+std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base) {
+  std::vector<Experiment> main = MakeExperiments(base, 0.0, false);
+  std::vector<Experiment> runs;
+  for (const DeviceModel& device : StandardDevices()) {
+    for (const Experiment& e : main) {
+      if (e.name != "full" && e.name != "nearest_neighbour") continue;
+      runs.push_back({StrCat(e.name, "@", device.name), "device", 0, e.options, 0.0, device, PerformerSize::kDatabase});
+    }
+  }
+  return runs;
+}
+
 }  // namespace mocap::eval

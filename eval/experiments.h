@@ -5,9 +5,15 @@
 #include <string>
 #include <vector>
 
+#include "eval/device_input.h"
 #include "motion/reconstruct/reconstruction_options.h"
 
 namespace mocap::eval {
+
+// Whose size the body takes (landmark tests; issue #22 "performer's size"): the database's (the
+// method as specified), or the performer's, the input scaled to the database's body and the
+// output back. kTruth is an oracle (the capture's own bone lengths): how much size can explain.
+enum class PerformerSize { kDatabase, kTruth };
 
 struct Experiment {
   std::string name;
@@ -15,8 +21,13 @@ struct Experiment {
   double x = 0;       // the ablated value (L, σ in cm, D)
   ReconstructionOptions options;
   double noise_cm = 0.5;
+  DeviceModel device;  // the input (landmark tests only; empty name: the lab's, noise_cm)
+  PerformerSize size = PerformerSize::kDatabase;
 };
 
 std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, double noise_cm, bool ablations);
+// The full method and the nearest neighbour on each of StandardDevices()' input, group "device",
+// named "full@DEVICE" and "nearest_neighbour@DEVICE".
+std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base);
 
 }  // namespace mocap::eval

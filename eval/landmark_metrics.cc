@@ -10,9 +10,28 @@ std::array<int, kNumScoredLandmarks> ScoredLandmarkJoints(const BodyLandmarks& l
           l.right_wrist, l.left_hip, l.right_hip,     l.left_knee,      l.right_knee, l.left_ankle,  l.right_ankle};
 }
 
+LandmarkBodySize BodySizeOf(const std::array<Eigen::Vector3f, kNumScoredLandmarks>& p) {
+  auto chain = [&](int a, int b, int c) { return (p[a] - p[b]).norm() + (p[b] - p[c]).norm(); };
+  // Scoring order: shoulders 2-3, elbows 4-5, wrists 6-7, hips 8-9, knees 10-11, ankles 12-13.
+  return {.leg = 0.5f * (chain(8, 10, 12) + chain(9, 11, 13)), .arm = 0.5f * (chain(2, 4, 6) + chain(3, 5, 7))};
+}
+
+LandmarkBodySize BodySizeOf(const ReconstructionDatabase& database) {
+  const std::array<int, kNumScoredLandmarks> joints = ScoredLandmarkJoints(database.rig().topology.landmarks);
+  BodyPose rest;
+  rest.rotations.assign(database.body().skeleton().num_joints(), Eigen::Quaternionf::Identity());
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  database.body().WorldTransforms(rest, &rotations, &positions);
+  std::array<Eigen::Vector3f, kNumScoredLandmarks> at;
+  for (int k = 0; k < kNumScoredLandmarks; ++k) at[k] = positions[joints[k]];
+  return BodySizeOf(at);
+}
+
 void LandmarkMetrics::Add(const LandmarkMetrics& o) {
   frames += o.frames;
   landmark_error_m += o.landmark_error_m;
+  pose_error_m += o.pose_error_m;
   for (int g = 0; g < kNumLandmarkGroups; ++g) group_error_m[g] += o.group_error_m[g];
   seconds += o.seconds;
   plausibility.Merge(o.plausibility);
@@ -39,7 +58,7 @@ double TruthPelvisSpeedMax(const LandmarkTruth& truth, double database_frame_tim
 }  // namespace
 
 LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const LandmarkTruth& truth,
-                                 const std::vector<ReconstructedFrame>& frames) {
+                                 const std::vector<ReconstructedFrame>& frames, float output_scale) {
   LandmarkMetrics m;
   const std::array<int, kNumScoredLandmarks> joints = ScoredLandmarkJoints(database.rig().topology.landmarks);
   const PlausibilityRig plausibility_rig =
@@ -51,7 +70,7 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
   std::vector<Eigen::Vector3f> positions;
   for (size_t i = 0; i < frames.size(); ++i) {
     database.body().WorldTransforms(frames[i].pose, &rotations, &positions);
-    for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = positions[joints[k]];
+    for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = output_scale * positions[joints[k]];
     plausibility_frames.push_back(MakePlausibilityFrame(plausibility_rig, positions, frames[i].wrists, frames[i].time,
                                                         frames[i].segment, frames[i].implausible_input(),
                                                         frames[i].motion_limited));
@@ -63,14 +82,20 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
     while (next + 1 < frames.size() && frames[next].time < t) ++next;
     const double t0 = frames[next - 1].time, t1 = frames[next].time;
     const float w = t1 > t0 ? static_cast<float>(std::clamp((t - t0) / (t1 - t0), 0.0, 1.0)) : 0.0f;
-    double sum = 0;
+    double sum = 0, pose = 0;
     std::array<double, kNumLandmarkGroups> group{};
+    std::array<Eigen::Vector3f, kNumScoredLandmarks> at;
     for (int k = 0; k < kNumScoredLandmarks; ++k) {
-      const Eigen::Vector3f at = (1.0f - w) * output[next - 1][k] + w * output[next][k];
-      const double e = (at - truth.positions[f][k]).norm();
+      at[k] = (1.0f - w) * output[next - 1][k] + w * output[next][k];
+      const double e = (at[k] - truth.positions[f][k]).norm();
       sum += e;
       group[kLandmarkGroup[k]] += e;
     }
+    for (int k = 0; k < kNumScoredLandmarks; ++k) {
+      if (k == kPelvisLandmark) continue;
+      pose += ((at[k] - at[kPelvisLandmark]) - (truth.positions[f][k] - truth.positions[f][kPelvisLandmark])).norm();
+    }
+    m.pose_error_m += pose / (kNumScoredLandmarks - 1);
     m.frames += 1;
     m.landmark_error_m += sum / kNumScoredLandmarks;
     for (int g = 0; g < kNumLandmarkGroups; ++g) m.group_error_m[g] += g < 2 ? group[g] : group[g] / 2;

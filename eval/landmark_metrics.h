@@ -36,11 +36,23 @@ struct LandmarkTruth {
   int num_frames() const { return static_cast<int>(positions.size()); }
 };
 
+// A body's size seen through its landmarks: hip to knee to ankle and shoulder to elbow to wrist,
+// metres, the mean of both sides (rigid bones: any frame gives it).
+struct LandmarkBodySize {
+  float leg = 0, arm = 0;
+};
+LandmarkBodySize BodySizeOf(const std::array<Eigen::Vector3f, kNumScoredLandmarks>& frame);
+// The same for the database's body (its skeleton's bone lengths).
+LandmarkBodySize BodySizeOf(const ReconstructionDatabase& database);
+
 // Sums over scored frames; Mean() turns them into figures.
 struct LandmarkMetrics {
   double frames = 0;
   double landmark_error_m = 0;  // Σ per-frame mean distance over the 14 landmarks
   std::array<double, kNumLandmarkGroups> group_error_m{};
+  // The pose alone: Σ per-frame mean distance over the 13 landmarks other than the pelvis, each
+  // taken relative to its body's pelvis (where the body is does not count, how it stands does).
+  double pose_error_m = 0;
   double seconds = 0;  // engine wall time
   PlausibilityStats plausibility;
   double clips = 0;
@@ -56,7 +68,9 @@ struct LandmarkMetrics {
 // Scores `frames` (the database's rig, its rate, on the input's clock starting at time 0) at each
 // of the truth's frame times, the output's landmarks interpolated linearly between the two output
 // frames around that time. Truth frames outside the output's time span are not scored.
+// `output_scale`: the output's positions are multiplied by it first (a body reconstructed at the
+// database's size and scaled to the performer's).
 LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const LandmarkTruth& truth,
-                                 const std::vector<ReconstructedFrame>& frames);
+                                 const std::vector<ReconstructedFrame>& frames, float output_scale = 1.0f);
 
 }  // namespace mocap::eval

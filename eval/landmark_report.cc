@@ -18,6 +18,7 @@ nlohmann::json LandmarkMetricsJson(const LandmarkMetrics& m) {
   for (int g = 0; g < kNumLandmarkGroups; ++g) {
     j["landmark_error_cm"][kLandmarkGroupNames[g]] = 100 * m.Mean(m.group_error_m[g]);
   }
+  j["pose_error_cm"] = 100 * m.Mean(m.pose_error_m);
   j["wrist_error_cm"] = 100 * m.Mean(m.wrist_error_m());
   j["frames_per_second"] = m.frames / std::max(1e-9, m.seconds);
   j["plausibility"] = PlausibilityJson(m);
@@ -44,10 +45,11 @@ void Table(std::ostringstream& md, const std::string& title, const std::vector<s
   md << "| " << title << " | clips | frames |";
   for (const auto& r : results) md << " " << r.experiment.name << " cm |";
   if (full && nn)
-    md << " full / NN | full wins | wrists (full) cm | pelvis max (full) m/s | over allowed | hands p99 cm |";
+    md << " full / NN | full wins | pose (full / NN) cm | wrists (full) cm | pelvis max (full) m/s | over allowed | "
+          "hands p99 cm |";
   md << "\n|---|---|---|";
   for (size_t i = 0; i < results.size(); ++i) md << "---|";
-  if (full && nn) md << "---|---|---|---|---|---|";
+  if (full && nn) md << "---|---|---|---|---|---|---|";
   md << "\n";
   for (const std::string& key : keys) {
     const LandmarkMetrics* first = metrics(results.front(), key);
@@ -69,13 +71,55 @@ void Table(std::ostringstream& md, const std::string& title, const std::vector<s
         wins += a.Mean(a.landmark_error_m) < b.Mean(b.landmark_error_m);
       }
       md << " " << Fixed(f->Mean(f->landmark_error_m) / std::max(1e-12, n->Mean(n->landmark_error_m))) << " | " << wins
-         << "/" << clips << " | " << Fixed(100 * f->Mean(f->wrist_error_m())) << " | "
+         << "/" << clips << " | " << Fixed(100 * f->Mean(f->pose_error_m)) << " / "
+         << Fixed(100 * n->Mean(n->pose_error_m)) << " | " << Fixed(100 * f->Mean(f->wrist_error_m())) << " | "
          << Fixed(f->plausibility.pelvis_speed.max(), 1) << " | " << f->clips_over_allowed_speed << " | "
          << Fixed(100 * f->plausibility.hand_distance.Quantile(0.99), 1) << " |";
     }
     md << "\n";
   }
   md << "\n";
+}
+
+// The full method against the nearest neighbour on each device's input (device_input.h), per
+// source, beside the lab's input: accuracy and whether the body stays a body.
+void DeviceTable(
+    std::ostringstream& md, const std::vector<std::string>& sources,
+    const std::vector<LandmarkExperimentResult>& results,
+    const std::function<const LandmarkMetrics*(const LandmarkExperimentResult&, const std::string&)>& metrics) {
+  std::vector<std::string> devices;
+  for (const auto& r : results) {
+    if (r.experiment.group == "device" && r.experiment.name.starts_with("full@"))
+      devices.push_back(r.experiment.device.name);
+  }
+  if (devices.empty()) return;
+  md << "\n## Device-like input\n\n"
+        "controllers_72hz: 72 Hz, 1 cm quantisation, half the samples repeated; tracker_90hz: 3 mm jitter, 1 mm "
+        "quantisation; phone_ar: 60 Hz, 2.5 cm jitter, 1 cm/√s drift per hand; dropouts: 60 Hz, 5 mm jitter, a "
+        "0.1-2 s gap every 4 s on average. Hands: distance to the smoothed input where it is within reach.\n\n"
+        "| input | source | full cm | NN cm | full / NN | wrists (full) cm | pelvis max m/s | clips over allowed | "
+        "hands p99 cm | hands ≤ 5 cm | flagged frames | motion-limited frames |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  devices.insert(devices.begin(), "");
+  for (const std::string& device : devices) {
+    const LandmarkExperimentResult* full = Find(results, device.empty() ? "full" : "full@" + device);
+    const LandmarkExperimentResult* nn =
+        Find(results, device.empty() ? "nearest_neighbour" : "nearest_neighbour@" + device);
+    if (!full || !nn) continue;
+    for (const std::string& source : sources) {
+      const LandmarkMetrics* f = metrics(*full, source);
+      const LandmarkMetrics* n = metrics(*nn, source);
+      if (!f || !n) continue;
+      const PlausibilityStats& p = f->plausibility;
+      md << "| " << (device.empty() ? "lab (σ 0.5 cm)" : device) << " | " << source << " | "
+         << Fixed(100 * f->Mean(f->landmark_error_m)) << " | " << Fixed(100 * n->Mean(n->landmark_error_m)) << " | "
+         << Fixed(f->Mean(f->landmark_error_m) / std::max(1e-12, n->Mean(n->landmark_error_m))) << " | "
+         << Fixed(100 * f->Mean(f->wrist_error_m())) << " | " << Fixed(p.pelvis_speed.max(), 1) << " | "
+         << f->clips_over_allowed_speed << " | " << Fixed(100 * p.hand_distance.Quantile(0.99), 1) << " | "
+         << Fixed(100 * p.hand_distance.FractionBelow(0.05f), 1) << "% | " << p.flagged_frames << " | "
+         << p.motion_limited_frames << " |\n";
+    }
+  }
 }
 
 }  // namespace
@@ -97,6 +141,8 @@ absl::Status WriteLandmarkReport(const std::filesystem::path& out_dir, const nlo
       clip["name"] = c.name;
       clip["source"] = c.source;
       clip["content"] = c.content;
+      clip["leg_m"] = c.size.leg;
+      clip["arm_m"] = c.size.arm;
       run["clips"].push_back(clip);
     }
   }
@@ -113,7 +159,12 @@ absl::Status WriteLandmarkReport(const std::filesystem::path& out_dir, const nlo
         "head, shoulders, elbows, wrists, hips, knees, ankles) at the clip's own frame times. Plausibility "
         "of the full method: its pelvis' fastest speed, clips whose output moves faster than max(2 × the "
         "capture's fastest, fastest + 1 m/s), hand-to-input distance p99.\n\n";
-  const LandmarkExperimentResult& first = results.front();
+  std::vector<LandmarkExperimentResult> lab;  // the per-source tables: runs on the lab's input
+  for (const auto& r : results) {
+    if (r.experiment.group != "device") lab.push_back(r);
+  }
+  if (lab.empty()) return absl::InvalidArgumentError("no run on the lab's input to report");
+  const LandmarkExperimentResult& first = lab.front();
   std::vector<std::string> sources{"all"}, contents;
   for (const auto& [source, m] : first.by_source) sources.push_back(source);
   for (const auto& [content, m] : first.by_content) contents.push_back(content);
@@ -127,22 +178,24 @@ absl::Status WriteLandmarkReport(const std::filesystem::path& out_dir, const nlo
     return it == r.by_content.end() ? nullptr : &it->second;
   };
   md << "## Per source\n\n";
-  Table(md, "source", sources, results, by_source,
+  Table(md, "source", sources, lab, by_source,
         [](const LandmarkClipResult& c, const std::string& key) { return key == "all" || c.source == key; });
   md << "## Per source and content\n\n";
-  Table(md, "source/content", contents, results, by_content,
+  Table(md, "source/content", contents, lab, by_content,
         [](const LandmarkClipResult& c, const std::string& key) { return StrCat(c.source, "/", c.content) == key; });
-  md << "## Per landmark (all clips), cm\n\n| run |";
+  md << "## Per landmark (all clips), cm\n\nPose: the 13 other landmarks relative to the pelvis (where the "
+        "body is does not count).\n\n| run | pose |";
   for (const char* g : kLandmarkGroupNames) md << " " << g << " |";
-  md << "\n|---|";
+  md << "\n|---|---|";
   for (int g = 0; g < kNumLandmarkGroups; ++g) md << "---|";
   md << "\n";
   for (const auto& r : results) {
-    md << "| " << r.experiment.name << " |";
+    md << "| " << r.experiment.name << " | " << Fixed(100 * r.overall.Mean(r.overall.pose_error_m)) << " |";
     for (int g = 0; g < kNumLandmarkGroups; ++g)
       md << " " << Fixed(100 * r.overall.Mean(r.overall.group_error_m[g])) << " |";
     md << "\n";
   }
+  DeviceTable(md, sources, results, by_source);
   if (!left_out.empty()) {
     md << "\n## Not scored\n\n";
     for (const std::string& why : left_out) md << "- " << why << "\n";

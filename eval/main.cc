@@ -76,7 +76,9 @@ int RunLandmarkTests(std::shared_ptr<const mocap::ReconstructionDatabase> databa
   std::string line;
   for (bool in_table = false; std::getline(summary, line);) {  // the per-source table
     if (line == "## Per source") in_table = true;
-    if (line.starts_with("## Per source and")) break;
+    if (line.starts_with("## Per source and")) in_table = false;
+    if (line.starts_with("## Device")) in_table = true;
+    if (line.starts_with("## Not scored")) break;
     if (in_table) std::cout << line << "\n";
   }
   std::cout << "wrote " << out_dir << "/landmarks.md, landmarks.json\n";
@@ -104,12 +106,18 @@ int main(int argc, char** argv) {
                "report on the standard split");
   app.add_flag("--quick", quick, "one held-out clip per content type, 120 frames each; fails on regression");
   app.add_flag("--ablations", ablations, "also run window L ∈ {10,50,100}, noise σ ∈ {0,1,2} cm, lag D ∈ {0,5,15,30}");
-  bool cross_dataset = false, landmarks = false;
+  bool cross_dataset = false, landmarks = false, devices = false, size_oracle = false;
   app.add_flag("--cross-dataset", cross_dataset,
                "the cross-dataset protocol of shared/data/README: database = all of bandai-namco-2; tests = "
                "bandai-namco-1, cmu-cc and the moving other-rigs clips, scored on body landmarks");
   app.add_flag("--landmarks", landmarks,
                "score the --test clips on body landmarks (automatic when a clip's rig is not the database's)");
+  app.add_flag("--devices", devices,
+               "landmark tests: also run the full method and the nearest neighbour on device-like input (VR "
+               "controllers, a 90 Hz tracker, phone AR, dropouts; eval/device_input.h)");
+  app.add_flag("--size-oracle", size_oracle,
+               "landmark tests: also run the full method at the performer's own size, taken from the capture "
+               "(an oracle: how much of the error body size explains)");
   app.add_flag("--generalisation", generalisation,
                "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
   app.add_option("--noise-cm", noise_cm, "wrist noise σ in cm (METHOD.md A8: 0.5)");
@@ -234,6 +242,9 @@ int main(int argc, char** argv) {
     context["database_pelvis_speed_max_m_per_s"] = limits.pelvis_speed_max;
     context["seed"] = seed;
     context["noise_cm"] = noise_cm;
+    const mocap::eval::LandmarkBodySize size = mocap::eval::BodySizeOf(**database);
+    context["database_leg_m"] = size.leg;
+    context["database_arm_m"] = size.arm;
   };
   auto tests = landmarks || cross_dataset
                    ? absl::StatusOr<std::vector<mocap::eval::TestClip>>(absl::FailedPreconditionError("landmarks"))
@@ -248,7 +259,17 @@ int main(int argc, char** argv) {
     }
     if (!cross_dataset) context["test_set"] = "named on the command line, scored on landmarks";
     add_limits();
-    return RunLandmarkTests(*database, *landmark_tests, make_experiments(), context, out_dir, seed, threads);
+    std::vector<mocap::eval::Experiment> experiments = make_experiments();
+    if (devices) {
+      for (auto& e : mocap::eval::MakeDeviceExperiments(base)) experiments.push_back(std::move(e));
+    }
+    if (size_oracle) {
+      mocap::eval::Experiment oracle = mocap::eval::MakeExperiments(base, noise_cm, false).front();  // full
+      oracle.name = "full_size_oracle";
+      oracle.size = mocap::eval::PerformerSize::kTruth;
+      experiments.push_back(oracle);
+    }
+    return RunLandmarkTests(*database, *landmark_tests, experiments, context, out_dir, seed, threads);
   }
   if (!tests.ok()) {
     std::cerr << "mocap-eval: test clips: " << tests.status().message() << "\n";

@@ -155,6 +155,17 @@ float Histogram::Quantile(double q) const {
   return max_;
 }
 
+double Histogram::FractionBelow(float value) const {
+  if (count_ == 0) return 1.0;
+  const long last = static_cast<long>(std::floor(std::max(0.0f, value) / bin_width_));
+  long below = 0;
+  for (const auto& [bin, count] : bins_) {
+    if (bin > last) break;
+    below += count;
+  }
+  return static_cast<double>(below) / static_cast<double>(count_);
+}
+
 void PlausibilityStats::Merge(const PlausibilityStats& o) {
   frames += o.frames;
   pelvis_speed.Merge(o.pelvis_speed);

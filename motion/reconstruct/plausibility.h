@@ -83,6 +83,9 @@ class Histogram {
   void Merge(const Histogram& other);  // same bin width
   long count() const { return count_; }
   float Quantile(double q) const;  // 0 when empty
+  // The share of values below `value` (to the bin: values in the bin holding `value` count as
+  // below); 1 when empty.
+  double FractionBelow(float value) const;
   float max() const { return max_; }
 
  private:

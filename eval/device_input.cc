@@ -1,0 +1,82 @@
+#include "eval/device_input.h"
+
+#include <cmath>
+#include <random>
+
+#include "eval/evaluation.h"
+
+namespace mocap::eval {
+
+std::vector<DeviceModel> StandardDevices() {
+  return {
+      {.name = "controllers_72hz", .rate_hz = 72, .quantisation_m = 0.01, .repeat_fraction = 0.5},
+      {.name = "tracker_90hz", .rate_hz = 90, .jitter_m = 0.003, .quantisation_m = 0.001},
+      {.name = "phone_ar", .rate_hz = 60, .jitter_m = 0.025, .drift_m_per_sqrt_s = 0.01},
+      {.name = "dropouts", .rate_hz = 60, .jitter_m = 0.005, .gap_every_s = 4.0},
+  };
+}
+
+namespace {
+
+// The true wrists (left, right) at time t, linear between the clip's frames.
+std::array<Eigen::Vector3f, 2> WristsAt(const LandmarkTruth& truth, double t) {
+  const double at = std::clamp(t / truth.frame_time, 0.0, static_cast<double>(truth.num_frames() - 1));
+  const int f = std::min(static_cast<int>(at), truth.num_frames() - 2);
+  const float w = static_cast<float>(at - f);
+  auto lerp = [&](int k) { return Eigen::Vector3f((1 - w) * truth.positions[f][k] + w * truth.positions[f + 1][k]); };
+  return {lerp(kLeftWristLandmark), lerp(kRightWristLandmark)};
+}
+
+}  // namespace
+
+std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceModel& device, double noise_cm,
+                                       unsigned seed) {
+  if (device.name.empty() || truth.num_frames() < 2) {
+    return NoisyWristSamples(
+        truth.num_frames(), truth.frame_time,
+        [&](int f) {
+          return std::array<Eigen::Vector3f, 2>{truth.positions[f][kLeftWristLandmark],
+                                                truth.positions[f][kRightWristLandmark]};
+        },
+        noise_cm, seed);
+  }
+  std::mt19937 random(seed);
+  std::normal_distribution<float> gaussian(0.0f, 1.0f);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double dt = device.rate_hz > 0 ? 1.0 / device.rate_hz : truth.frame_time;
+  const double end = (truth.num_frames() - 1) * truth.frame_time;
+  std::array<Eigen::Vector3f, 2> drift{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  auto noise_vector = [&](double sigma) {
+    Eigen::Vector3f v;
+    for (int axis = 0; axis < 3; ++axis) v[axis] = gaussian(random) * static_cast<float>(sigma);  // in axis order
+    return v;
+  };
+  std::vector<WristSample> samples;
+  double gap_until = -1;
+  for (long i = 0; i * dt <= end + 1e-9; ++i) {
+    const double t = i * dt;
+    for (auto& d : drift) d += noise_vector(device.drift_m_per_sqrt_s * std::sqrt(dt));
+    if (device.gap_every_s > 0 && t > gap_until && uniform(random) < dt / device.gap_every_s) {
+      gap_until = t + device.gap_min_s + (device.gap_max_s - device.gap_min_s) * uniform(random);
+    }
+    if (t < gap_until) continue;  // the tracker lost the hands: nothing is sent
+    if (!samples.empty() && uniform(random) < device.repeat_fraction) {
+      WristSample repeated = samples.back();  // the tracker did not update: same positions, new time
+      repeated.time = t;
+      samples.push_back(repeated);
+      continue;
+    }
+    std::array<Eigen::Vector3f, 2> at = WristsAt(truth, t);
+    for (int hand = 0; hand < 2; ++hand) {
+      at[hand] += drift[hand] + noise_vector(device.jitter_m);
+      if (device.quantisation_m > 0) {
+        const float q = static_cast<float>(device.quantisation_m);
+        at[hand] = (at[hand] / q).array().round().matrix() * q;
+      }
+    }
+    samples.push_back({.time = t, .left = at[0], .right = at[1]});
+  }
+  return samples;
+}
+
+}  // namespace mocap::eval

@@ -1,0 +1,37 @@
+// Device-like input (issue #22): what real trackers send, made from a test clip's true wrists, so
+// accuracy and plausibility can be measured where users are: controllers that quantise and repeat,
+// phone AR that jitters and drifts, trackers that drop out.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "eval/landmark_metrics.h"
+#include "motion/reconstruct/wrist_resampler.h"
+
+namespace mocap::eval {
+
+struct DeviceModel {
+  std::string name;                         // empty: the lab input (the clip's own rate, Gaussian noise)
+  double rate_hz = 0;                       // samples per second (0: the clip's own frame rate)
+  double jitter_m = 0;                      // Gaussian σ per axis and sample
+  double drift_m_per_sqrt_s = 0;            // each hand's slow drift: a random walk of this σ per √second
+  double quantisation_m = 0;                // positions rounded to this grid (0: none)
+  double repeat_fraction = 0;               // samples where the tracker did not update: the previous one again
+  double gap_every_s = 0;                   // dropouts, one on average every this many seconds (0: none)
+  double gap_min_s = 0.1, gap_max_s = 2.0;  // each dropout's length, uniform
+};
+
+// The devices every report measures (named in the README's table):
+//   controllers_72hz  two VR controllers: 72 Hz, 1 cm quantisation, half the samples repeated
+//   tracker_90hz      a 90 Hz optical tracker: 3 mm jitter, 1 mm quantisation
+//   phone_ar          two phones' AR tracking: 60 Hz, 2.5 cm jitter, 1 cm/√s drift
+//   dropouts          60 Hz, 5 mm jitter, a 0.1-2 s gap every 4 s on average
+std::vector<DeviceModel> StandardDevices();
+
+// The samples `device` would send for `truth`'s wrists (from time 0 to the clip's end), drawn from
+// `seed`. The lab input (device.name empty) is the clip's own frames plus noise of σ `noise_cm`.
+std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceModel& device, double noise_cm,
+                                       unsigned seed);
+
+}  // namespace mocap::eval
