@@ -120,6 +120,12 @@ std::map<std::string, std::string> CmuContents(const std::filesystem::path& fold
   return contents;
 }
 
+float Median(std::vector<float> values) {
+  if (values.empty()) return 1.0f;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return std::max(1e-3f, values[values.size() / 2]);
+}
+
 }  // namespace
 
 absl::StatusOr<LandmarkTestSet> LoadLandmarkTests(const std::vector<std::filesystem::path>& files, int max_frames) {
@@ -158,6 +164,11 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     const std::function<void(const std::string&)>& progress) {
   std::vector<LandmarkExperimentResult> results;
   const LandmarkBodySize database_size = BodySizeOf(*database);
+  std::vector<float> lower_wrists;
+  for (const FrameFeatures& f : database->frames()) {
+    lower_wrists.push_back(std::min(f.wrist_position[0][1], f.wrist_position[1][1]));
+  }
+  const float database_lower_wrist = Median(lower_wrists);
   for (const Experiment& experiment : experiments) {
     std::vector<LandmarkMetrics> per_clip(tests.size());
     MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), threads, [&](size_t i) -> absl::Status {
@@ -168,6 +179,10 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       if (experiment.size == PerformerSize::kTruth) {
         const LandmarkBodySize performer = BodySizeOf(truth.positions.front());
         scale = (database_size.leg + database_size.arm) / (performer.leg + performer.arm);
+      } else if (experiment.size == PerformerSize::kLowerWrist) {
+        std::vector<float> lower;
+        for (const WristSample& s : wrists) lower.push_back(std::min(s.left.y(), s.right.y()));
+        scale = std::clamp(database_lower_wrist / Median(lower), 0.7f, 1.4f);
       }
       for (WristSample& sample : wrists) {
         sample.left *= scale;

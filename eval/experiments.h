@@ -13,7 +13,9 @@ namespace mocap::eval {
 // Whose size the body takes (landmark tests; issue #22 "performer's size"): the database's (the
 // method as specified), or the performer's, the input scaled to the database's body and the
 // output back. kTruth is an oracle (the capture's own bone lengths): how much size can explain.
-enum class PerformerSize { kDatabase, kTruth };
+// kLowerWrist estimates it from the input alone: the median height of the lower wrist against the
+// database's (hands hang at a height proportional to the body's).
+enum class PerformerSize { kDatabase, kTruth, kLowerWrist };
 
 struct Experiment {
   std::string name;

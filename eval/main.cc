@@ -268,6 +268,9 @@ int main(int argc, char** argv) {
       oracle.name = "full_size_oracle";
       oracle.size = mocap::eval::PerformerSize::kTruth;
       experiments.push_back(oracle);
+      oracle.name = "full_size_lower_wrist";
+      oracle.size = mocap::eval::PerformerSize::kLowerWrist;
+      experiments.push_back(oracle);
     }
     return RunLandmarkTests(*database, *landmark_tests, experiments, context, out_dir, seed, threads);
   }
