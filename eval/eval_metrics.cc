@@ -22,11 +22,7 @@ void Metrics::Add(const Metrics& o) {
   jitter += o.jitter;
   truth_jitter += o.truth_jitter;
   seconds += o.seconds;
-  plausibility.Merge(o.plausibility);
-  clips += o.clips;
-  truth_pelvis_speed_max = std::max(truth_pelvis_speed_max, o.truth_pelvis_speed_max);
-  clips_over_allowed_speed += o.clips_over_allowed_speed;
-  worst_speed_over_allowed = std::max(worst_speed_over_allowed, o.worst_speed_over_allowed);
+  AddPlausibility(o);
 }
 
 Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip, const GlobalPoses& truth,
@@ -118,17 +114,14 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
       m.truth_jitter += truth_jitter / measured_count * rate * rate * rate;
     }
   }
-  m.plausibility = MeasurePlausibility(plausibility_frames, database.planted_ankle_height(),
-                                       database.motion_limits().pelvis_speed_max);
+  double truth_max = 0;
   for (int f = 1; f < truth.num_frames(); ++f) {
-    m.truth_pelvis_speed_max =
-        std::max(m.truth_pelvis_speed_max,
-                 static_cast<double>((truth.position(f, l.pelvis) - truth.position(f - 1, l.pelvis)).norm()) * rate);
+    truth_max = std::max(
+        truth_max, static_cast<double>((truth.position(f, l.pelvis) - truth.position(f - 1, l.pelvis)).norm()) * rate);
   }
-  m.clips = 1;
-  const double allowed = AllowedPelvisSpeed(static_cast<float>(m.truth_pelvis_speed_max));
-  m.worst_speed_over_allowed = m.plausibility.pelvis_speed.max() / allowed;
-  m.clips_over_allowed_speed = m.worst_speed_over_allowed > 1.0 ? 1 : 0;
+  m.SetClip(MeasurePlausibility(plausibility_frames, database.planted_ankle_height(),
+                                database.motion_limits().pelvis_speed_max),
+            truth_max);
   return m;
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/clip_plausibility.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/plausibility.h"
 #include "motion/reconstruct/reconstruction_database.h"
@@ -13,7 +14,7 @@
 namespace mocap::eval {
 
 // Sums over frames; Mean() turns them into the reported figures.
-struct Metrics {
+struct Metrics : ClipPlausibility {
   double frames = 0;
   double joint_error_m = 0;       // Σ per-frame mean joint distance (world space, all joints)
   double lower_body_error_m = 0;  // legs and pelvis
@@ -30,13 +31,6 @@ struct Metrics {
   double jitter = 0;  // Σ mean |third difference| / Δt³ over joints (m/s³)
   double truth_jitter = 0;
   double seconds = 0;  // engine wall time
-  // Plausibility without truth (issue #22; motion/reconstruct/plausibility.h), and against the
-  // clip's own pelvis: the output may move at most max(2 × its fastest, its fastest + 1 m/s).
-  PlausibilityStats plausibility;
-  double clips = 0;
-  double truth_pelvis_speed_max = 0;  // m/s, the fastest clip
-  double clips_over_allowed_speed = 0;
-  double worst_speed_over_allowed = 0;  // the largest output max / allowed over clips
 
   void Add(const Metrics& other);
   double Mean(double sum) const { return frames > 0 ? sum / frames : 0.0; }

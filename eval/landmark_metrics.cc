@@ -34,11 +34,7 @@ void LandmarkMetrics::Add(const LandmarkMetrics& o) {
   pose_error_m += o.pose_error_m;
   for (int g = 0; g < kNumLandmarkGroups; ++g) group_error_m[g] += o.group_error_m[g];
   seconds += o.seconds;
-  plausibility.Merge(o.plausibility);
-  clips += o.clips;
-  truth_pelvis_speed_max = std::max(truth_pelvis_speed_max, o.truth_pelvis_speed_max);
-  clips_over_allowed_speed += o.clips_over_allowed_speed;
-  worst_speed_over_allowed = std::max(worst_speed_over_allowed, o.worst_speed_over_allowed);
+  AddPlausibility(o);
 }
 
 namespace {
@@ -100,13 +96,9 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
     m.landmark_error_m += sum / kNumScoredLandmarks;
     for (int g = 0; g < kNumLandmarkGroups; ++g) m.group_error_m[g] += g < 2 ? group[g] : group[g] / 2;
   }
-  m.plausibility = MeasurePlausibility(plausibility_frames, database.planted_ankle_height(),
-                                       database.motion_limits().pelvis_speed_max);
-  m.clips = 1;
-  m.truth_pelvis_speed_max = TruthPelvisSpeedMax(truth, database.frame_time());
-  m.worst_speed_over_allowed =
-      m.plausibility.pelvis_speed.max() / AllowedPelvisSpeed(static_cast<float>(m.truth_pelvis_speed_max));
-  m.clips_over_allowed_speed = m.worst_speed_over_allowed > 1.0 ? 1 : 0;
+  m.SetClip(MeasurePlausibility(plausibility_frames, database.planted_ankle_height(),
+                                database.motion_limits().pelvis_speed_max),
+            TruthPelvisSpeedMax(truth, database.frame_time()));
   return m;
 }
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "motion/reconstruct/plausibility.h"
+#include "eval/clip_plausibility.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/reconstruction_session.h"
 #include "motion/skeleton/body_topology.h"
@@ -46,7 +46,7 @@ LandmarkBodySize BodySizeOf(const std::array<Eigen::Vector3f, kNumScoredLandmark
 LandmarkBodySize BodySizeOf(const ReconstructionDatabase& database);
 
 // Sums over scored frames; Mean() turns them into figures.
-struct LandmarkMetrics {
+struct LandmarkMetrics : ClipPlausibility {
   double frames = 0;
   double landmark_error_m = 0;  // Σ per-frame mean distance over the 14 landmarks
   std::array<double, kNumLandmarkGroups> group_error_m{};
@@ -54,11 +54,6 @@ struct LandmarkMetrics {
   // taken relative to its body's pelvis (where the body is does not count, how it stands does).
   double pose_error_m = 0;
   double seconds = 0;  // engine wall time
-  PlausibilityStats plausibility;
-  double clips = 0;
-  double truth_pelvis_speed_max = 0;  // m/s, the fastest clip (at its own rate)
-  double clips_over_allowed_speed = 0;
-  double worst_speed_over_allowed = 0;
 
   void Add(const LandmarkMetrics& other);
   double Mean(double sum) const { return frames > 0 ? sum / frames : 0.0; }

@@ -4,8 +4,8 @@
 #include <functional>
 #include <sstream>
 
+#include "eval/clip_plausibility.h"
 #include "eval/fixed_format.h"
-#include "eval/plausibility_json.h"
 #include "motion/core/str_cat.h"
 
 namespace mocap::eval {

@@ -5,9 +5,9 @@
 #include <functional>
 #include <set>
 
+#include "eval/clip_plausibility.h"
 #include "eval/fixed_format.h"
 #include "eval/html_report.h"
-#include "eval/plausibility_json.h"
 #include "eval/svg_chart.h"
 #include "motion/core/str_cat.h"
 

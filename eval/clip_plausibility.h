@@ -1,8 +1,9 @@
-// The truth-free plausibility figures (motion/reconstruct/plausibility.h) of a run in mocap-eval's
-// JSON reports, for both joint (eval_metrics.h) and landmark (landmark_metrics.h) scoring: any
-// `Metrics` with `plausibility`, `truth_pelvis_speed_max`, `clips`, `clips_over_allowed_speed` and
-// `worst_speed_over_allowed`.
+// The truth-free plausibility of reconstructed clips (motion/reconstruct/plausibility.h) as
+// mocap-eval sums it over clips, for both joint (eval_metrics.h) and landmark
+// (landmark_metrics.h) scoring, and its figures in the JSON reports.
 #pragma once
+
+#include <algorithm>
 
 #include <nlohmann/json.hpp>
 
@@ -10,8 +11,32 @@
 
 namespace mocap::eval {
 
-template <typename Metrics>
-nlohmann::json PlausibilityJson(const Metrics& m) {
+struct ClipPlausibility {
+  PlausibilityStats plausibility;
+  double clips = 0;
+  double truth_pelvis_speed_max = 0;  // m/s, the fastest capture
+  double clips_over_allowed_speed = 0;
+  double worst_speed_over_allowed = 0;  // the largest output max / allowed over clips
+
+  // One clip: its output's measures against its capture's fastest pelvis, which allows
+  // AllowedPelvisSpeed() (issue #22).
+  void SetClip(PlausibilityStats stats, double truth_max) {
+    plausibility = std::move(stats);
+    clips = 1;
+    truth_pelvis_speed_max = truth_max;
+    worst_speed_over_allowed = plausibility.pelvis_speed.max() / AllowedPelvisSpeed(static_cast<float>(truth_max));
+    clips_over_allowed_speed = worst_speed_over_allowed > 1.0 ? 1 : 0;
+  }
+  void AddPlausibility(const ClipPlausibility& o) {
+    plausibility.Merge(o.plausibility);
+    clips += o.clips;
+    truth_pelvis_speed_max = std::max(truth_pelvis_speed_max, o.truth_pelvis_speed_max);
+    clips_over_allowed_speed += o.clips_over_allowed_speed;
+    worst_speed_over_allowed = std::max(worst_speed_over_allowed, o.worst_speed_over_allowed);
+  }
+};
+
+inline nlohmann::json PlausibilityJson(const ClipPlausibility& m) {
   const PlausibilityStats& p = m.plausibility;
   const Histogram& hands = p.hand_distance;
   return {
