@@ -12,6 +12,7 @@
 
 #include "client/cli/input_frame_flags.h"
 #include "client/cli/reconstruction_bvh.h"
+#include "client/cli/refusal_summary.h"
 #include "client/cli/target_rig_file.h"
 #include "client/wrist_input/wrist_source.h"
 #include "motion/reconstruct/plausibility.h"
@@ -31,7 +32,7 @@ struct ReconstructOptions {
   int window = -1, lag = -1;
   int k1 = 0, k2 = 0;
   float performer_height = 0.0f;
-  bool diagnostics = false, strict = false, unary = false, realtime = false, quiet = false;
+  bool diagnostics = false, strict = false, unary = false, realtime = false, quiet = false, recenter = false;
   int samples_per_message = 30;
   std::string output = "reconstruction";
   InputFrameFlags input_frame;
@@ -203,6 +204,7 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
   if (!o.bvh.empty()) {  // the clip's wrists as a tracker in the declared frame would send them
     if (absl::Status s = ToDeclaredFrame(input_frame->frame, &*samples); !s.ok()) return ReportError(s);
   }
+  if (o.recenter) RecenterHorizontally(&*samples, UpAxisIndex(input_frame->frame.convention.up));
   absl::StatusOr<v1::SessionConfig> config = Config(o);
   if (!config.ok()) return ReportError(config.status());
   *config->mutable_input_frame() = input_frame->proto;
@@ -211,6 +213,10 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
       o.unary ? client.ReconstructTrajectory(*config, *samples)
               : Stream(client, *config, *samples, o, !o.quiet && !global.json);
   if (!result.ok()) return ReportError(result.status());
+  const std::vector<RefusalGroup> refusals = GroupRefusals(result->rejected());
+  if (result->frames().empty()) {  // nothing half-made is written, and the run fails
+    return ReportError(absl::InvalidArgumentError(NothingReconstructedMessage(refusals, samples->size())));
+  }
   const std::vector<v1::Frame> frames(result->frames().begin(), result->frames().end());
   absl::StatusOr<std::string> bvh = o.target_rig.empty()
                                         ? ReconstructionBvh(result->started(), frames)
@@ -249,10 +255,7 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
   for (const v1::InputWarning& warning : result->input_report().warnings()) {
     std::cerr << "  input frame: " << warning.message() << "\n";
   }
-  for (const v1::SampleRejected& rejected : result->rejected()) {
-    std::cerr << "  sample " << rejected.sample_index() << " (t = " << rejected.time()
-              << " s) refused: " << rejected.reason() << "\n";
-  }
+  std::cerr << DescribeRefusals(refusals);
   std::cout << "session " << result->started().session_id() << ": " << summary.samples() << " samples → "
             << summary.frames() << " frames in " << summary.segments() << " segment(s)"
             << (summary.rejected_samples() ? ", " + std::to_string(summary.rejected_samples()) + " samples refused"
@@ -333,6 +336,9 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   command->add_option("--samples-per-message", o->samples_per_message, "Samples per stream message")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  command->add_flag("--recenter", o->recenter,
+                    "Move the samples so the first one's wrists are at the origin on the ground plane (height "
+                    "kept): for positions in a game engine's world, kilometres from the origin");
   command->add_option("-o,--output", o->output, "Output path prefix")->capture_default_str();
   command->add_flag("--quiet", o->quiet, "No progress bar");
   command->callback([o, csv, bvh] {

@@ -177,4 +177,27 @@ absl::StatusOr<std::vector<v1::WristSample>> WristsFromBvh(const std::filesystem
   return samples;
 }
 
+std::array<double, 3> RecenterHorizontally(std::vector<v1::WristSample>* samples, int up_axis) {
+  auto get = [](const v1::Vec3& v, int axis) { return axis == 0 ? v.x() : axis == 1 ? v.y() : v.z(); };
+  std::array<double, 3> offset{0, 0, 0};
+  for (const v1::WristSample& s : *samples) {
+    bool finite = true;
+    for (int axis = 0; axis < 3; ++axis)
+      finite = finite && std::isfinite(get(s.left(), axis)) && std::isfinite(get(s.right(), axis));
+    if (!finite) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (axis != up_axis) offset[axis] = 0.5 * (get(s.left(), axis) + get(s.right(), axis));
+    }
+    break;
+  }
+  for (v1::WristSample& s : *samples) {
+    for (v1::Vec3* v : {s.mutable_left(), s.mutable_right()}) {
+      v->set_x(v->x() - offset[0]);
+      v->set_y(v->y() - offset[1]);
+      v->set_z(v->z() - offset[2]);
+    }
+  }
+  return offset;
+}
+
 }  // namespace mocap

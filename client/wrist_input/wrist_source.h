@@ -3,6 +3,7 @@
 // engine, METHOD.md A8 / the standard split's input). Used by `mocap reconstruct` and `mocap-load`.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <istream>
 #include <string>
@@ -43,5 +44,13 @@ absl::StatusOr<std::vector<v1::WristSample>> WristsFromCsv(std::istream& in, con
 // analysis (no humanoid found), InvalidArgument for a negative or non-finite noise_cm.
 absl::StatusOr<std::vector<v1::WristSample>> WristsFromBvh(const std::filesystem::path& path, double noise_cm,
                                                            unsigned seed);
+
+// Moves every sample by one offset so that the first sample with finite positions has its wrists'
+// midpoint at the origin on the two axes other than `up_axis` (0, 1, 2 for X, Y, Z; the height is
+// kept, so a declared floor stays right). For trackers that report a game engine's world, where
+// positions kilometres from the origin are normal and the server refuses them (`mocap reconstruct
+// --recenter`). The reconstruction does not depend on where the body stands, so only the output's
+// position moves with it. Returns the offset subtracted (caller units; zero when no sample is finite).
+std::array<double, 3> RecenterHorizontally(std::vector<v1::WristSample>* samples, int up_axis);
 
 }  // namespace mocap

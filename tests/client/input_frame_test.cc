@@ -5,6 +5,7 @@
 // frame's reconstruction within float tolerance; wrong declarations must be named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -331,6 +332,51 @@ TEST_F(InputFrameTest, CliTakesPresetsAndExplicitFlags) {
   std::ifstream log(dir_ / "bad.log");
   const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("--input-frame: unknown preset \"maya\""), std::string::npos) << text;
+}
+
+// Issue #25: a run where every sample is refused fails with one summary naming the cause and the
+// fix, and writes nothing; positions kilometres from the origin (a game engine's world) are taken
+// with --recenter.
+TEST_F(InputFrameTest, CliRunThatReconstructsNothingFailsWithTheCauseAndWritesNothing) {
+  SetUpData();
+  auto write_csv = [&](const std::string& name, double scale, double x_offset) {
+    std::ofstream out(dir_ / name);
+    out << "time,left_x,left_y,left_z,right_x,right_y,right_z\n";
+    for (const v1::WristSample& s : query_) {
+      out << s.time() << "," << scale * s.left().x() + x_offset << "," << scale * s.left().y() << ","
+          << scale * s.left().z() << "," << scale * s.right().x() + x_offset << "," << scale * s.right().y() << ","
+          << scale * s.right().z() << "\n";
+    }
+    return (dir_ / name).string();
+  };
+  auto run = [&](const std::string& csv, const std::string& name, const std::string& flags) {
+    const std::string command = std::string(MOCAP_CLI_PATH) + " --address " + server_->address() + " --key " +
+                                keys_["acme"] + " reconstruct --database walks --csv " + csv +
+                                " --k1 100 --k2 30 --quiet " + flags + " -o " + (dir_ / name).string() + " 2>" +
+                                (dir_ / (name + ".log")).string() + " >/dev/null";
+    const int code = std::system(command.c_str());
+    std::ifstream log(dir_ / (name + ".log"));
+    return std::make_pair(code, std::string((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>()));
+  };
+  const std::string far = write_csv("far.csv", 1.0, 12000.0);  // 12 km east, as a game world puts it
+  const auto [far_code, far_log] = run(far, "far", "");
+  EXPECT_NE(far_code, 0) << far_log;
+  EXPECT_NE(far_log.find("no frame was reconstructed: " + std::to_string(query_.size()) + " of " +
+                         std::to_string(query_.size()) + " samples were refused"),
+            std::string::npos)
+      << far_log;
+  EXPECT_NE(far_log.find("--recenter"), std::string::npos) << far_log;
+  EXPECT_LT(std::count(far_log.begin(), far_log.end(), '\n'), 10) << "one summary, not a line per sample";
+  EXPECT_FALSE(fs::exists(dir_ / "far.bvh"));
+  EXPECT_FALSE(fs::exists(dir_ / "far.json"));
+  const auto [recentered_code, recentered_log] = run(far, "recentered", "--recenter");
+  EXPECT_EQ(recentered_code, 0) << recentered_log;
+  EXPECT_TRUE(fs::exists(dir_ / "recentered.bvh"));
+  // Centimetres declared as metres: the wrists are metres apart; the fix names the unit.
+  const auto [cm_code, cm_log] = run(write_csv("centimetres.csv", 100.0, 0.0), "centimetres", "");
+  EXPECT_NE(cm_code, 0) << cm_log;
+  EXPECT_NE(cm_log.find("declared unit"), std::string::npos) << cm_log;
+  EXPECT_FALSE(fs::exists(dir_ / "centimetres.bvh"));
 }
 
 }  // namespace

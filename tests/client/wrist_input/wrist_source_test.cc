@@ -227,5 +227,36 @@ TEST_F(WristSourceTest, BvhErrors) {
   EXPECT_EQ(WristsFromBvh(WriteClip("walk.bvh", {}), -1.0, 1).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
+// --recenter: one offset for every sample, from the first finite one, the height kept.
+TEST(RecenterTest, MovesTheFirstFiniteSamplesWristsToTheOriginOnTheGround) {
+  auto sample = [](double t, double x, double y, double z) {
+    v1::WristSample s;
+    s.set_time(t);
+    s.mutable_left()->set_x(x - 0.3);
+    s.mutable_left()->set_y(y);
+    s.mutable_left()->set_z(z);
+    s.mutable_right()->set_x(x + 0.3);
+    s.mutable_right()->set_y(y + 0.1);
+    s.mutable_right()->set_z(z);
+    return s;
+  };
+  std::vector<v1::WristSample> samples = {sample(0, std::nan(""), 1, 2), sample(1, 12000, 1.0, -5000),
+                                          sample(2, 12001, 1.2, -5000)};
+  const std::array<double, 3> offset = RecenterHorizontally(&samples, 1);  // Y up
+  EXPECT_NEAR(offset[0], 12000, 2e-3);
+  EXPECT_DOUBLE_EQ(offset[1], 0);  // heights kept
+  EXPECT_NEAR(offset[2], -5000, 1e-3);
+  EXPECT_NEAR(samples[1].left().x(), -0.3, 2e-3);  // positions are floats: 1 mm at 12 km
+  EXPECT_NEAR(samples[1].right().y(), 1.1, 1e-6);
+  EXPECT_NEAR(samples[2].left().x(), 0.7, 2e-3);
+  EXPECT_NEAR(samples[2].left().z(), 0, 2e-3);
+  // Z up (Blender, Unreal): X and Y move, Z stays.
+  std::vector<v1::WristSample> z_up = {sample(0, 100, 200, 1.3)};
+  const std::array<double, 3> z_offset = RecenterHorizontally(&z_up, 2);
+  EXPECT_NEAR(z_offset[1], 200.05, 1e-4);
+  EXPECT_DOUBLE_EQ(z_offset[2], 0);
+  EXPECT_FLOAT_EQ(z_up[0].left().z(), 1.3f);
+}
+
 }  // namespace
 }  // namespace mocap
