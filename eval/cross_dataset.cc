@@ -120,6 +120,8 @@ std::map<std::string, std::string> CmuContents(const std::filesystem::path& fold
   return contents;
 }
 
+constexpr float kWalkingSpeed = 0.6f;  // m/s, the wrists' midpoint over the ground
+
 float Median(std::vector<float> values) {
   if (values.empty()) return 1.0f;
   std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
@@ -169,6 +171,15 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     lower_wrists.push_back(std::min(f.wrist_position[0][1], f.wrist_position[1][1]));
   }
   const float database_lower_wrist = Median(lower_wrists);
+  std::vector<float> walking_wrists;
+  for (const FrameFeatures& f : database->frames()) {
+    const float vx = 0.5f * (f.wrist_velocity[0][0] + f.wrist_velocity[1][0]);
+    const float vz = 0.5f * (f.wrist_velocity[0][2] + f.wrist_velocity[1][2]);
+    if (std::hypot(vx, vz) < kWalkingSpeed) continue;
+    walking_wrists.push_back(f.wrist_position[0][1]);
+    walking_wrists.push_back(f.wrist_position[1][1]);
+  }
+  const float database_walking_wrist = walking_wrists.empty() ? 0.0f : Median(walking_wrists);
   for (const Experiment& experiment : experiments) {
     std::vector<LandmarkMetrics> per_clip(tests.size());
     MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), threads, [&](size_t i) -> absl::Status {
@@ -183,6 +194,21 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
         std::vector<float> lower;
         for (const WristSample& s : wrists) lower.push_back(std::min(s.left.y(), s.right.y()));
         scale = std::clamp(database_lower_wrist / Median(lower), 0.7f, 1.4f);
+      } else if (experiment.size == PerformerSize::kWalkingWrists) {
+        std::vector<float> heights;
+        for (size_t k = 2; k + 2 < wrists.size(); ++k) {
+          const double dt = wrists[k + 2].time - wrists[k - 2].time;
+          const Eigen::Vector3f moved =
+              0.5f * (wrists[k + 2].left + wrists[k + 2].right - wrists[k - 2].left - wrists[k - 2].right);
+          if (dt <= 0 || std::hypot(moved.x(), moved.z()) / dt < kWalkingSpeed) continue;
+          heights.push_back(wrists[k].left.y());
+          heights.push_back(wrists[k].right.y());
+        }
+        const double seconds = wrists.size() > 1 ? (wrists.back().time - wrists.front().time) : 0.0;
+        const double per_second = seconds > 0 ? 2.0 * (wrists.size() - 1) / seconds : 0.0;
+        if (database_walking_wrist > 0 && static_cast<double>(heights.size()) >= per_second) {
+          scale = std::clamp(database_walking_wrist / Median(heights), 0.75f, 1.33f);
+        }
       }
       for (WristSample& sample : wrists) {
         sample.left *= scale;

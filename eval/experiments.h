@@ -15,7 +15,10 @@ namespace mocap::eval {
 // output back. kTruth is an oracle (the capture's own bone lengths): how much size can explain.
 // kLowerWrist estimates it from the input alone: the median height of the lower wrist against the
 // database's (hands hang at a height proportional to the body's).
-enum class PerformerSize { kDatabase, kTruth, kLowerWrist };
+// kWalkingWrists the same over the frames where the wrists' midpoint moves on at walking speed
+// (≥ 0.6 m/s over the ground: the arms swing about where they hang); the database's size when the
+// input has less than a second of such frames.
+enum class PerformerSize { kDatabase, kTruth, kLowerWrist, kWalkingWrists };
 
 struct Experiment {
   std::string name;

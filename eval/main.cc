@@ -152,6 +152,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--smoothing", base.smoothing.smoothing, "A2 exponential smoothing s (1 = none)")
       ->capture_default_str();
+  app.add_option("--max-gap", base.max_gap_seconds, "input dropouts longer than this (s) end the segment")
+      ->capture_default_str();
   bool no_motion_guard = false;
   app.add_flag("--no-motion-guard", no_motion_guard,
                "do not bound the output pelvis by the database's speed and acceleration (issue #22)");
@@ -270,6 +272,9 @@ int main(int argc, char** argv) {
       experiments.push_back(oracle);
       oracle.name = "full_size_lower_wrist";
       oracle.size = mocap::eval::PerformerSize::kLowerWrist;
+      experiments.push_back(oracle);
+      oracle.name = "full_size_walking_wrists";
+      oracle.size = mocap::eval::PerformerSize::kWalkingWrists;
       experiments.push_back(oracle);
     }
     return RunLandmarkTests(*database, *landmark_tests, experiments, context, out_dir, seed, threads);

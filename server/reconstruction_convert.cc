@@ -221,7 +221,15 @@ void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool 
   ToProto(frame.wrists[0], s, out->mutable_left_wrist());
   ToProto(frame.wrists[1], s, out->mutable_right_wrist());
   auto state = [](TrackingState t) {
-    return t == TrackingState::kImplausible ? v1::TRACKING_STATE_IMPLAUSIBLE : v1::TRACKING_STATE_TRACKED;
+    switch (t) {
+      case TrackingState::kImplausible:
+        return v1::TRACKING_STATE_IMPLAUSIBLE;
+      case TrackingState::kPredicted:
+        return v1::TRACKING_STATE_PREDICTED;
+      case TrackingState::kTracked:
+        break;
+    }
+    return v1::TRACKING_STATE_TRACKED;
   };
   out->set_left_hand_state(state(frame.hand_state[0]));
   out->set_right_hand_state(state(frame.hand_state[1]));

@@ -54,7 +54,12 @@ struct ReconstructionOptions {
   // bodies; frames whose input jumps are flagged (issue #22).
   MotionGuardOptions motion_guard;
 
-  double max_gap_seconds = 0.25;  // longer input dropouts end the segment
+  // Input dropouts up to this long are bridged (the input interpolated across them, frames
+  // flagged kPredicted, one continuous body); longer ones end the segment. Hand trackers lose the
+  // hands for up to a couple of seconds (out of the camera's view, a controller occluded); at
+  // 0.25 s each such dropout restarted the body, and on device-like input with 0.1-2 s dropouts
+  // the full method fell behind a plain lookup (README, issue #22).
+  double max_gap_seconds = 2.0;
 };
 
 }  // namespace mocap

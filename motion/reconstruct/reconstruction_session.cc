@@ -439,8 +439,11 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     }
     for (int side = 0; side < 2; ++side) {  // the step into this frame's input
       auto input_at = [&](int f) { return f >= s.input.first() && f >= 0 ? &s.input[f][side] : nullptr; };
-      if (jump_detector_.Implausible(input_at(e - 2), input_at(e - 1), s.input[e][side]))
+      if (jump_detector_.Implausible(input_at(e - 2), input_at(e - 1), s.input[e][side])) {
         frame.hand_state[side] = TrackingState::kImplausible;
+      } else if (s.bridged[e]) {
+        frame.hand_state[side] = TrackingState::kPredicted;
+      }
     }
     if (options_.motion_guard.enabled) {
       // The guard moves the whole body (and its pins) rigidly to where the pelvis may go; the

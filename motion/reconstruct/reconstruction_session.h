@@ -46,6 +46,8 @@ enum class TrackingState {
   kTracked,      // the input moves as a hand can
   kImplausible,  // the input stepped faster than any hand in the database (a controller's jump,
                  // a tracker that repeated samples and caught up): the body does not follow it
+  kPredicted,    // no input at this time: a dropout (up to max_gap_seconds) bridged by the input
+                 // interpolated across it
 };
 
 struct ReconstructedFrame {

@@ -40,8 +40,9 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
       const double t = grid_origin_ + static_cast<double>(next_index_) * frame_time_;
       if (t > sample.time + 0.01 * frame_time_) break;
       const float a = static_cast<float>(std::clamp((t - previous_.time) / span, 0.0, 1.0));
+      // The grid time that meets the new sample is input again, not a guess across the dropout.
       out->push_back(GridSample{.starts_segment = false,
-                                .bridged = bridged,
+                                .bridged = bridged && t < sample.time - 0.01 * frame_time_,
                                 .time = t,
                                 .left = (1 - a) * previous_.left + a * sample.left,
                                 .right = (1 - a) * previous_.right + a * sample.right});

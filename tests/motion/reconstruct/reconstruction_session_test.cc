@@ -166,10 +166,34 @@ TEST_F(ReconstructionSessionTest, RefusedSamplesLeaveTheSessionAsItWas) {
   EXPECT_EQ((*session)->statistics().refused_samples, 2);
 }
 
+TEST_F(ReconstructionSessionTest, ADropoutIsBridgedAndPredictedUpToMaxGap) {
+  auto samples = testing::WristSamplesOf(setup_);
+  const double dt = setup_.database->frame_time();
+  samples.erase(samples.begin() + 30, samples.begin() + 60);  // a 1 s dropout (as a hand out of view)
+  auto frames = ReconstructOffline(setup_.database, options_, samples);
+  ASSERT_TRUE(frames.ok()) << frames.status();
+  ASSERT_EQ(frames->size(), 75u);  // every frame of the clip, in one segment
+  for (const ReconstructedFrame& frame : *frames) {
+    EXPECT_EQ(frame.segment, 0);
+    const bool in_gap = frame.time > samples[29].time + 1e-9 && frame.time < samples[30].time - 1e-9;
+    for (int side = 0; side < 2; ++side) {
+      EXPECT_EQ(frame.hand_state[side], in_gap ? TrackingState::kPredicted : TrackingState::kTracked)
+          << "t = " << frame.time;
+    }
+  }
+  EXPECT_NEAR(samples[30].time - samples[29].time, 31 * dt, 1e-9);
+  // Longer than max_gap_seconds: the segment ends.
+  options_.max_gap_seconds = 0.5;
+  auto split = ReconstructOffline(setup_.database, options_, samples);
+  ASSERT_TRUE(split.ok()) << split.status();
+  EXPECT_EQ(split->back().segment, 1);
+}
+
 TEST_F(ReconstructionSessionTest, ALongGapEndsTheSegmentAndInputAtAnyRateIsResampled) {
   auto samples = testing::WristSamplesOf(setup_);
-  // Second half 2 s later: two segments. Then thin the input to 20 Hz-ish by dropping samples.
-  for (size_t i = 40; i < samples.size(); ++i) samples[i].time += 2.0;
+  // Second half 3 s later (beyond max_gap_seconds): two segments. Then thin the input to 20 Hz-ish
+  // by dropping samples.
+  for (size_t i = 40; i < samples.size(); ++i) samples[i].time += 3.0;
   std::vector<WristSample> thinned;
   for (size_t i = 0; i < samples.size(); ++i) {
     if (i % 3 != 1) thinned.push_back(samples[i]);

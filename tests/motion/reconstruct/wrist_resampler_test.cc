@@ -47,6 +47,7 @@ TEST(WristResamplerTest, ShortDropoutsAreBridgedLongOnesStartANewSegment) {
   ASSERT_EQ(out.size(), 16u);
   EXPECT_TRUE(out[12].bridged);
   EXPECT_FALSE(out[12].starts_segment);
+  EXPECT_FALSE(out[15].bridged);  // the sample after the dropout is input again
   EXPECT_NEAR(out[12].left.x(), 12 / 30.0, 1e-5);
   ASSERT_TRUE(resampler.Push(At(2.0), &out).ok());  // 1.5 s gap: a new segment
   ASSERT_EQ(out.size(), 17u);
