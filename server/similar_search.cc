@@ -75,9 +75,19 @@ absl::Status SimilarQuery::Prepare(const std::vector<SearchDatabasePtr>& databas
   clip_points_.clear();
   if (!clip_) return absl::OkStatus();
   const BodyChains chains = MakeBodyChains(rig_->skeleton, rig_->topology);
+  // A one-frame file (a T-pose, a single exported pose) is that pose held still: two frames, so
+  // it resamples like any clip (issue #25: it was refused as "shorter than two frames").
+  BvhClip held;
+  const BvhClip* source = &*clip_;
+  if (clip_->num_frames() == 1) {
+    held = *clip_;
+    held.channels = clip_->channels.replicate(2, 1).eval();
+    source = &held;
+  }
   for (const SearchDatabasePtr& database : databases_) {
+    if (source == &held) held.frame_time = 1.0 / database->summary.frame_rate;  // two frames at its rate
     MOCAP_ASSIGN_OR_RETURN(PreparedClip prepared,
-                           PrepareClip(*clip_, *rig_, {.frame_rate = database->summary.frame_rate}));
+                           PrepareClip(*source, *rig_, {.frame_rate = database->summary.frame_rate}));
     clip_points_.push_back(MakeClipPoints(ForwardKinematics(prepared.skeleton, prepared.motion), chains, points));
   }
   return absl::OkStatus();

@@ -87,6 +87,27 @@ TEST_F(StorePoseSearchTest, FindsTheSamePoseOnAnotherRig) {
   }
 }
 
+// A one-frame file (a T-pose, one exported pose) is a query like any clip (issue #25: it was
+// refused as "shorter than two frames"): frame 20 of the other-rig walk alone, at 60 fps, finds
+// the pose of the same phase.
+TEST_F(StorePoseSearchTest, AOneFrameFileIsAQuery) {
+  BvhClip one = testing::MakeWalkingClip({.z_up = true, .twist_bones = true}, 21, 1.0 / 60.0);
+  one.channels = one.channels.bottomRows(1).eval();
+  const fs::path file = dir_ / "one.bvh";
+  ASSERT_TRUE(WriteBvhFile(one, file).ok());
+  SimilarOptions options = Options();
+  options.query = file;
+  auto result = RunSimilar(options);
+  ASSERT_TRUE(result.ok()) << result.status();
+  ASSERT_EQ((*result)["results"].size(), 1u);
+  const auto& best = (*result)["results"][0]["matches"][0];
+  // 20 frames at 60 fps: 10 at the database's 30 fps, within a gait cycle of 30 frames.
+  const int cycle = static_cast<int>(testing::kSyntheticGaitCycle * 30);
+  const int phase = ((best["frame"].get<int>() - 10) % cycle + cycle) % cycle;
+  EXPECT_TRUE(phase <= 1 || phase >= cycle - 1) << best.dump();
+  EXPECT_LT(best["distance"].get<double>(), 0.05);
+}
+
 // A pose sent as named joint positions (what an app or the RPC sends), here the synthetic walk's
 // frame 20 on the plain rig, in metres, Z up.
 nlohmann::json PoseOfFrame(int frame) {
