@@ -81,8 +81,15 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
         StrCat("not a humanoid rig: found ", candidates.size(), " limb ends; two arms, two legs and a head need five"));
   }
 
-  // 2. The five limb ends; 3. head, limb pairs and pelvis.
-  const steps::HeadAndPairs body = steps::FindHeadAndPairs(steps::PickLimbEnds(candidates, metric), metric);
+  // 2. The five limb ends (and no sixth); 3. head, limb pairs and pelvis.
+  const std::array<int, 5> ends = steps::PickLimbEnds(candidates, metric);
+  if (const std::optional<int> extra = steps::ExtraLimb(candidates, ends, metric)) {
+    return absl::FailedPreconditionError(StrCat("not a humanoid rig: the branch ending at '",
+                                                skeleton.joint(*extra).name,
+                                                "' is as long as an arm or a leg (more than two arms and two legs: a "
+                                                "creature's rig, or a long prop bone?)"));
+  }
+  const steps::HeadAndPairs body = steps::FindHeadAndPairs(ends, metric);
   BodyTopology topology;
   topology.landmarks.pelvis = body.pelvis;
 

@@ -201,6 +201,37 @@ std::array<int, 5> PickLimbEnds(const std::vector<int>& candidates, const TreeMe
   return ends;
 }
 
+std::optional<int> ExtraLimb(const std::vector<int>& candidates, const std::array<int, 5>& ends,
+                             const TreeMetric& metric) {
+  // A leaf's branch: its distance to the nearest path between two of the ends (in a tree, the
+  // distance from c to the path a–b is (|ca| + |cb| − |ab|) / 2), skipping end `skip`.
+  auto branch = [&](int leaf, int skip) {
+    float shortest = std::numeric_limits<float>::infinity();
+    for (int i = 0; i < 5; ++i) {
+      for (int j = i + 1; j < 5; ++j) {
+        if (i == skip || j == skip) continue;
+        shortest = std::min(shortest, 0.5f * (metric.Distance(leaf, ends[i]) + metric.Distance(leaf, ends[j]) -
+                                              metric.Distance(ends[i], ends[j])));
+      }
+    }
+    return shortest;
+  };
+  std::array<float, 5> limb{};
+  for (int k = 0; k < 5; ++k) limb[k] = branch(ends[k], k);
+  std::sort(limb.begin(), limb.end());
+  const float shortest_limb = limb[1];  // limb[0] is the head's (neck and head): the shortest
+  std::optional<int> extra;
+  float longest = kExtraLimbFraction * shortest_limb;
+  for (int leaf : candidates) {
+    if (std::find(ends.begin(), ends.end(), leaf) != ends.end()) continue;
+    if (const float length = branch(leaf, -1); length >= longest) {
+      longest = length;
+      extra = leaf;
+    }
+  }
+  return extra;
+}
+
 HeadAndPairs FindHeadAndPairs(const std::array<int, 5>& ends, const TreeMetric& metric) {
   std::array<Limb, 5> limbs;
   std::array<float, 5> limb_length{};

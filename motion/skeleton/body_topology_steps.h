@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -97,6 +98,16 @@ std::vector<int> LimbEndCandidates(const MergedTree& tree, const std::vector<boo
 // bones, then repeatedly the leaf farthest from those already picked (ties: the earlier leaf).
 // Needs at least five candidates.
 std::array<int, 5> PickLimbEnds(const std::vector<int>& candidates, const TreeMetric& metric);
+
+// A sixth limb: the candidate (not one of `ends`) on the longest branch off the body the five ends
+// span, when that branch is at least kExtraLimbFraction of the shortest arm or leg (each end's own
+// branch off the other four; the head's, the shortest, aside). A person's other leaves (fingers,
+// toes, face, breast and twist bones) branch off briefly; a creature's third leg or second pair
+// of arms is as long as a limb (issue #24: an eight-legged rig was taken for a human). nullopt
+// when there is none.
+inline constexpr float kExtraLimbFraction = 0.5f;
+std::optional<int> ExtraLimb(const std::vector<int>& candidates, const std::array<int, 5>& ends,
+                             const TreeMetric& metric);
 
 // ---------------------------------------------------------------------------------------------
 // Step 3: head, limb pairs and pelvis.

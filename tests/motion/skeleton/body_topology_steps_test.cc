@@ -314,6 +314,33 @@ TEST(BodyStepPickLimbEndsTest, HandsFeetAndHeadOfTheSyntheticRigWithFingersAndTo
   EXPECT_EQ(Sorted(groups), Sorted({"head", "left hand", "right hand", "left foot", "right foot"}));
 }
 
+TEST(BodyStepExtraLimbTest, ACreaturesSixthLimbButNotAPersonsFingersAndToes) {
+  // Seven equal limbs of two bones off the root (an eight-legged creature's body, less one leg).
+  std::vector<Joint> joints = {Joint{.name = "Body", .parent = -1}};
+  for (int limb = 0; limb < 7; ++limb) {
+    const float angle = static_cast<float>(limb) * 0.9f;
+    const Eigen::Vector3f out(std::cos(angle), 0.0f, std::sin(angle));
+    joints.push_back(Joint{.name = "Upper" + std::to_string(limb), .parent = 0, .offset = 40.0f * out});
+    joints.push_back(Joint{.name = "Lower" + std::to_string(limb),
+                           .parent = static_cast<int>(joints.size()) - 1,
+                           .offset = Eigen::Vector3f(0, -40, 0)});
+  }
+  const Skeleton creature(std::move(joints));
+  const TreeMetric metric(creature, OffsetLengths(creature));
+  const std::vector<int> leaves = {2, 4, 6, 8, 10, 12, 14};
+  const std::optional<int> extra = ExtraLimb(leaves, PickLimbEnds(leaves, metric), metric);
+  ASSERT_TRUE(extra.has_value());
+  EXPECT_TRUE(NameOf(creature, *extra).starts_with("Lower"));
+
+  testing::SyntheticRigOptions options;
+  options.fingers_and_toes = true;
+  const WalkingClip person(options);
+  const std::vector<int> candidates =
+      LimbEndCandidates(person.tree, FindOverlayChains(person.skeleton, person.tree, person.poses, person.frames));
+  ASSERT_GT(candidates.size(), 5u);  // fingers and toes are leaves too
+  EXPECT_FALSE(ExtraLimb(candidates, PickLimbEnds(candidates, person.metric), person.metric).has_value());
+}
+
 // ---------------------------------------------------------------------------------------------
 // Step 3: head, pairs, pelvis.
 
