@@ -128,6 +128,65 @@ float Median(std::vector<float> values) {
   return std::max(1e-3f, values[values.size() / 2]);
 }
 
+// What the PerformerSize estimates compare the input with: the database body's bone lengths and
+// its clips' wrist heights (the lower wrist; both wrists while walking).
+struct SizeReference {
+  LandmarkBodySize body;
+  float lower_wrist = 0, walking_wrist = 0;  // medians, metres; 0: no walking frame
+};
+
+SizeReference DatabaseSizeReference(const ReconstructionDatabase& database) {
+  SizeReference reference{.body = BodySizeOf(database)};
+  std::vector<float> lower, walking;
+  for (const FrameFeatures& f : database.frames()) {
+    lower.push_back(std::min(f.wrist_position[0][1], f.wrist_position[1][1]));
+    const float vx = 0.5f * (f.wrist_velocity[0][0] + f.wrist_velocity[1][0]);
+    const float vz = 0.5f * (f.wrist_velocity[0][2] + f.wrist_velocity[1][2]);
+    if (std::hypot(vx, vz) < kWalkingSpeed) continue;
+    walking.push_back(f.wrist_position[0][1]);
+    walking.push_back(f.wrist_position[1][1]);
+  }
+  reference.lower_wrist = Median(lower);
+  reference.walking_wrist = walking.empty() ? 0.0f : Median(walking);
+  return reference;
+}
+
+// How much to scale a test's input (and divide its output by) to bring the performer to the
+// database body's size (experiments.h, PerformerSize).
+float InputScale(PerformerSize size, const SizeReference& reference, const LandmarkTruth& truth,
+                 const std::vector<WristSample>& wrists) {
+  switch (size) {
+    case PerformerSize::kDatabase:
+      return 1.0f;
+    case PerformerSize::kTruth: {
+      const LandmarkBodySize performer = BodySizeOf(truth.positions.front());
+      return (reference.body.leg + reference.body.arm) / (performer.leg + performer.arm);
+    }
+    case PerformerSize::kLowerWrist: {
+      std::vector<float> lower;
+      for (const WristSample& s : wrists) lower.push_back(std::min(s.left.y(), s.right.y()));
+      return std::clamp(reference.lower_wrist / Median(lower), 0.7f, 1.4f);
+    }
+    case PerformerSize::kWalkingWrists: {
+      std::vector<float> heights;
+      for (size_t k = 2; k + 2 < wrists.size(); ++k) {
+        const double dt = wrists[k + 2].time - wrists[k - 2].time;
+        const Eigen::Vector3f moved =
+            0.5f * (wrists[k + 2].left + wrists[k + 2].right - wrists[k - 2].left - wrists[k - 2].right);
+        if (dt <= 0 || std::hypot(moved.x(), moved.z()) / dt < kWalkingSpeed) continue;
+        heights.push_back(wrists[k].left.y());
+        heights.push_back(wrists[k].right.y());
+      }
+      // At least a second of walking frames (two heights per sample), else the database's size.
+      const double seconds = wrists.size() > 1 ? (wrists.back().time - wrists.front().time) : 0.0;
+      const double per_second = seconds > 0 ? 2.0 * (wrists.size() - 1) / seconds : 0.0;
+      if (reference.walking_wrist <= 0 || static_cast<double>(heights.size()) < per_second) return 1.0f;
+      return std::clamp(reference.walking_wrist / Median(heights), 0.75f, 1.33f);
+    }
+  }
+  return 1.0f;
+}
+
 }  // namespace
 
 absl::StatusOr<LandmarkTestSet> LoadLandmarkTests(const std::vector<std::filesystem::path>& files, int max_frames) {
@@ -165,51 +224,15 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     const std::vector<Experiment>& experiments, unsigned seed, int threads,
     const std::function<void(const std::string&)>& progress) {
   std::vector<LandmarkExperimentResult> results;
-  const LandmarkBodySize database_size = BodySizeOf(*database);
-  std::vector<float> lower_wrists;
-  for (const FrameFeatures& f : database->frames()) {
-    lower_wrists.push_back(std::min(f.wrist_position[0][1], f.wrist_position[1][1]));
-  }
-  const float database_lower_wrist = Median(lower_wrists);
-  std::vector<float> walking_wrists;
-  for (const FrameFeatures& f : database->frames()) {
-    const float vx = 0.5f * (f.wrist_velocity[0][0] + f.wrist_velocity[1][0]);
-    const float vz = 0.5f * (f.wrist_velocity[0][2] + f.wrist_velocity[1][2]);
-    if (std::hypot(vx, vz) < kWalkingSpeed) continue;
-    walking_wrists.push_back(f.wrist_position[0][1]);
-    walking_wrists.push_back(f.wrist_position[1][1]);
-  }
-  const float database_walking_wrist = walking_wrists.empty() ? 0.0f : Median(walking_wrists);
+  const SizeReference reference = DatabaseSizeReference(*database);
   for (const Experiment& experiment : experiments) {
     std::vector<LandmarkMetrics> per_clip(tests.size());
     MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), threads, [&](size_t i) -> absl::Status {
       const LandmarkTruth& truth = tests[i].truth;
       std::vector<WristSample> wrists =
           DeviceSamples(truth, experiment.device, experiment.noise_cm, seed + static_cast<unsigned>(i));
-      float scale = 1.0f;  // the input is multiplied by it, the output divided
-      if (experiment.size == PerformerSize::kTruth) {
-        const LandmarkBodySize performer = BodySizeOf(truth.positions.front());
-        scale = (database_size.leg + database_size.arm) / (performer.leg + performer.arm);
-      } else if (experiment.size == PerformerSize::kLowerWrist) {
-        std::vector<float> lower;
-        for (const WristSample& s : wrists) lower.push_back(std::min(s.left.y(), s.right.y()));
-        scale = std::clamp(database_lower_wrist / Median(lower), 0.7f, 1.4f);
-      } else if (experiment.size == PerformerSize::kWalkingWrists) {
-        std::vector<float> heights;
-        for (size_t k = 2; k + 2 < wrists.size(); ++k) {
-          const double dt = wrists[k + 2].time - wrists[k - 2].time;
-          const Eigen::Vector3f moved =
-              0.5f * (wrists[k + 2].left + wrists[k + 2].right - wrists[k - 2].left - wrists[k - 2].right);
-          if (dt <= 0 || std::hypot(moved.x(), moved.z()) / dt < kWalkingSpeed) continue;
-          heights.push_back(wrists[k].left.y());
-          heights.push_back(wrists[k].right.y());
-        }
-        const double seconds = wrists.size() > 1 ? (wrists.back().time - wrists.front().time) : 0.0;
-        const double per_second = seconds > 0 ? 2.0 * (wrists.size() - 1) / seconds : 0.0;
-        if (database_walking_wrist > 0 && static_cast<double>(heights.size()) >= per_second) {
-          scale = std::clamp(database_walking_wrist / Median(heights), 0.75f, 1.33f);
-        }
-      }
+      // The input is multiplied by it, the output divided.
+      const float scale = InputScale(experiment.size, reference, truth, wrists);
       for (WristSample& sample : wrists) {
         sample.left *= scale;
         sample.right *= scale;

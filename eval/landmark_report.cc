@@ -124,9 +124,9 @@ void DeviceTable(
 
 }  // namespace
 
-absl::Status WriteLandmarkReport(const std::filesystem::path& out_dir, const nlohmann::json& context,
-                                 const std::vector<std::string>& left_out,
-                                 const std::vector<LandmarkExperimentResult>& results) {
+absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out_dir, const nlohmann::json& context,
+                                                const std::vector<std::string>& left_out,
+                                                const std::vector<LandmarkExperimentResult>& results) {
   if (results.empty()) return absl::InvalidArgumentError("no runs to report");
   std::filesystem::create_directories(out_dir);
   nlohmann::json report = context;
@@ -177,10 +177,12 @@ absl::Status WriteLandmarkReport(const std::filesystem::path& out_dir, const nlo
     const auto it = r.by_content.find(key);
     return it == r.by_content.end() ? nullptr : &it->second;
   };
-  md << "## Per source\n\n";
-  Table(md, "source", sources, lab, by_source,
+  std::ostringstream per_source, devices;  // also the summary returned
+  per_source << "## Per source\n\n";
+  Table(per_source, "source", sources, lab, by_source,
         [](const LandmarkClipResult& c, const std::string& key) { return key == "all" || c.source == key; });
-  md << "## Per source and content\n\n";
+  DeviceTable(devices, sources, results, by_source);
+  md << per_source.str() << "## Per source and content\n\n";
   Table(md, "source/content", contents, lab, by_content,
         [](const LandmarkClipResult& c, const std::string& key) { return StrCat(c.source, "/", c.content) == key; });
   md << "## Per landmark (all clips), cm\n\nPose: the 13 other landmarks relative to the pelvis (where the "
@@ -195,7 +197,7 @@ absl::Status WriteLandmarkReport(const std::filesystem::path& out_dir, const nlo
       md << " " << Fixed(100 * r.overall.Mean(r.overall.group_error_m[g])) << " |";
     md << "\n";
   }
-  DeviceTable(md, sources, results, by_source);
+  md << devices.str();
   if (!left_out.empty()) {
     md << "\n## Not scored\n\n";
     for (const std::string& why : left_out) md << "- " << why << "\n";
@@ -203,7 +205,7 @@ absl::Status WriteLandmarkReport(const std::filesystem::path& out_dir, const nlo
   std::ofstream out(out_dir / "landmarks.md");
   out << md.str();
   if (!json || !out) return absl::InternalError(StrCat("cannot write the landmark report in ", out_dir.string()));
-  return absl::OkStatus();
+  return per_source.str() + devices.str();
 }
 
 }  // namespace mocap::eval

@@ -8,15 +8,16 @@
 
 #include <nlohmann/json.hpp>
 
-#include "absl/status/status.h"
+#include "absl/status/statusor.h"
 #include "eval/cross_dataset.h"
 
 namespace mocap::eval {
 
 nlohmann::json LandmarkMetricsJson(const LandmarkMetrics& m);
-// `context`: what was run; `left_out`: test files not scored and why.
-absl::Status WriteLandmarkReport(const std::filesystem::path& out_dir, const nlohmann::json& context,
-                                 const std::vector<std::string>& left_out,
-                                 const std::vector<LandmarkExperimentResult>& results);
+// `context`: what was run; `left_out`: test files not scored and why. Returns the summary (the
+// per-source and device tables of landmarks.md).
+absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out_dir, const nlohmann::json& context,
+                                                const std::vector<std::string>& left_out,
+                                                const std::vector<LandmarkExperimentResult>& results);
 
 }  // namespace mocap::eval

@@ -67,20 +67,12 @@ int RunLandmarkTests(std::shared_ptr<const mocap::ReconstructionDatabase> databa
     std::cerr << "mocap-eval: " << results.status().message() << "\n";
     return kExitError;
   }
-  if (absl::Status status = mocap::eval::WriteLandmarkReport(out_dir, context, tests.left_out, *results);
-      !status.ok()) {
-    std::cerr << "mocap-eval: " << status.message() << "\n";
+  absl::StatusOr<std::string> summary = mocap::eval::WriteLandmarkReport(out_dir, context, tests.left_out, *results);
+  if (!summary.ok()) {
+    std::cerr << "mocap-eval: " << summary.status().message() << "\n";
     return kExitError;
   }
-  std::ifstream summary(std::filesystem::path(out_dir) / "landmarks.md");
-  std::string line;
-  for (bool in_table = false; std::getline(summary, line);) {  // the per-source table
-    if (line == "## Per source") in_table = true;
-    if (line.starts_with("## Per source and")) in_table = false;
-    if (line.starts_with("## Device")) in_table = true;
-    if (line.starts_with("## Not scored")) break;
-    if (in_table) std::cout << line << "\n";
-  }
+  std::cout << *summary;
   std::cout << "wrote " << out_dir << "/landmarks.md, landmarks.json\n";
   return 0;
 }
@@ -248,11 +240,13 @@ int main(int argc, char** argv) {
     context["database_leg_m"] = size.leg;
     context["database_arm_m"] = size.arm;
   };
-  auto tests = landmarks || cross_dataset
-                   ? absl::StatusOr<std::vector<mocap::eval::TestClip>>(absl::FailedPreconditionError("landmarks"))
-                   : mocap::eval::LoadTestClips(test_files, (*database)->rig(), max_frames, "");
-  if (!tests.ok() && tests.status().code() == absl::StatusCode::kFailedPrecondition) {
-    // Another rig (or asked for): every test clip is scored on its body landmarks.
+  bool by_landmarks = landmarks || cross_dataset;
+  absl::StatusOr<std::vector<mocap::eval::TestClip>> tests = std::vector<mocap::eval::TestClip>{};
+  if (!by_landmarks) {
+    tests = mocap::eval::LoadTestClips(test_files, (*database)->rig(), max_frames, "");
+    by_landmarks = tests.status().code() == absl::StatusCode::kFailedPrecondition;  // a clip on another rig
+  }
+  if (by_landmarks) {  // every test clip is scored on its body landmarks
     auto landmark_tests = cross_dataset ? mocap::eval::LoadCrossDatasetTests(data, max_frames)
                                         : mocap::eval::LoadLandmarkTests(test_files, max_frames);
     if (!landmark_tests.ok()) {
