@@ -1,6 +1,7 @@
 #include "client/cli/reconstruction_bvh.h"
 
 #include "motion/bvh/bvh_writer.h"
+#include "motion/reconstruct/reconstruction_export.h"
 #include "motion/skeleton/local_motion.h"
 
 namespace mocap::cli {
@@ -40,6 +41,13 @@ absl::StatusOr<std::string> ReconstructionBvh(const v1::SessionStarted& started,
   if (absl::Status valid = clip.skeleton.Validate(); !valid.ok()) return valid;
   clip.frame_time = started.frame_rate() > 0 ? 1.0 / started.frame_rate() : 1.0 / 30.0;
   const int joints = clip.skeleton.num_joints();
+  // Joints above the pelvis (Bandai's joint_Root, an RL_BoneRoot) are placed by the frames through
+  // the rig's offsets, and the pelvis OFFSET is where the database's first clip started: written
+  // as they come, the root wanders metres from the body and under the floor. The pelvis gets
+  // position channels and carries the motion; the root stays at the origin.
+  const int pelvis = started.skeleton().has_landmarks() ? started.skeleton().landmarks().pelvis() : 0;
+  const bool hold_root = pelvis > 0 && pelvis < joints;
+  if (hold_root) clip.skeleton = WithPelvisPositionChannels(clip.skeleton, pelvis);
   LocalMotion motion;
   motion.frame_time = clip.frame_time;
   motion.Resize(static_cast<int>(frames.size()), joints);
@@ -55,6 +63,13 @@ absl::StatusOr<std::string> ReconstructionBvh(const v1::SessionStarted& started,
       motion.SetRotation(f, j, Eigen::Quaternionf(q.w(), q.x(), q.y(), q.z()).normalized());
       motion.SetTranslation(f, j, j == 0 ? FromProto(frame.root_position()) : clip.skeleton.joint(j).offset);
     }
+  }
+  if (hold_root && motion.num_frames() > 0) {
+    // The joints above the pelvis keep the first frame's rotations (the root's turns the rig to
+    // Y up), the root at the origin: on the floor, static; every joint's world position unchanged.
+    std::vector<Eigen::Quaternionf> held(joints, Eigen::Quaternionf::Identity());
+    for (int j = 0; j < joints; ++j) held[j] = motion.rotation(0, j);
+    HoldJointsAbovePelvis(clip.skeleton, pelvis, held, Eigen::Vector3f::Zero(), motion);
   }
   clip.channels = ChannelsFromMotion(clip.skeleton, motion);
   return FormatBvh(clip);

@@ -1,5 +1,7 @@
 // A streamed reconstruction (SessionStarted + frames) as BVH text: the session's skeleton in
-// metres, Y up, at the session's frame rate; root with 6 channels, other joints ZXY rotations.
+// metres, Y up, at the session's frame rate; root with 6 channels, other joints ZXY rotations. A
+// pelvis below other joints (an extra root) also gets position channels and carries the motion,
+// with the joints above it held still and the root at the origin.
 #pragma once
 
 #include <string>

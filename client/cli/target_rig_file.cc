@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "motion/bvh/bvh_writer.h"
+#include "motion/reconstruct/reconstruction_export.h"
 #include "motion/retarget/retarget_export.h"
 
 namespace mocap::cli {
@@ -59,6 +60,10 @@ absl::StatusOr<std::string> RetargetedBvhText(const std::string& target_rig_text
     }
   }
   const double frame_time = started.frame_rate() > 0 ? 1.0 / started.frame_rate() : 1.0 / 30.0;
+  // A pelvis under other joints without position channels of its own (cmu-cc's CC_Base_Hip under
+  // RL_BoneRoot) gets them: it carries the motion and the root stays at rest at its OFFSET, where
+  // it would otherwise wander with the body (RetargetedToBvh, HoldJointsAbovePelvis).
+  rig->skeleton = WithPelvisPositionChannels(rig->skeleton, rig->topology.landmarks.pelvis);
   return FormatBvh(RetargetedToBvh(*rig, poses, frame_time));
 }
 

@@ -8,17 +8,31 @@
 namespace mocap {
 namespace {
 
-bool HasPositionChannels(const Joint& joint) {
-  return std::any_of(joint.channels.begin(), joint.channels.end(), [](ChannelType c) {
-    return c == ChannelType::kXposition || c == ChannelType::kYposition || c == ChannelType::kZposition;
-  });
+// All three: a joint with only some of them keeps the rest of its translation from its OFFSET (and
+// Blender reads a missing one as 0), so it could not carry a translation that moves freely.
+bool HasAllPositionChannels(const Joint& joint) {
+  bool axes[3] = {false, false, false};
+  for (ChannelType c : joint.channels) {
+    if (!IsRotation(c)) axes[ChannelAxis(c)] = true;
+  }
+  return axes[0] && axes[1] && axes[2];
 }
 
 }  // namespace
 
+Skeleton WithPelvisPositionChannels(const Skeleton& skeleton, int pelvis) {
+  if (pelvis <= 0 || pelvis >= skeleton.num_joints() || HasAllPositionChannels(skeleton.joint(pelvis))) return skeleton;
+  std::vector<Joint> joints = skeleton.joints();
+  std::vector<ChannelType>& channels = joints[pelvis].channels;
+  channels.erase(std::remove_if(channels.begin(), channels.end(), [](ChannelType c) { return !IsRotation(c); }),
+                 channels.end());
+  channels.insert(channels.begin(), {ChannelType::kXposition, ChannelType::kYposition, ChannelType::kZposition});
+  return Skeleton(std::move(joints));
+}
+
 void HoldJointsAbovePelvis(const Skeleton& skeleton, int pelvis, const std::vector<Eigen::Quaternionf>& held_rotations,
                            const Eigen::Vector3f& root_offset, LocalMotion& motion) {
-  if (pelvis <= 0 || !HasPositionChannels(skeleton.joint(pelvis))) return;
+  if (pelvis <= 0 || pelvis >= skeleton.num_joints() || !HasAllPositionChannels(skeleton.joint(pelvis))) return;
   std::vector<int> chain;  // root first, pelvis last
   for (int j = pelvis; j >= 0; j = skeleton.parent(j)) chain.insert(chain.begin(), j);
   for (int f = 0; f < motion.num_frames(); ++f) {
@@ -48,15 +62,18 @@ BvhClip ReconstructionToBvh(const ReconstructionDatabase& database, const std::v
   for (const ReconstructedFrame& frame : frames) poses.push_back(frame.pose);
   LocalMotion motion = body.ToLocalMotion(poses, database.frame_time());
   const RigModel& rig = database.rig();
+  // The rig's hierarchy, offsets and channels as imported, with position channels on a pelvis
+  // below other joints that has none (cmu-cc's CC_Base_Hip), so that it carries the motion.
+  const Skeleton skeleton = WithPelvisPositionChannels(rig.skeleton, rig.topology.landmarks.pelvis);
   // The rig's reference rotations (the root's includes the turn to Y up), the root at its OFFSET.
-  HoldJointsAbovePelvis(rig.skeleton, rig.topology.landmarks.pelvis, rig.reference_rotations,
+  HoldJointsAbovePelvis(skeleton, rig.topology.landmarks.pelvis, rig.reference_rotations,
                         rig.to_y_up * (rig.skeleton.joint(0).offset * static_cast<float>(MetresPerUnit(rig.unit))),
                         motion);
   // Back to the file's world: undo the Y-up rotation and the conversion to metres.
   RotateWorld(motion, database.rig().to_y_up.conjugate());
   ScaleTranslations(motion, static_cast<float>(1.0 / MetresPerUnit(database.rig().unit)));
   BvhClip clip;
-  clip.skeleton = database.rig().skeleton;  // the rig's hierarchy, offsets and channels as imported
+  clip.skeleton = skeleton;
   clip.frame_time = database.frame_time();
   // Joints without position channels take their translation from the OFFSET: use the body's.
   std::vector<Joint> joints = clip.skeleton.joints();

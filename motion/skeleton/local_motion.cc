@@ -88,21 +88,26 @@ namespace {
 
 // Euler angles (radians) of `rotation` for the intrinsic order `axes` (R = R_a0 R_a1 R_a2), with
 // the middle angle in [-pi/2, pi/2] — the branch nearest to zero for typical joint rotations.
-Eigen::Vector3f EulerAngles(const Eigen::Matrix3f& m, int a0, int a1, int a2) {
+Eigen::Vector3f EulerAngles(const Eigen::Quaternionf& rotation, int a0, int a1, int a2) {
   // Works for Tait–Bryan orders (three distinct axes). Sign of the permutation decides the formulas.
+  // The matrix in double from the quaternion, the middle angle by atan2 of its sine and cosine:
+  // in float, a middle angle within ~0.3° of ±90° had to be taken as gimbal lock, which turned the
+  // rotation by up to ~0.1° (millimetres at a hand).
+  const Eigen::Matrix3d m = rotation.cast<double>().normalized().toRotationMatrix();
   const bool even = (a1 == (a0 + 1) % 3);
-  const float sign = even ? 1.0f : -1.0f;
-  Eigen::Vector3f angles;
-  const float s1 = std::clamp(sign * m(a0, a2), -1.0f, 1.0f);
-  angles[1] = std::asin(s1);
-  if (std::abs(s1) < 0.99999f) {
+  const double sign = even ? 1.0 : -1.0;
+  Eigen::Vector3d angles;
+  const double s1 = sign * m(a0, a2);
+  const double c1 = std::hypot(m(a0, a0), m(a0, a1));
+  angles[1] = std::atan2(s1, c1);
+  if (c1 > 1e-7) {
     angles[0] = std::atan2(-sign * m(a1, a2), m(a2, a2));
     angles[2] = std::atan2(-sign * m(a0, a1), m(a0, a0));
   } else {  // gimbal lock: put everything in the first angle
     angles[0] = std::atan2(sign * m(a2, a1), m(a1, a1));
-    angles[2] = 0.0f;
+    angles[2] = 0.0;
   }
-  return angles;
+  return angles.cast<float>();
 }
 
 }  // namespace
@@ -128,7 +133,7 @@ ChannelMatrix ChannelsFromMotion(const Skeleton& skeleton, const LocalMotion& mo
     for (int f = 0; f < motion.num_frames(); ++f) {
       Eigen::Vector3f angles = Eigen::Vector3f::Zero();
       if (rotation_channels > 0) {
-        angles = EulerAngles(motion.rotation(f, j).normalized().toRotationMatrix(), order[0], order[1], order[2]);
+        angles = EulerAngles(motion.rotation(f, j), order[0], order[1], order[2]);
         if (rotation_channels < 3) {
           // The other Euler solution (a+pi, pi-b, c+pi) may be the one whose dropped angles are
           // zero; keep whichever drops less.

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "motion/bvh/bvh_reader.h"
 #include "motion/bvh/bvh_writer.h"
+#include "motion/core/units.h"
 #include "tests/support/synthetic_database.h"
 
 namespace mocap {
@@ -72,6 +75,40 @@ TEST(ReconstructionExportTest, AStaticRootStaysStillAndAboveTheFloor) {
     EXPECT_GE(poses.position(f, 0).y(), -1e-3f) << "root below the floor at frame " << f;
     EXPECT_GT(poses.position(f, 1).y(), 0.2f) << "pelvis not above the root at frame " << f;
   }
+}
+
+// Issue #23 item 3: a pelvis under another joint without position channels of its own (cmu-cc's
+// CC_Base_Hip under RL_BoneRoot; the synthetic Z-up rig's Hips) gets them in the file and carries
+// the motion; the root stays still at its OFFSET, on the floor, instead of moving with the body.
+TEST(ReconstructionExportTest, APelvisWithoutPositionChannelsGetsThemAndTheRootStaysStill) {
+  const auto setup = testing::MakeSyntheticReconstructionSetup(testing::SyntheticRigFromBits(2), 60);
+  const int pelvis = setup.rig.topology.landmarks.pelvis;
+  ASSERT_GT(pelvis, 0) << "a root above the pelvis";
+  auto position_channels = [](const Joint& joint) {
+    return std::count_if(joint.channels.begin(), joint.channels.end(), [](ChannelType c) { return !IsRotation(c); });
+  };
+  ASSERT_EQ(position_channels(setup.rig.skeleton.joint(pelvis)), 0) << "the case under test";
+  ReconstructionOptions options;
+  options.ankle_candidates = 40;
+  options.pose_neighbours = 30;
+  auto frames = ReconstructOffline(setup.database, options, testing::WristSamplesOf(setup));
+  ASSERT_TRUE(frames.ok()) << frames.status();
+  const BvhClip clip = ReconstructionToBvh(*setup.database, *frames);
+  EXPECT_EQ(position_channels(clip.skeleton.joint(pelvis)), 3);
+  auto parsed = ParseBvh(FormatBvh(clip), "reconstruction.bvh");
+  ASSERT_TRUE(parsed.ok()) << parsed.status();
+  ASSERT_EQ(parsed->skeleton.joint(pelvis).name, setup.rig.skeleton.joint(pelvis).name);
+  const GlobalPoses poses =
+      ForwardKinematics(parsed->skeleton, MotionFromChannels(parsed->skeleton, parsed->channels, parsed->frame_time));
+  // In metres, Y up (the file is in the rig's unit and axes).
+  const float metres = static_cast<float>(MetresPerUnit(setup.rig.unit));
+  auto world = [&](int f, int j) -> Eigen::Vector3f { return setup.rig.to_y_up * (metres * poses.position(f, j)); };
+  for (int f = 0; f < poses.num_frames(); ++f) {
+    EXPECT_LT((world(f, 0) - world(0, 0)).norm(), 1e-3f) << "root moved at frame " << f;
+    EXPECT_GE(world(f, 0).y(), -1e-3f) << "root below the floor at frame " << f;
+    EXPECT_GT(world(f, pelvis).y() - world(f, 0).y(), 0.2f) << "pelvis not above the root at frame " << f;
+  }
+  EXPECT_GT((world(poses.num_frames() - 1, pelvis) - world(0, pelvis)).norm(), 0.3f) << "the pelvis travels";
 }
 
 }  // namespace
