@@ -1,5 +1,6 @@
 #include "motion/preprocess/clip_preprocessor.h"
 
+#include <array>
 #include <cmath>
 
 #include "motion/core/rotation_vector.h"
@@ -34,6 +35,51 @@ absl::StatusOr<LocalMotion> ToDatabaseWorld(const BvhClip& clip, const RigModel&
   if (std::abs(clip.frame_time - target) > 1e-6 * target) motion = Resample(motion, target);
   motion.frame_time = target;
   return motion;
+}
+
+// A person's legs, hip joint to ankle: from a small child's to the tallest adult's.
+constexpr double kMinLegMetres = 0.4, kMaxLegMetres = 1.2;
+// A later clip of the rig may differ from the database's own body by this factor either way even
+// outside that range (a body the caller declared the unit of: the rig's legs lie outside it).
+constexpr double kSameBodyFactor = 1.25;
+constexpr double kLegShareOfStature = 0.47;  // hip joint to ankle over standing height
+
+double RoundedMetres(double metres) { return std::round(metres * 100) / 100; }
+
+// Hip joint to ankle along `skeleton`'s bones (offsets in metres: a prepared clip's first-frame
+// translations), mean of both legs, on the rig's leg chains as AnalyseBody measures them; 0 when
+// the rig's landmarks give no such chain (then nothing is checked).
+double LegMetres(const Skeleton& skeleton, const BodyTopology& topology) {
+  const std::array<std::array<int, 2>, 2> legs = {
+      std::array<int, 2>{topology.group_top[static_cast<int>(BodyGroup::kLeftLeg)], topology.landmarks.left_ankle},
+      std::array<int, 2>{topology.group_top[static_cast<int>(BodyGroup::kRightLeg)], topology.landmarks.right_ankle}};
+  double sum = 0.0;
+  for (const auto& [top, ankle] : legs) {
+    if (top < 0 || ankle < 0 || ankle >= skeleton.num_joints()) return 0.0;
+    int j = ankle;
+    for (; j > top; j = skeleton.parent(j)) sum += skeleton.joint(j).offset.norm();  // parents come first
+    if (j != top) return 0.0;  // the ankle does not hang under the leg's top
+  }
+  return sum / 2;
+}
+
+// Every clip's body against the database's unit (issue #23): a file of the same rig in another
+// unit, or exported at another scale, would otherwise be stored as a 0.9 m or 3.5 m person. Cheap:
+// a walk up the two leg chains of the prepared skeleton (metres).
+absl::Status CheckClipBodySize(const PreparedClip& prepared, const RigModel& rig) {
+  const double leg = LegMetres(prepared.skeleton, rig.topology);
+  if (!(leg > 0.0)) return absl::OkStatus();
+  if (leg >= kMinLegMetres && leg <= kMaxLegMetres) return absl::OkStatus();
+  const double rig_leg = rig.topology.leg_length * MetresPerUnit(rig.unit);
+  if (!(rig_leg > 0.0)) return absl::OkStatus();  // a rig without its size: nothing to compare
+  if (leg >= rig_leg / kSameBodyFactor && leg <= rig_leg * kSameBodyFactor) return absl::OkStatus();
+  const std::string_view unit = UnitName(rig.unit);
+  return absl::InvalidArgumentError(StrCat(
+      "the body would be about ", RoundedMetres(leg / kLegShareOfStature), " m tall (legs ", RoundedMetres(leg),
+      " m) in the database's length unit '", unit, "', whose rig has legs of ", RoundedMetres(rig_leg),
+      " m: the file is in another unit or exported at another scale. Rescale it to '", unit,
+      "', or import it into a database of its own, declaring its length unit with --units (m, cm, mm, in, "
+      "or cmu for CMU's 1/0.45 inch)"));
 }
 
 }  // namespace
@@ -72,11 +118,11 @@ absl::Status CheckBodySize(const BodyTopology& topology) {
   // child's and the tallest adult's; a declared unit is the caller's word and is kept.
   if (!topology.unit_detected) return absl::OkStatus();
   const double leg_metres = topology.leg_length * MetresPerUnit(topology.unit);
-  if (leg_metres >= 0.4 && leg_metres <= 1.2) return absl::OkStatus();
-  const double height = leg_metres / 0.47;  // legs are ~47% of stature (hip joint to ankle)
+  if (leg_metres >= kMinLegMetres && leg_metres <= kMaxLegMetres) return absl::OkStatus();
+  const double height = leg_metres / kLegShareOfStature;
   return absl::InvalidArgumentError(
-      StrCat("the body would be about ", std::round(height * 100) / 100, " m tall (legs ",
-             std::round(leg_metres * 100) / 100, " m) in the detected unit '", UnitName(topology.unit),
+      StrCat("the body would be about ", RoundedMetres(height), " m tall (legs ", RoundedMetres(leg_metres),
+             " m) in the detected unit '", UnitName(topology.unit),
              "': declare the file's length unit with --units (m, cm, mm, in, or cmu for CMU's 1/0.45 inch); "
              "a file exported at another scale needs rescaling first"));
 }
@@ -168,6 +214,7 @@ absl::StatusOr<PreparedClip> PrepareClip(const BvhClip& clip, const RigModel& ri
     if (joints[j].end_site) *joints[j].end_site *= metres;
   }
   prepared.skeleton = Skeleton(std::move(joints));
+  MOCAP_RETURN_IF_ERROR(CheckClipBodySize(prepared, rig));
   const GlobalPoses poses = ForwardKinematics(prepared.skeleton, prepared.motion);
   prepared.features =
       ComputeFrameFeatures(poses, rig.topology.landmarks, rig.pelvis_up_local, prepared.motion.frame_time);

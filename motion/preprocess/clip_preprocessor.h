@@ -73,7 +73,10 @@ struct PreparedClip {
   int num_frames() const { return motion.num_frames(); }
 };
 
-// FailedPrecondition when the clip's rig differs from `rig`.
+// FailedPrecondition when the clip's rig differs from `rig`. InvalidArgument, naming --units, when
+// the clip's body is no person's size in the rig's unit (legs outside CheckBodySize's 0.4-1.2 m and
+// more than 1.25x off the rig's own: a file of the rig in another unit or exported at another scale;
+// every imported clip, not only the first, is checked so).
 absl::StatusOr<PreparedClip> PrepareClip(const BvhClip& clip, const RigModel& rig, const PreprocessOptions& options);
 
 // Compact pose encoding: per frame, the root translation (3 floats, metres) then every joint's

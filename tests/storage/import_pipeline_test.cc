@@ -181,6 +181,93 @@ TEST_F(ImportPipelineTest, RetargetsAnotherRigWhenAsked) {
   }
 }
 
+// Issue #23: `mocapd import FILES...` takes a new database's rig from the first file named, not the
+// first in path order, and says which file set it.
+TEST_F(ImportPipelineTest, RigComesFromTheFirstFileNamed) {
+  const fs::path z = WriteClip("z.bvh", 40);                              // the plain rig
+  const fs::path a = WriteClip("a.bvh", 41, {.fingers_and_toes = true});  // another rig, first in path order
+  ImportOptions options = Options({z.string(), a.string()});
+  options.retarget_other_rigs = true;
+  auto summary = RunImport(options);
+  ASSERT_TRUE(summary.ok()) << summary.status();
+  EXPECT_TRUE(summary->created_database);
+  EXPECT_EQ(summary->rig_source, z.string());
+  EXPECT_EQ(summary->imported, 2);  // a.bvh retargeted onto z.bvh's rig
+  {
+    auto store = std::move(MotionStore::Open(store_)).value();
+    auto database = store->FindDatabase("walks");
+    ASSERT_TRUE(database.ok()) << database.status();
+    auto rig = store->LoadRig(database->id);
+    ASSERT_TRUE(rig.ok()) << rig.status();
+    EXPECT_EQ(rig->skeleton.num_joints(), testing::MakeWalkingClip({}, 2).skeleton.num_joints());
+    EXPECT_LT(rig->skeleton.Find("LeftHandIndex1"), 0);  // not a.bvh's fingers
+  }
+
+  // Named the other way round, a.bvh sets the rig and z.bvh (another rig, no --retarget) is skipped.
+  ImportOptions reverse = Options({a.string(), z.string()});
+  reverse.database = "reverse";
+  reverse.keep_going = true;
+  auto reversed = RunImport(reverse);
+  ASSERT_TRUE(reversed.ok()) << reversed.status();
+  EXPECT_EQ(reversed->rig_source, a.string());
+  EXPECT_EQ(reversed->imported, 1);
+  EXPECT_EQ(reversed->failed, 1);
+  ASSERT_EQ(reversed->problems.size(), 1u);
+  EXPECT_NE(reversed->problems[0].find("z.bvh"), std::string::npos) << reversed->problems[0];
+  auto store = std::move(MotionStore::Open(store_)).value();
+  auto database = store->FindDatabase("reverse");
+  ASSERT_TRUE(database.ok()) << database.status();
+  auto rig = store->LoadRig(database->id);
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  EXPECT_GE(rig->skeleton.Find("LeftHandIndex1"), 0);
+}
+
+// Issue #23: every file's body is checked against the database's unit, not only the one that sets
+// the rig: a later file of the same rig exported at twice scale, or in metres into a centimetre
+// database, is refused with its name and the fix (--units), and nothing of the batch is stored.
+TEST_F(ImportPipelineTest, RefusesALaterFileAtAnotherScaleAndNamesIt) {
+  const fs::path first = WriteClip("a.bvh", 40);
+  const fs::path twice = WriteClip("b_twice.bvh", 41, {.length_scale = 2.0});
+  auto summary = RunImport(Options({first.string(), twice.string()}));
+  ASSERT_FALSE(summary.ok());
+  EXPECT_EQ(summary.status().code(), absl::StatusCode::kInvalidArgument) << summary.status();
+  EXPECT_NE(summary.status().message().find("b_twice.bvh:"), std::string_view::npos) << summary.status();
+  EXPECT_NE(summary.status().message().find("--units"), std::string_view::npos) << summary.status();
+  EXPECT_EQ(ClipCount(), -1);  // the database was to be created with that batch
+
+  // Into an existing centimetre database: a file in metres.
+  ASSERT_TRUE(RunImport(Options({first.string()})).ok());
+  const fs::path metres = WriteClip("c_metres.bvh", 42, {.length_scale = 0.01});
+  auto later = RunImport(Options({metres.string()}));
+  ASSERT_FALSE(later.ok());
+  EXPECT_NE(later.status().message().find("c_metres.bvh:"), std::string_view::npos) << later.status();
+  EXPECT_NE(later.status().message().find("--units"), std::string_view::npos) << later.status();
+  EXPECT_EQ(ClipCount(), 1);
+}
+
+// With --keep-going such files are skipped and listed, wherever they are named: a first file at
+// twice scale does not set the rig, and is not imported afterwards against the next file's rig.
+TEST_F(ImportPipelineTest, KeepGoingSkipsFilesAtAnotherScale) {
+  const fs::path big = WriteClip("big.bvh", 39, {.length_scale = 2.0});
+  const fs::path a = WriteClip("a.bvh", 40);
+  const fs::path twice = WriteClip("b_twice.bvh", 41, {.length_scale = 2.0});
+  const fs::path c = WriteClip("c.bvh", 42);
+  ImportOptions options = Options({big.string(), a.string(), twice.string(), c.string()});
+  options.keep_going = true;
+  auto summary = RunImport(options);
+  ASSERT_TRUE(summary.ok()) << summary.status();
+  EXPECT_EQ(summary->rig_source, a.string());
+  EXPECT_EQ(summary->imported, 2);
+  EXPECT_EQ(summary->failed, 2);
+  ASSERT_EQ(summary->problems.size(), 2u);
+  EXPECT_NE(summary->problems[0].find("big.bvh"), std::string::npos) << summary->problems[0];
+  EXPECT_NE(summary->problems[1].find("b_twice.bvh"), std::string::npos) << summary->problems[1];
+  for (const std::string& problem : summary->problems) {
+    EXPECT_NE(problem.find("--units"), std::string::npos) << problem;
+  }
+  EXPECT_EQ(ClipCount(), 2);
+}
+
 TEST_F(ImportPipelineTest, MissingInputsAreClearErrors) {
   EXPECT_EQ(RunImport(Options({(dir_ / "nope").string()})).status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(RunImport(Options({(dir_ / "clips").string()})).status().code(), absl::StatusCode::kInvalidArgument);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -190,6 +191,81 @@ TEST(ClipPreprocessorTest, EachPerformerKeepsItsOwnOffsets) {
   EXPECT_NEAR(s.joint(s.Find("Neck")).offset.y(), 0.242f, 1e-5f);
   // The rig keeps the first clip's file offsets.
   EXPECT_NEAR(rig->skeleton.joint(rig->skeleton.Find("LeftLeg")).offset.y(), -43.0f, 1e-4f);
+}
+
+// Issue #23: CMU's ASF-converted units (1 unit = 1/0.45 inch) are detected and give a person of
+// a person's size (read as inches it was 0.9 m tall).
+TEST(ClipPreprocessorTest, ReadsCmuUnitsAtAPlausibleHeight) {
+  SyntheticRigOptions cmu;
+  cmu.length_scale = 0.45 / 2.54;  // centimetres to CMU units: the leg is ~15 units
+  const Prepared p = RigAndPrepare(MakeWalkingClip(cmu, 30));
+  EXPECT_EQ(p.rig.unit, LengthUnit::kCmuUnit);
+  EXPECT_TRUE(p.rig.topology.unit_detected);
+  EXPECT_NEAR(p.rig.topology.leg_length * MetresPerUnit(p.rig.unit), 0.85, 0.01);
+  const Skeleton& s = p.clip.skeleton;
+  EXPECT_LT((s.joint(s.Find("LeftLeg")).offset - Eigen::Vector3f(0, -0.43f, 0)).norm(), 1e-5f);
+  // Hips around 0.92 m, as the centimetre walk's.
+  EXPECT_NEAR(p.clip.motion.translation(0, 0).y(), 0.93f, 0.04f);
+  ASSERT_FALSE(p.clip.features.empty());
+  EXPECT_NEAR(p.clip.features[0].pelvis_height, 0.92f, 0.06f);
+}
+
+// A first clip whose body is no person's size in its detected unit: refused, naming --units.
+TEST(ClipPreprocessorTest, RefusesAFirstClipAtTwiceTheScale) {
+  SyntheticRigOptions twice;
+  twice.length_scale = 2.0;  // centimetres, exported at twice scale: 1.7 m legs
+  const absl::StatusOr<RigModel> rig = BuildRigModel(MakeWalkingClip(twice, 30), {});
+  ASSERT_FALSE(rig.ok());
+  EXPECT_EQ(rig.status().code(), absl::StatusCode::kInvalidArgument) << rig.status();
+  EXPECT_NE(rig.status().message().find("--units"), std::string_view::npos) << rig.status();
+}
+
+// Issue #23: every clip is checked, not only the one the rig is built from. A later clip of the same
+// rig exported at twice scale, or in another unit, would be stored as a 3.5 m or a 0.02 m person.
+TEST(ClipPreprocessorTest, RefusesALaterClipAtTwiceTheScale) {
+  const absl::StatusOr<RigModel> rig = BuildRigModel(MakeWalkingClip({}, 30), {});
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  ASSERT_EQ(rig->unit, LengthUnit::kCentimetre);
+  SyntheticRigOptions twice;
+  twice.length_scale = 2.0;
+  const absl::StatusOr<PreparedClip> prepared = PrepareClip(MakeWalkingClip(twice, 30), *rig, {});
+  ASSERT_FALSE(prepared.ok());
+  EXPECT_EQ(prepared.status().code(), absl::StatusCode::kInvalidArgument) << prepared.status();
+  EXPECT_NE(prepared.status().message().find("--units"), std::string_view::npos) << prepared.status();
+  EXPECT_NE(prepared.status().message().find("'cm'"), std::string_view::npos) << prepared.status();
+  // The same walk at the rig's own scale is fine.
+  EXPECT_TRUE(PrepareClip(MakeWalkingClip({}, 30), *rig, {}).ok());
+}
+
+TEST(ClipPreprocessorTest, RefusesALaterClipInAnotherUnit) {
+  const absl::StatusOr<RigModel> rig = BuildRigModel(MakeWalkingClip({}, 30), {});
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  for (double scale : {0.01, 1 / 2.54, 10.0}) {  // metres, inches, millimetres read as centimetres
+    SCOPED_TRACE(scale);
+    SyntheticRigOptions other;
+    other.length_scale = scale;
+    const absl::StatusOr<PreparedClip> prepared = PrepareClip(MakeWalkingClip(other, 30), *rig, {});
+    ASSERT_FALSE(prepared.ok());
+    EXPECT_EQ(prepared.status().code(), absl::StatusCode::kInvalidArgument) << prepared.status();
+    EXPECT_NE(prepared.status().message().find("--units"), std::string_view::npos) << prepared.status();
+  }
+}
+
+// A declared unit is the caller's word for the rig's own body, however small (UnitOverride): later
+// clips of that body are accepted, a clip at twice its size is not.
+TEST(ClipPreprocessorTest, DeclaredUnitChecksLaterClipsAgainstTheRigsBody) {
+  PreprocessOptions options;
+  options.unit = LengthUnit::kMillimetre;  // a 0.085 m leg
+  const absl::StatusOr<RigModel> rig = BuildRigModel(MakeWalkingClip({}, 30), options);
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  SyntheticRigOptions taller;
+  taller.length_scale = 1.1;
+  EXPECT_TRUE(PrepareClip(MakeWalkingClip(taller, 30), *rig, options).ok());
+  SyntheticRigOptions twice;
+  twice.length_scale = 2.0;
+  const absl::StatusOr<PreparedClip> prepared = PrepareClip(MakeWalkingClip(twice, 30), *rig, options);
+  ASSERT_FALSE(prepared.ok());
+  EXPECT_NE(prepared.status().message().find("--units"), std::string_view::npos) << prepared.status();
 }
 
 TEST(ClipPreprocessorTest, ZUpWorldBecomesYUp) {
