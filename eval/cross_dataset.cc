@@ -10,6 +10,7 @@
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
+#include "motion/reconstruct/performer_scale.h"
 #include "motion/skeleton/forward_kinematics.h"
 
 namespace mocap::eval {
@@ -153,14 +154,23 @@ SizeReference DatabaseSizeReference(const ReconstructionDatabase& database) {
 
 // How much to scale a test's input (and divide its output by) to bring the performer to the
 // database body's size (experiments.h, PerformerSize).
-float InputScale(PerformerSize size, const SizeReference& reference, const LandmarkTruth& truth,
-                 const std::vector<WristSample>& wrists) {
+float TruthScale(const SizeReference& reference, const LandmarkTruth& truth) {
+  const LandmarkBodySize performer = BodySizeOf(truth.positions.front());
+  return (reference.body.leg + reference.body.arm) / (performer.leg + performer.arm);
+}
+
+float InputScale(PerformerSize size, const ReconstructionDatabase& database, const SizeReference& reference,
+                 const LandmarkTruth& truth, const std::vector<WristSample>& wrists,
+                 PerformerScaleEstimate* fit_out = nullptr) {
   switch (size) {
     case PerformerSize::kDatabase:
       return 1.0f;
-    case PerformerSize::kTruth: {
-      const LandmarkBodySize performer = BodySizeOf(truth.positions.front());
-      return (reference.body.leg + reference.body.arm) / (performer.leg + performer.arm);
+    case PerformerSize::kTruth:
+      return TruthScale(reference, truth);
+    case PerformerSize::kDatabaseFit: {
+      absl::StatusOr<PerformerScaleEstimate> fit = EstimatePerformerScale(database, wrists);
+      if (fit_out != nullptr && fit.ok()) *fit_out = *fit;
+      return fit.ok() ? fit->scale : 1.0f;
     }
     case PerformerSize::kLowerWrist: {
       std::vector<float> lower;
@@ -227,12 +237,15 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
   const SizeReference reference = DatabaseSizeReference(*database);
   for (const Experiment& experiment : experiments) {
     std::vector<LandmarkMetrics> per_clip(tests.size());
+    std::vector<float> input_scales(tests.size(), 1.0f);
+    std::vector<PerformerScaleEstimate> fits(tests.size());
     MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), threads, [&](size_t i) -> absl::Status {
       const LandmarkTruth& truth = tests[i].truth;
       std::vector<WristSample> wrists =
           DeviceSamples(truth, experiment.device, experiment.noise_cm, seed + static_cast<unsigned>(i));
       // The input is multiplied by it, the output divided.
-      const float scale = InputScale(experiment.size, reference, truth, wrists);
+      const float scale = InputScale(experiment.size, *database, reference, truth, wrists, &fits[i]);
+      input_scales[i] = scale;
       for (WristSample& sample : wrists) {
         sample.left *= scale;
         sample.right *= scale;
@@ -251,7 +264,8 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       result.by_source[tests[i].source].Add(per_clip[i]);
       result.by_content[StrCat(tests[i].source, "/", tests[i].content)].Add(per_clip[i]);
       result.clips.push_back({tests[i].name, tests[i].source, tests[i].content,
-                              BodySizeOf(tests[i].truth.positions.front()), per_clip[i]});
+                              BodySizeOf(tests[i].truth.positions.front()), per_clip[i], input_scales[i],
+                              TruthScale(reference, tests[i].truth), fits[i].candidates, fits[i].cost});
     }
     if (progress) {
       const LandmarkMetrics& o = result.overall;

@@ -18,7 +18,9 @@ namespace mocap::eval {
 // kWalkingWrists the same over the frames where the wrists' midpoint moves on at walking speed
 // (≥ 0.6 m/s over the ground: the arms swing about where they hang); the database's size when the
 // input has less than a second of such frames.
-enum class PerformerSize { kDatabase, kTruth, kLowerWrist, kWalkingWrists };
+// kDatabaseFit: the factor that brings the input's wrist features nearest the database's
+// (motion/reconstruct/performer_scale.h).
+enum class PerformerSize { kDatabase, kTruth, kLowerWrist, kWalkingWrists, kDatabaseFit };
 
 struct Experiment {
   std::string name;

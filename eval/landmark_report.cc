@@ -143,6 +143,12 @@ absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out
       clip["content"] = c.content;
       clip["leg_m"] = c.size.leg;
       clip["arm_m"] = c.size.arm;
+      clip["input_scale"] = c.input_scale;
+      clip["truth_scale"] = c.truth_scale;
+      if (!c.fit_scales.empty()) {
+        clip["fit_scales"] = c.fit_scales;
+        clip["fit_cost"] = c.fit_cost;
+      }
       run["clips"].push_back(clip);
     }
   }

@@ -260,16 +260,17 @@ int main(int argc, char** argv) {
       for (auto& e : mocap::eval::MakeDeviceExperiments(base)) experiments.push_back(std::move(e));
     }
     if (size_oracle) {
-      mocap::eval::Experiment oracle = mocap::eval::MakeExperiments(base, noise_cm, false).front();  // full
-      oracle.name = "full_size_oracle";
-      oracle.size = mocap::eval::PerformerSize::kTruth;
-      experiments.push_back(oracle);
-      oracle.name = "full_size_lower_wrist";
-      oracle.size = mocap::eval::PerformerSize::kLowerWrist;
-      experiments.push_back(oracle);
-      oracle.name = "full_size_walking_wrists";
-      oracle.size = mocap::eval::PerformerSize::kWalkingWrists;
-      experiments.push_back(oracle);
+      mocap::eval::Experiment sized = mocap::eval::MakeExperiments(base, noise_cm, false).front();  // full
+      for (auto [name, size] : {std::pair{"full_size_oracle", mocap::eval::PerformerSize::kTruth},
+                                {"full_size_lower_wrist", mocap::eval::PerformerSize::kLowerWrist},
+                                {"full_size_walking_wrists", mocap::eval::PerformerSize::kWalkingWrists},
+                                {"full_size_database_fit", mocap::eval::PerformerSize::kDatabaseFit}}) {
+        sized.name = name;
+        sized.size = size;
+        const bool named = only_runs.empty() || std::find(only_runs.begin(), only_runs.end(), name) != only_runs.end() ||
+                           std::find(only_runs.begin(), only_runs.end(), "full") != only_runs.end();
+        if (named) experiments.push_back(sized);
+      }
     }
     return RunLandmarkTests(*database, *landmark_tests, experiments, context, out_dir, seed, threads);
   }
