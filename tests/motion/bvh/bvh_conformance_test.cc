@@ -2,12 +2,15 @@
 // three.js's BVHLoader (node, the viewer's copy). Every joint of every frame must be where this
 // reader puts it, within 1 mm (issue #23: "BVH exactly as the tools read it"). Readers that are
 // not installed are skipped with a message (scripts/setup.sh installs both).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -15,10 +18,19 @@
 #include "motion/bvh/bvh_reader.h"
 #include "motion/bvh/bvh_writer.h"
 #include "motion/core/units.h"
+#include "motion/preprocess/clip_preprocessor.h"
+#include "motion/reconstruct/reconstruction_database.h"
+#include "motion/reconstruct/reconstruction_export.h"
+#include "motion/reconstruct/reconstruction_options.h"
+#include "motion/reconstruct/reconstruction_session.h"
+#include "motion/retarget/retarget_export.h"
+#include "motion/retarget/retarget_rig.h"
+#include "motion/retarget/retargeter.h"
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
 #include "tests/support/shared_data.h"
 #include "tests/support/synthetic_clip.h"
+#include "tests/support/synthetic_database.h"
 #include "tests/support/temp_dir.h"
 
 namespace mocap {
@@ -109,6 +121,60 @@ int ExpectAgree(const Positions& own, const Positions& theirs, const std::map<st
   return compared;
 }
 
+// Frames of each file made below with the product's writers (the readers compare the first
+// kFramesCompared of them; the root checks take every frame).
+constexpr int kOwnOutputFrames = 40;
+
+// A walk whose world itself is Z up, as files from Z-up tools are (the z_up rig's root turn makes
+// its world Y up): that rig with the turn taken off its root, RL_BoneRoot, and its translation
+// turned with it, so every position is the Y-up walk's turned +90 deg about X (up +Z, the walk
+// along -Y).
+BvhClip ZUpWorldWalk(testing::SyntheticRigOptions options, int frames) {
+  options.z_up = true;
+  BvhClip clip = testing::MakeWalkingClip(options, frames);
+  const int c = clip.skeleton.channel_start(0);  // RL_BoneRoot: X Y Z position, then its rotations
+  for (int f = 0; f < clip.num_frames(); ++f) {
+    const float y = clip.channels(f, c + 1), z = clip.channels(f, c + 2);
+    clip.channels(f, c + 1) = -z;
+    clip.channels(f, c + 2) = y;
+    for (int k = 3; k < 6; ++k) clip.channels(f, c + k) = 0.0f;
+  }
+  return clip;
+}
+
+// testing::MakeSyntheticReconstructionSetup for walks of any making: `walk(frames)` gives a clip.
+absl::StatusOr<testing::SyntheticReconstructionSetup> SetupFromWalks(const std::function<BvhClip(int)>& walk,
+                                                                     int test_frames) {
+  testing::SyntheticReconstructionSetup setup;
+  auto rig = BuildRigModel(walk(90), {});
+  if (!rig.ok()) return rig.status();
+  setup.rig = *rig;
+  std::vector<DatabaseClip> clips;
+  for (int frames : {90, 61, 47}) {
+    auto prepared = PrepareClip(walk(frames), setup.rig, {});
+    if (!prepared.ok()) return prepared.status();
+    clips.push_back({prepared->features, EncodePoses(prepared->motion, setup.rig)});
+  }
+  auto database = ReconstructionDatabase::Build(setup.rig, clips);
+  if (!database.ok()) return database.status();
+  setup.database = *database;
+  auto test = PrepareClip(walk(test_frames), setup.rig, {});
+  if (!test.ok()) return test.status();
+  setup.test_clip = std::move(*test);
+  setup.truth = ForwardKinematics(setup.test_clip.skeleton, setup.test_clip.motion);
+  return setup;
+}
+
+// The offline reconstruction of the setup's test walk from its wrists (small candidate sets, as
+// reconstruction_export_test does: the file's layout is under test, not the reconstruction).
+absl::StatusOr<std::vector<ReconstructedFrame>> ReconstructTestWalk(
+    const testing::SyntheticReconstructionSetup& setup) {
+  ReconstructionOptions options;
+  options.ankle_candidates = 40;
+  options.pose_neighbours = 30;
+  return ReconstructOffline(setup.database, options, testing::WristSamplesOf(setup));
+}
+
 class BvhConformanceTest : public ::testing::Test {
  protected:
   // Writes `clip` as the product writes every file; 1 mm in the clip's unit is the tolerance.
@@ -136,9 +202,72 @@ class BvhConformanceTest : public ::testing::Test {
     EXPECT_GT(ExpectAgree(own, BlenderReading(files_), tolerance_, "Blender"), 0);
   }
 
+  // What the root check needs of a file the product wrote: its rig's unit and turn to Y up, its
+  // pelvis and the body's leg length in metres.
+  struct WrittenRig {
+    LengthUnit unit = LengthUnit::kCentimetre;
+    Eigen::Quaternionf to_y_up = Eigen::Quaternionf::Identity();
+    std::string pelvis;
+    float leg_metres = 0.0f;
+  };
+  static WrittenRig RigOf(const RigModel& rig) {
+    return {rig.unit, rig.to_y_up, rig.skeleton.joint(rig.topology.landmarks.pelvis).name,
+            static_cast<float>(rig.topology.leg_length * MetresPerUnit(rig.unit))};
+  }
+  static WrittenRig RigOf(const RetargetRig& rig) {
+    return {rig.unit, rig.to_y_up, rig.skeleton.joint(rig.topology.landmarks.pelvis).name, rig.leg_length};
+  }
+  // Write, for a file of `rig` that the root check covers.
+  void WriteOwn(const std::string& name, const BvhClip& clip, const WrittenRig& rig) {
+    Write(name, clip, rig.unit);
+    rigs_[files_.back()] = rig;
+  }
+  // Issue #23: in every frame of every file written with WriteOwn, the root joint is not below the
+  // floor (y >= -1 mm in metres, Y up: the file's unit and axes undone with its rig's), and it is
+  // either still or on the ground under the body (within half a leg length of the pelvis,
+  // horizontally). As this reader places the joints (CompareEveryReader holds the others to it).
+  void ExpectRootsOnTheFloorUnderTheBody() {
+    for (const auto& entry : rigs_) {
+      const std::string& file = entry.first;
+      const WrittenRig& rig = entry.second;
+      SCOPED_TRACE(file);
+      auto clip = ReadBvhFile(file);
+      ASSERT_TRUE(clip.ok()) << clip.status();
+      ASSERT_GT(clip->num_frames(), 0);
+      const int pelvis = clip->skeleton.Find(rig.pelvis);
+      ASSERT_GE(pelvis, 0) << "no joint " << rig.pelvis;
+      const GlobalPoses poses =
+          ForwardKinematics(clip->skeleton, MotionFromChannels(clip->skeleton, clip->channels, clip->frame_time));
+      const float metres = static_cast<float>(MetresPerUnit(rig.unit));
+      auto world = [&](int f, int j) -> Eigen::Vector3f { return rig.to_y_up * (metres * poses.position(f, j)); };
+      float lowest = world(0, 0).y(), farthest = 0.0f, moved = 0.0f;
+      int lowest_frame = 0, farthest_frame = 0;
+      for (int f = 0; f < poses.num_frames(); ++f) {
+        const Eigen::Vector3f root = world(f, 0), apart = world(f, pelvis) - root;
+        moved = std::max(moved, (root - world(0, 0)).norm());
+        if (root.y() < lowest) {
+          lowest = root.y();
+          lowest_frame = f;
+        }
+        const float horizontal = Eigen::Vector2f(apart.x(), apart.z()).norm();
+        if (horizontal > farthest) {
+          farthest = horizontal;
+          farthest_frame = f;
+        }
+      }
+      EXPECT_GE(lowest, -1e-3f) << "root " << -lowest << " m below the floor at frame " << lowest_frame;
+      if (moved >= 1e-3f) {
+        EXPECT_LE(farthest, 0.5f * rig.leg_metres)
+            << "the root moves (by up to " << moved << " m) and is " << farthest << " m from the pelvis (" << rig.pelvis
+            << ") at frame " << farthest_frame << ", legs " << rig.leg_metres << " m";
+      }
+    }
+  }
+
   testing::ScopedTempDir dir_;
   std::vector<std::string> files_;
   std::map<std::string, float> tolerance_;
+  std::map<std::string, WrittenRig> rigs_;
 };
 
 // Synthetic rigs covering each root and channel convention the product writes: hip height in
@@ -188,6 +317,83 @@ TEST_F(BvhConformanceTest, EveryReaderPlacesRewrittenSharedFilesAlike) {
     }
   }
   ASSERT_GE(files_.size(), 4u);
+  CompareEveryReader();
+}
+
+// Every kind of file the product writes, made by its own writers, read alike by every reader and
+// with its root on the floor, still or under the body (issue #23):
+//  - reconstructions on the database's rig (ReconstructionToBvh: the service's and mocap-eval's
+//    files) of rigs with the hips as root, with a static root above the pelvis (Bandai), with a
+//    Z-up hierarchy whose pelvis has no position channels (cmu-cc) and with a Z-up world;
+//  - one of them retargeted onto other rigs (RetargetedToBvh, as `mocap reconstruct` writes it
+//    for a target rig): metres with 6 channels on every joint, a Z-up hierarchy in inches, a Z-up
+//    world;
+//  - prepared clips in centimetres exported (ToFileConventions: `mocap export`).
+TEST_F(BvhConformanceTest, EveryReaderPlacesTheProductsOwnOutputsAlike) {
+  // 1. Reconstructions on the database's rig.
+  std::vector<std::pair<std::string, testing::SyntheticReconstructionSetup>> setups;
+  setups.emplace_back("reconstruction_static_root",
+                      testing::MakeSyntheticReconstructionSetup({.extra_root = true}, kOwnOutputFrames));
+  setups.emplace_back("reconstruction_hips_root", testing::MakeSyntheticReconstructionSetup({}, kOwnOutputFrames));
+  setups.emplace_back("reconstruction_z_up_rig",
+                      testing::MakeSyntheticReconstructionSetup(testing::SyntheticRigFromBits(2), kOwnOutputFrames));
+  auto z_up_world = SetupFromWalks([](int frames) { return ZUpWorldWalk({}, frames); }, kOwnOutputFrames);
+  ASSERT_TRUE(z_up_world.ok()) << z_up_world.status();
+  ASSERT_EQ(z_up_world->rig.topology.up_axis, 2) << "the world is Z up";
+  setups.emplace_back("reconstruction_z_up_world", std::move(*z_up_world));
+  std::vector<std::vector<ReconstructedFrame>> reconstructions;
+  for (const auto& [name, setup] : setups) {
+    auto frames = ReconstructTestWalk(setup);
+    ASSERT_TRUE(frames.ok()) << name << ": " << frames.status();
+    ASSERT_FALSE(frames->empty()) << name;
+    WriteOwn(name, ReconstructionToBvh(*setup.database, *frames), RigOf(setup.database->rig()));
+    reconstructions.push_back(*std::move(frames));
+  }
+  EXPECT_GT(setups[0].second.rig.topology.landmarks.pelvis, 0) << "a root above the pelvis";
+
+  // 2. The first reconstruction on other rigs.
+  const testing::SyntheticReconstructionSetup& performer = setups.front().second;
+  auto source = SourceRigOf(performer.database->rig(), performer.database->body().skeleton());
+  ASSERT_TRUE(source.ok()) << source.status();
+  const std::vector<std::pair<std::string, BvhClip>> targets = {
+      {"retargeted_metres",
+       testing::MakeWalkingClip({.extra_root = true, .position_channels_everywhere = true, .length_scale = 0.01}, 60)},
+      {"retargeted_z_up_inches", testing::MakeWalkingClip({.z_up = true, .length_scale = 1.0 / 2.54}, 60)},
+      {"retargeted_z_up_world", ZUpWorldWalk({}, 60)},
+  };
+  for (const auto& [name, target_clip] : targets) {
+    auto target = TargetRigFromBvh(FormatBvh(target_clip));
+    ASSERT_TRUE(target.ok()) << name << ": " << target.status();
+    auto retargeter = Retargeter::Create(*source, *target);
+    ASSERT_TRUE(retargeter.ok()) << name << ": " << retargeter.status();
+    std::vector<BodyPose> poses(reconstructions.front().size());
+    for (size_t f = 0; f < poses.size(); ++f)
+      retargeter->Retarget(performer.database->body(), reconstructions.front()[f].pose, &poses[f]);
+    // As `mocap reconstruct` writes it (client/cli/target_rig_file.cc): a pelvis under other
+    // joints without position channels gets them, so that it carries the motion.
+    RetargetRig rig = retargeter->target();
+    rig.skeleton = WithPelvisPositionChannels(rig.skeleton, rig.topology.landmarks.pelvis);
+    WriteOwn(name, RetargetedToBvh(rig, poses, performer.database->frame_time()), RigOf(rig));
+  }
+
+  // 3. Prepared clips in centimetres, exported.
+  const std::vector<std::pair<std::string, BvhClip>> captures = {
+      {"exported_hips_root", testing::MakeWalkingClip({}, kOwnOutputFrames)},
+      {"exported_bandai_like",
+       testing::MakeWalkingClip({.extra_root = true, .position_channels_everywhere = true}, kOwnOutputFrames)},
+      {"exported_z_up_world", ZUpWorldWalk({.extra_root = true}, kOwnOutputFrames)},
+  };
+  for (const auto& [name, capture] : captures) {
+    auto rig = BuildRigModel(capture, {});
+    ASSERT_TRUE(rig.ok()) << name << ": " << rig.status();
+    ASSERT_EQ(rig->unit, LengthUnit::kCentimetre) << name;
+    auto prepared = PrepareClip(capture, *rig, {});
+    ASSERT_TRUE(prepared.ok()) << name << ": " << prepared.status();
+    WriteOwn(name, ToFileConventions(prepared->skeleton, prepared->motion, *rig), RigOf(*rig));
+  }
+
+  ASSERT_EQ(files_.size(), 10u);
+  ExpectRootsOnTheFloorUnderTheBody();
   CompareEveryReader();
 }
 
