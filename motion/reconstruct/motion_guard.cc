@@ -25,9 +25,12 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
       speed_limit_(OrUnbounded(limits.pelvis_speed_max, options.speed_margin)),
       acceleration_limit_(OrUnbounded(limits.pelvis_acceleration_max, options.acceleration_margin)),
       beyond_hands_limit_(OrUnbounded(limits.pelvis_speed_beyond_hands_max, options.beyond_hands_margin)),
+      standing_smoothing_seconds_(options.standing_smoothing_seconds),
+      standing_hands_speed_(options.standing_hands_speed),
+      moving_hands_speed_(options.moving_hands_speed),
       hands_(HandsWindowFrames(frame_time) + 1) {}
 
-Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& target, const Eigen::Vector3f& hands,
+Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, const Eigen::Vector3f& hands,
                                   bool* limited) {
   *limited = false;
   if (has_previous_ && !(time > previous_time_)) has_previous_ = false;  // a new clock (a reused session)
@@ -42,6 +45,20 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& target, co
   const HandsSample& oldest = hands_[(hands_next_ - hands_count_ + window) % window];
   const float hands_speed =
       hands_count_ > 1 ? static_cast<float>((hands - oldest.midpoint).norm() / (time - oldest.time)) : 0.0f;
+  Eigen::Vector3f target = solved;
+  if (has_previous_ && continuous && standing_smoothing_seconds_ > 0) {
+    // Standing: the ground position eases towards the solve (exponential filter, time constant
+    // standing_smoothing_seconds), fading out as the hands start to travel.
+    const Eigen::Vector3f moved = hands - oldest.midpoint;
+    const float ground_speed =
+        hands_count_ > 1 ? static_cast<float>(std::hypot(moved.x(), moved.z()) / (time - oldest.time)) : 0.0f;
+    const float standing = std::clamp((moving_hands_speed_ - ground_speed) /
+                                          std::max(1e-3f, moving_hands_speed_ - standing_hands_speed_),
+                                      0.0f, 1.0f);
+    const float dt = static_cast<float>(time - previous_time_);
+    const float follow = 1.0f - standing * (1.0f - dt / (standing_smoothing_seconds_ + dt));
+    target = previous_target_ + follow * (solved - previous_target_);
+  }
   if (!has_previous_) {
     has_previous_ = true;
     has_velocity_ = false;

@@ -31,6 +31,14 @@ struct MotionGuardOptions {
   // fastest wrist, or accelerates faster than `input_acceleration_margin` × its fastest.
   float input_speed_margin = 1.25f;
   float input_acceleration_margin = 1.25f;
+  // While the hands' midpoint stays put (its mean speed over the hands' window below
+  // `standing_hands_speed`), the pelvis' ground position follows the solve through an exponential
+  // filter of this time constant; the filter fades out linearly up to `moving_hands_speed`. A
+  // standing body's solve hops between the stances of its neighbours (1-3 cm a frame, output
+  // pelvis speeds of 1-3 m/s on bows, waves and swordplay whose capture stands), which a body that
+  // stands does not do; a walking body's pelvis is left as solved. 0 = off.
+  float standing_smoothing_seconds = 0.1f;
+  float standing_hands_speed = 0.25f, moving_hands_speed = 0.6f;
 };
 
 class MotionGuard {
@@ -49,6 +57,7 @@ class MotionGuard {
  private:
   double frame_time_;
   float speed_limit_, acceleration_limit_, beyond_hands_limit_;
+  float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_;
   bool has_previous_ = false, has_velocity_ = false;
   double previous_time_ = 0;
   Eigen::Vector3f previous_output_ = Eigen::Vector3f::Zero(), previous_target_ = Eigen::Vector3f::Zero(),

@@ -51,6 +51,37 @@ TEST(MotionGuardTest, FollowsMotionWithinTheBoundsExactly) {
   }
 }
 
+// A standing body's solve hops between its neighbours' stances (±2 cm a frame, 1.2 m/s): while
+// the hands' midpoint stays put over the ground, the pelvis eases towards the solve instead of
+// hopping; once the hands travel, it follows the solve exactly again.
+TEST(MotionGuardTest, AStandingBodyDoesNotHopBetweenStancesAndAWalkingOneFollowsItsSolve) {
+  MotionGuard guard(Limits(), kDt, Exact());
+  float fastest_standing = 0, farthest_standing = 0;
+  Eigen::Vector3f previous = Eigen::Vector3f::Zero();
+  for (int f = 0; f < 90; ++f) {
+    // A wave: one hand moves up and down, the midpoint goes up and down with it, not over the ground.
+    const Eigen::Vector3f hands(0.0f, 1.1f + 0.15f * std::sin(8.0f * static_cast<float>(f * kDt)), 0.0f);
+    const Eigen::Vector3f target(f % 2 == 0 ? 0.02f : -0.02f, 0.9f, 0.0f);
+    bool limited = false;
+    const Eigen::Vector3f out = guard.Next(f * kDt, target, hands, &limited);
+    if (f > 0) fastest_standing = std::max(fastest_standing, static_cast<float>((out - previous).norm() / kDt));
+    farthest_standing = std::max(farthest_standing, (out - target).norm());
+    previous = out;
+  }
+  EXPECT_LT(fastest_standing, 0.5f) << "m/s: the solve hops at 1.2 m/s";
+  EXPECT_LT(farthest_standing, 0.04f) << "m: it stays among the solve's stances";
+  // Walking: the hands travel at 1.2 m/s, and after the hands' window the pelvis is the solve's.
+  float farthest_walking = 0;
+  for (int f = 90; f < 150; ++f) {
+    const float walked = 1.2f * static_cast<float>((f - 90) * kDt);
+    const Eigen::Vector3f hands(walked, 1.1f, 0.0f), target(walked, 0.9f, 0.0f);
+    bool limited = false;
+    const Eigen::Vector3f out = guard.Next(f * kDt, target, hands, &limited);
+    if (f >= 120) farthest_walking = std::max(farthest_walking, (out - target).norm());
+  }
+  EXPECT_LT(farthest_walking, 1e-3f) << "m";
+}
+
 TEST(MotionGuardTest, AJumpOfTheTargetBecomesBoundedMotionThatArrives) {
   const MotionLimits limits = Limits();
   MotionGuard guard(limits, kDt, Exact());
