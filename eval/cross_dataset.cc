@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <random>
 
 #include "eval/device_input.h"
 #include "eval/parallel_for.h"
@@ -10,6 +11,8 @@
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
+#include "motion/core/units.h"
+#include "motion/reconstruct/body_model.h"
 #include "motion/reconstruct/performer_scale.h"
 #include "motion/skeleton/forward_kinematics.h"
 
@@ -161,12 +164,19 @@ float TruthScale(const SizeReference& reference, const LandmarkTruth& truth) {
 
 float InputScale(PerformerSize size, const ReconstructionDatabase& database, const SizeReference& reference,
                  const LandmarkTruth& truth, const std::vector<WristSample>& wrists,
-                 PerformerScaleEstimate* fit_out = nullptr) {
+                 unsigned declared_seed, PerformerScaleEstimate* fit_out = nullptr) {
   switch (size) {
     case PerformerSize::kDatabase:
       return 1.0f;
     case PerformerSize::kTruth:
       return TruthScale(reference, truth);
+    case PerformerSize::kDeclared: {
+      const LandmarkBodySize performer = BodySizeOf(truth.positions.front());
+      std::mt19937 random(declared_seed);
+      std::normal_distribution<float> error(0.0f, 0.03f);
+      const float declared = static_cast<float>(performer.leg / kLegShareOfStature) * (1.0f + error(random));
+      return EstimatedStature(database.body()) / declared;
+    }
     case PerformerSize::kDatabaseFit: {
       absl::StatusOr<PerformerScaleEstimate> fit = EstimatePerformerScale(database, wrists);
       if (fit_out != nullptr && fit.ok()) *fit_out = *fit;
@@ -244,7 +254,8 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       std::vector<WristSample> wrists =
           DeviceSamples(truth, experiment.device, experiment.noise_cm, seed + static_cast<unsigned>(i));
       // The input is multiplied by it, the output divided.
-      const float scale = InputScale(experiment.size, *database, reference, truth, wrists, &fits[i]);
+      const float scale =
+          InputScale(experiment.size, *database, reference, truth, wrists, seed + static_cast<unsigned>(i), &fits[i]);
       input_scales[i] = scale;
       for (WristSample& sample : wrists) {
         sample.left *= scale;

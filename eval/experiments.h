@@ -20,7 +20,10 @@ namespace mocap::eval {
 // input has less than a second of such frames.
 // kDatabaseFit: the factor that brings the input's wrist features nearest the database's
 // (motion/reconstruct/performer_scale.h).
-enum class PerformerSize { kDatabase, kTruth, kLowerWrist, kWalkingWrists, kDatabaseFit };
+// kDeclared: the service's SessionConfig.performer_height path, as a user who knows their height
+// uses it: the performer's height (told from the capture's legs as EstimatedStature tells the
+// database's) with a 3% error (σ, one draw per clip), against the database body's EstimatedStature.
+enum class PerformerSize { kDatabase, kTruth, kLowerWrist, kWalkingWrists, kDatabaseFit, kDeclared };
 
 struct Experiment {
   std::string name;

@@ -109,7 +109,8 @@ int main(int argc, char** argv) {
                "controllers, a 90 Hz tracker, phone AR, dropouts; eval/device_input.h)");
   app.add_flag("--size-oracle", size_oracle,
                "landmark tests: also run the full method at the performer's own size, taken from the capture "
-               "(an oracle: how much of the error body size explains)");
+               "(an oracle: how much of the error body size explains), three estimates of it from the wrists, and "
+               "a height declared as the service takes it (performer_height, with a 3% error)");
   app.add_flag("--generalisation", generalisation,
                "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
   app.add_option("--noise-cm", noise_cm, "wrist noise σ in cm (METHOD.md A8: 0.5)");
@@ -264,7 +265,8 @@ int main(int argc, char** argv) {
       for (auto [name, size] : {std::pair{"full_size_oracle", mocap::eval::PerformerSize::kTruth},
                                 {"full_size_lower_wrist", mocap::eval::PerformerSize::kLowerWrist},
                                 {"full_size_walking_wrists", mocap::eval::PerformerSize::kWalkingWrists},
-                                {"full_size_database_fit", mocap::eval::PerformerSize::kDatabaseFit}}) {
+                                {"full_size_database_fit", mocap::eval::PerformerSize::kDatabaseFit},
+                                {"full_declared_height", mocap::eval::PerformerSize::kDeclared}}) {
         sized.name = name;
         sized.size = size;
         const bool named = only_runs.empty() || std::find(only_runs.begin(), only_runs.end(), name) != only_runs.end() ||

@@ -24,8 +24,10 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
   driver->limits_ = limits;
   const FloorSpec& floor = input_frame.floor;
   driver->input_ = {input_frame, FrameTransform(input_frame.convention, floor.calibrate ? 0.0 : floor.height)};
+  // The monitor's fractions were measured against RestPoseHeight (input_monitor.h).
   driver->monitor_ = std::make_unique<InputMonitor>(
-      input_frame.convention, floor.calibrate, InputMonitorOptions{.body_height = scale.database_height * scale.scale});
+      input_frame.convention, floor.calibrate,
+      InputMonitorOptions{.body_height = RestPoseHeight(database->body()) * scale.scale});
   if (config.output_frame() == v1::OUTPUT_FRAME_INPUT && !IsNativeFrame(input_frame))
     driver->output_transform_ = driver->input_.transform;
   v1::SessionStarted& started = driver->started_;

@@ -42,7 +42,6 @@ constexpr double kMinLegMetres = 0.4, kMaxLegMetres = 1.2;
 // A later clip of the rig may differ from the database's own body by this factor either way even
 // outside that range (a body the caller declared the unit of: the rig's legs lie outside it).
 constexpr double kSameBodyFactor = 1.25;
-constexpr double kLegShareOfStature = 0.47;  // hip joint to ankle over standing height
 
 double RoundedMetres(double metres) { return std::round(metres * 100) / 100; }
 

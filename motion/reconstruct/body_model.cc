@@ -166,4 +166,21 @@ float RestPoseHeight(const BodyModel& body) {
   return high - low;
 }
 
+float EstimatedStature(const BodyModel& body) {
+  const BodyLandmarks& l = body.rig().topology.landmarks;
+  const std::array<std::array<int, 3>, 2> legs = {std::array<int, 3>{l.left_hip, l.left_knee, l.left_ankle},
+                                                  std::array<int, 3>{l.right_hip, l.right_knee, l.right_ankle}};
+  BodyPose rest;
+  rest.rotations.assign(body.skeleton().num_joints(), Eigen::Quaternionf::Identity());
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  body.WorldTransforms(rest, &rotations, &positions);
+  float leg = 0.0f;
+  for (const auto& [hip, knee, ankle] : legs) {
+    if (hip < 0 || knee < 0 || ankle < 0) return 0.0f;
+    leg += (positions[hip] - positions[knee]).norm() + (positions[knee] - positions[ankle]).norm();
+  }
+  return static_cast<float>(0.5 * leg / kLegShareOfStature);
+}
+
 }  // namespace mocap

@@ -84,4 +84,11 @@ class BodyModel {
 // performer of another height (METHOD.md does not scale; the service does).
 float RestPoseHeight(const BodyModel& body);
 
+// The performer's standing height (floor to the top of the head), metres, told from the legs'
+// bone lengths (hip → knee → ankle landmarks, mean of both sides; kLegShareOfStature): what a
+// person means by their height, which RestPoseHeight is not on rigs whose zero-rotation pose does
+// not stand (Bandai's lies along +X with the legs spread: 1.84 m for a 1.70 m actor). 0 when the
+// rig's landmarks give no legs.
+float EstimatedStature(const BodyModel& body);
+
 }  // namespace mocap

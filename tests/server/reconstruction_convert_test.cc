@@ -201,7 +201,7 @@ TEST(OptionsFromConfigTest, TheEffectiveConfigReadsBackIntoTheSameOptions) {
 
 TEST(ScaleForPerformerTest, ScalesWithinThePlausibleRangeAndRefusesTheRest) {
   const ReconstructionDatabase& database = *SyntheticSetup().database;
-  const float height = RestPoseHeight(database.body());
+  const float height = EstimatedStature(database.body());
   ASSERT_GT(height, 1.0f);
   auto same = ScaleForPerformer(database, 0.0f);
   ASSERT_TRUE(same.ok());

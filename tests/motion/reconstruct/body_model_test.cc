@@ -66,5 +66,17 @@ TEST(BodyModelTest, RestPoseHeightIsTheStandingHeightOnEveryRigVariant) {
   }
 }
 
+TEST(BodyModelTest, EstimatedStatureIsAPersonsHeightOnEveryRigVariant) {
+  // The same performer, told from the legs: what they would declare as performer_height.
+  for (int bits : {0, 1, 2, 3, 4, 8, 16, 31}) {
+    for (double unit : {1.0, 0.01, 1.0 / 2.54}) {
+      testing::SyntheticRigOptions options = testing::SyntheticRigFromBits(bits);
+      options.length_scale = unit;
+      const auto setup = testing::MakeSyntheticReconstructionSetup(options, 10);
+      EXPECT_NEAR(EstimatedStature(setup.database->body()), 1.7f, 0.15f) << "rig bits " << bits << ", unit " << unit;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace mocap
