@@ -1,5 +1,7 @@
 #include "server/motion_store_service.h"
 
+#include <new>
+
 #include <spdlog/spdlog.h>
 
 #include "motion/bvh/bvh_writer.h"
@@ -88,13 +90,18 @@ grpc::ServerUnaryReactor* RunUnary(ServiceContext& service, grpc::CallbackServer
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
   service.workers.Post([&service, context, reactor, method, work = std::move(work)] {
     CallScope call(service, context, method);
-    absl::Status status = call.Begin();
-    if (status.ok()) {
-      try {
-        status = work(call);
-      } catch (const std::exception& error) {
-        status = absl::InternalError(StrCat(method, ": ", error.what()));
-      }
+    // Every call is answered, whatever its work throws (issue #24: a dropped exception left a call
+    // unanswered): authentication inside the try too, and the last resort for what is no exception.
+    absl::Status status;
+    try {
+      status = call.Begin();
+      if (status.ok()) status = work(call);
+    } catch (const std::bad_alloc&) {
+      status = absl::ResourceExhaustedError(StrCat(method, ": out of memory"));
+    } catch (const std::exception& error) {
+      status = absl::InternalError(StrCat(method, ": ", error.what()));
+    } catch (...) {
+      status = absl::InternalError(StrCat(method, ": an unknown error"));
     }
     reactor->Finish(call.End(status));
   });

@@ -288,16 +288,20 @@ absl::StatusOr<RetargetRig> FromProto(const v1::TargetRig& rig) {
       }
       std::vector<Joint> joints;
       for (const v1::TargetJoint& entry : given) {
+        // Named by index, not by the name the client sent: a name is checked (length, control
+        // characters) only with the whole skeleton below, and a 3 MiB one came back in this error
+        // as a metadata-size failure (issue #24).
+        const int index = static_cast<int>(joints.size());
         Joint joint;
         joint.name = entry.name();
         joint.parent = entry.parent();
         joint.offset = FromProto(entry.offset(), 1.0f);
         if (!joint.offset.allFinite())
-          return absl::InvalidArgumentError(StrCat("target_rig joint '", entry.name(), "': offset is not finite"));
+          return absl::InvalidArgumentError(StrCat("target_rig.joints[", index, "]: offset is not finite"));
         if (entry.has_end_site()) {
           joint.end_site = FromProto(entry.end_site(), 1.0f);
           if (!joint.end_site->allFinite()) {  // never echoed back as NaN in SessionStarted
-            return absl::InvalidArgumentError(StrCat("target_rig joint '", entry.name(), "': end_site is not finite"));
+            return absl::InvalidArgumentError(StrCat("target_rig.joints[", index, "]: end_site is not finite"));
           }
         }
         using C = ChannelType;

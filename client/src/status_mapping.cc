@@ -10,8 +10,10 @@ namespace {
 // transport errors (issue #25: a plaintext client talking to a TLS server got "Socket closed").
 std::string TransportHint(const std::string& message) {
   if (message.find("Socket closed") != std::string::npos) {
-    return "; the server closed the connection before answering: if it serves TLS (mocapd serve --tls-cert), "
-           "connect with TLS (mocap --tls, or ConnectOptions.tls)";
+    // Said of both causes: a plaintext client refused by a TLS server, and a server that stopped or
+    // restarted mid-call look the same from here (issue #24: a restart read as a TLS problem).
+    return "; the server closed the connection: it may have stopped or restarted (try again), or, if it "
+           "serves TLS (mocapd serve --tls-cert), connect with TLS (mocap --tls, or ConnectOptions.tls)";
   }
   if (message.find("andshake failed") != std::string::npos) {
     return "; the TLS handshake failed: trust the server's certificate (mocap --tls-root-certs, or "

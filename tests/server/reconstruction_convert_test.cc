@@ -144,8 +144,23 @@ TEST(TargetRigFromProtoTest, NonFiniteEndSitesAreRefusedByJoint) {
   joint->mutable_end_site()->set_y(NAN);
   auto converted = FromProto(rig);
   EXPECT_EQ(converted.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(converted.status().message().find("'Hips': end_site is not finite"), std::string::npos)
+  EXPECT_NE(converted.status().message().find("joints[0]: end_site is not finite"), std::string::npos)
       << converted.status();
+}
+
+// Issue #24: a 3 MiB joint name with a non-finite offset came back inside the error (a
+// metadata-size failure instead of INVALID_ARGUMENT); the joint is named by its index.
+TEST(TargetRigFromProtoTest, ANonFiniteOffsetNeverEchoesTheJointsName) {
+  v1::TargetRig rig;
+  v1::TargetJoint* joint = rig.mutable_joints()->add_joints();
+  joint->set_name(std::string(3 << 20, 'x'));
+  joint->set_parent(-1);
+  joint->mutable_offset()->set_x(NAN);
+  auto converted = FromProto(rig);
+  EXPECT_EQ(converted.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_LT(converted.status().message().size(), 200u);
+  EXPECT_NE(converted.status().message().find("joints[0]: offset is not finite"), std::string::npos)
+      << converted.status().message().substr(0, 200);
 }
 
 TEST(OptionsFromConfigTest, TheEffectiveConfigReadsBackIntoTheSameOptions) {
