@@ -9,9 +9,9 @@
 #include "motion/bvh/bvh_reader.h"
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "motion/core/units.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
-#include "motion/core/units.h"
 #include "motion/reconstruct/body_model.h"
 #include "motion/reconstruct/performer_scale.h"
 #include "motion/skeleton/forward_kinematics.h"
@@ -163,8 +163,8 @@ float TruthScale(const SizeReference& reference, const LandmarkTruth& truth) {
 }
 
 float InputScale(PerformerSize size, const ReconstructionDatabase& database, const SizeReference& reference,
-                 const LandmarkTruth& truth, const std::vector<WristSample>& wrists,
-                 unsigned declared_seed, PerformerScaleEstimate* fit_out = nullptr) {
+                 const LandmarkTruth& truth, const std::vector<WristSample>& wrists, unsigned declared_seed,
+                 PerformerScaleEstimate* fit_out = nullptr) {
   switch (size) {
     case PerformerSize::kDatabase:
       return 1.0f;

@@ -47,8 +47,8 @@ struct LandmarkClipResult {
   std::string name, source, content;
   LandmarkBodySize size;  // the performer's
   LandmarkMetrics metrics;
-  float input_scale = 1.0f;  // what the input was multiplied by (PerformerSize)
-  float truth_scale = 1.0f;  // the oracle's factor: database body / the performer's
+  float input_scale = 1.0f;                 // what the input was multiplied by (PerformerSize)
+  float truth_scale = 1.0f;                 // the oracle's factor: database body / the performer's
   std::vector<float> fit_scales, fit_cost;  // kDatabaseFit's fit at each candidate scale
 };
 

@@ -73,12 +73,12 @@ absl::Status CheckClipBodySize(const PreparedClip& prepared, const RigModel& rig
   if (!(rig_leg > 0.0)) return absl::OkStatus();  // a rig without its size: nothing to compare
   if (leg >= rig_leg / kSameBodyFactor && leg <= rig_leg * kSameBodyFactor) return absl::OkStatus();
   const std::string_view unit = UnitName(rig.unit);
-  return absl::InvalidArgumentError(StrCat(
-      "the body would be about ", RoundedMetres(leg / kLegShareOfStature), " m tall (legs ", RoundedMetres(leg),
-      " m) in the database's length unit '", unit, "', whose rig has legs of ", RoundedMetres(rig_leg),
-      " m: the file is in another unit or exported at another scale. Rescale it to '", unit,
-      "', or import it into a database of its own, declaring its length unit with --units (m, cm, mm, in, "
-      "or cmu for CMU's 1/0.45 inch)"));
+  return absl::InvalidArgumentError(
+      StrCat("the body would be about ", RoundedMetres(leg / kLegShareOfStature), " m tall (legs ", RoundedMetres(leg),
+             " m) in the database's length unit '", unit, "', whose rig has legs of ", RoundedMetres(rig_leg),
+             " m: the file is in another unit or exported at another scale. Rescale it to '", unit,
+             "', or import it into a database of its own, declaring its length unit with --units (m, cm, mm, in, "
+             "or cmu for CMU's 1/0.45 inch)"));
 }
 
 }  // namespace

@@ -52,9 +52,9 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
     const Eigen::Vector3f moved = hands - oldest.midpoint;
     const float ground_speed =
         hands_count_ > 1 ? static_cast<float>(std::hypot(moved.x(), moved.z()) / (time - oldest.time)) : 0.0f;
-    const float standing = std::clamp((moving_hands_speed_ - ground_speed) /
-                                          std::max(1e-3f, moving_hands_speed_ - standing_hands_speed_),
-                                      0.0f, 1.0f);
+    const float standing =
+        std::clamp((moving_hands_speed_ - ground_speed) / std::max(1e-3f, moving_hands_speed_ - standing_hands_speed_),
+                   0.0f, 1.0f);
     const float dt = static_cast<float>(time - previous_time_);
     const float follow = 1.0f - standing * (1.0f - dt / (standing_smoothing_seconds_ + dt));
     target = previous_target_ + follow * (solved - previous_target_);

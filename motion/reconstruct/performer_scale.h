@@ -24,9 +24,9 @@ struct PerformerScaleOptions {
   // times the database's: a child to a tall adult against a 1.6–1.7 m database actor).
   float min_scale = 0.7f, max_scale = 1.45f;
   int steps = 31;
-  int frame_step = 3;            // score every n-th frame at the database rate
-  float kept_fraction = 0.75f;   // trimmed mean: the best-matching fraction of sampled frames
-  float min_seconds = 1.0f;      // less input than this: no estimate (scale 1)
+  int frame_step = 3;           // score every n-th frame at the database rate
+  float kept_fraction = 0.75f;  // trimmed mean: the best-matching fraction of sampled frames
+  float min_seconds = 1.0f;     // less input than this: no estimate (scale 1)
 };
 
 struct PerformerScaleEstimate {

@@ -26,8 +26,7 @@ TEST(PerformerScaleTest, AShrunkOrGrownWalkIsToldBackAtTheFactorThatUndoesIt) {
   const auto setup = testing::MakeSyntheticReconstructionSetup({}, 90);
   const std::vector<WristSample> samples = testing::WristSamplesOf(setup);
   for (float size : {0.85f, 1.0f, 1.2f}) {
-    const absl::StatusOr<PerformerScaleEstimate> fit =
-        EstimatePerformerScale(*setup.database, Scaled(samples, size));
+    const absl::StatusOr<PerformerScaleEstimate> fit = EstimatePerformerScale(*setup.database, Scaled(samples, size));
     ASSERT_TRUE(fit.ok()) << fit.status();
     EXPECT_GT(fit->frames, 20);
     ASSERT_EQ(fit->candidates.size(), fit->cost.size());
@@ -51,8 +50,7 @@ TEST(PerformerScaleTest, RefusesBadOptionsAndNonFiniteSamples) {
   std::vector<WristSample> samples = testing::WristSamplesOf(setup);
   PerformerScaleOptions bad;
   bad.min_scale = 0.0f;
-  EXPECT_EQ(EstimatePerformerScale(*setup.database, samples, bad).status().code(),
-            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(EstimatePerformerScale(*setup.database, samples, bad).status().code(), absl::StatusCode::kInvalidArgument);
   samples[5].left.x() = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(EstimatePerformerScale(*setup.database, samples).status().code(), absl::StatusCode::kInvalidArgument);
 }
