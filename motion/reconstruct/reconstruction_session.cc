@@ -18,6 +18,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// How far the motion guard may move the body (metres) with its planted feet kept where they are.
+constexpr float kPlantedFootReach = 0.05f;
+
 double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // A database frame's pelvis placed in the query's wrist reference frame (A1: local coordinates
@@ -453,8 +456,20 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       const Eigen::Vector3f hands = 0.5f * (s.input[e][0] + s.input[e][1]);
       const Eigen::Vector3f offset = motion_guard_.Next(frame.time, solved, hands, &frame.motion_limited) - solved;
       frame.pose.root_position += offset;
-      for (auto& target : frame.ankle_targets) {
-        if (target) *target += offset;
+      // A planted foot stays where it is planted when the body moved a little (the standing
+      // filter's centimetres: its legs take the difference); it goes along when the guard held
+      // the body back further than a leg can bend for.
+      const bool feet_stay = offset.norm() <= kPlantedFootReach;
+      const BodyLandmarks& l = database_->rig().topology.landmarks;
+      const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
+      for (int side = 0; side < 2; ++side) {
+        auto& target = frame.ankle_targets[side];
+        if (!target) continue;
+        if (feet_stay) {
+          SolveLegIk(body, ankle_joints[side], *target, &frame.pose);
+        } else {
+          *target += offset;
+        }
       }
     }
     if (options_.hand_target_sigma >= 0.0f) {
