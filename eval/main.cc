@@ -269,10 +269,8 @@ int main(int argc, char** argv) {
                                 {"full_declared_height", mocap::eval::PerformerSize::kDeclared}}) {
         sized.name = name;
         sized.size = size;
-        const bool named = only_runs.empty() ||
-                           std::find(only_runs.begin(), only_runs.end(), name) != only_runs.end() ||
-                           std::find(only_runs.begin(), only_runs.end(), "full") != only_runs.end();
-        if (named) experiments.push_back(sized);
+        if (only_runs.empty() || std::find(only_runs.begin(), only_runs.end(), name) != only_runs.end())
+          experiments.push_back(sized);
       }
     }
     return RunLandmarkTests(*database, *landmark_tests, experiments, context, out_dir, seed, threads);

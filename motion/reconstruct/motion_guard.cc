@@ -43,15 +43,14 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   hands_next_ = (hands_next_ + 1) % window;
   hands_count_ = std::min(hands_count_ + 1, window);
   const HandsSample& oldest = hands_[(hands_next_ - hands_count_ + window) % window];
-  const float hands_speed =
-      hands_count_ > 1 ? static_cast<float>((hands - oldest.midpoint).norm() / (time - oldest.time)) : 0.0f;
+  const Eigen::Vector3f moved = hands - oldest.midpoint;
+  const float per_second = hands_count_ > 1 ? static_cast<float>(1.0 / (time - oldest.time)) : 0.0f;
+  const float hands_speed = moved.norm() * per_second;
+  const float ground_speed = std::hypot(moved.x(), moved.z()) * per_second;  // over the ground
   Eigen::Vector3f target = solved;
   if (has_previous_ && continuous && standing_smoothing_seconds_ > 0) {
     // Standing: the ground position eases towards the solve (exponential filter, time constant
     // standing_smoothing_seconds), fading out as the hands start to travel.
-    const Eigen::Vector3f moved = hands - oldest.midpoint;
-    const float ground_speed =
-        hands_count_ > 1 ? static_cast<float>(std::hypot(moved.x(), moved.z()) / (time - oldest.time)) : 0.0f;
     const float standing =
         std::clamp((moving_hands_speed_ - ground_speed) / std::max(1e-3f, moving_hands_speed_ - standing_hands_speed_),
                    0.0f, 1.0f);

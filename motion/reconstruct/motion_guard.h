@@ -31,8 +31,8 @@ struct MotionGuardOptions {
   // fastest wrist, or accelerates faster than `input_acceleration_margin` × its fastest.
   float input_speed_margin = 1.25f;
   float input_acceleration_margin = 1.25f;
-  // While the hands' midpoint stays put (its mean speed over the hands' window below
-  // `standing_hands_speed`), the pelvis' ground position follows the solve through an exponential
+  // While the hands' midpoint stays put over the ground (its mean ground speed over the hands'
+  // window below `standing_hands_speed`), the pelvis follows the solve through an exponential
   // filter of this time constant; the filter fades out linearly up to `moving_hands_speed`. A
   // standing body's solve hops between the stances of its neighbours (1-3 cm a frame, output
   // pelvis speeds of 1-3 m/s on bows, waves and swordplay whose capture stands), which a body that
@@ -45,11 +45,11 @@ class MotionGuard {
  public:
   MotionGuard(const MotionLimits& limits, double frame_time, const MotionGuardOptions& options);
 
-  // The next output frame at `time` (seconds, increasing; a gap counts as its length): `target`
+  // The next output frame at `time` (seconds, increasing; a gap counts as its length): `solved`
   // is where the solve put the pelvis, `hands` the midpoint of the input wrists (world metres).
-  // Returns where the pelvis goes; `*limited` is set when that is not the target (more than 1 mm
-  // away).
-  Eigen::Vector3f Next(double time, const Eigen::Vector3f& target, const Eigen::Vector3f& hands, bool* limited);
+  // Returns where the pelvis goes; `*limited` is set when that is not the solve's place (eased
+  // while standing) by more than 1 mm.
+  Eigen::Vector3f Next(double time, const Eigen::Vector3f& solved, const Eigen::Vector3f& hands, bool* limited);
   void Reset() { has_previous_ = false; }
 
   float speed_limit() const { return speed_limit_; }

@@ -408,6 +408,8 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
   const int radius = static_cast<int>(joint_kernel_.size()) / 2;
   const int last = s.post_first + static_cast<int>(s.post.size()) - 1;  // newest solved frame
   const BodyModel& body = database_->body();
+  const BodyLandmarks& l = database_->rig().topology.landmarks;
+  const int ankle_joints[2] = {l.left_ankle, l.right_ankle}, wrist_joints[2] = {l.left_wrist, l.right_wrist};
   std::vector<Eigen::Quaternionf> world_rotations;
   std::vector<Eigen::Vector3f> world_positions;
   while (s.emitted <= last && (flush || s.emitted + joint_filter_lag_ <= last)) {
@@ -433,9 +435,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // from the pelvis — Bandai's joint_Root sits at the capture's origin, metres away — and a
       // turn of a few degrees then swung the body by up to a metre in one frame, issue #22.)
       body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
-      frame.pose.root_position += pelvis - world_positions[database_->rig().topology.landmarks.pelvis];
-      const BodyLandmarks& l = database_->rig().topology.landmarks;
-      const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
+      frame.pose.root_position += pelvis - world_positions[l.pelvis];
       for (int side = 0; side < 2; ++side) {
         if (frame.ankle_targets[side]) SolveLegIk(body, ankle_joints[side], *frame.ankle_targets[side], &frame.pose);
       }
@@ -449,10 +449,10 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       }
     }
     if (options_.motion_guard.enabled) {
-      // The guard moves the whole body (and its pins) rigidly to where the pelvis may go; the
-      // hands then reach for the input from there.
+      // The guard moves the whole body rigidly to where the pelvis may go; the hands then reach
+      // for the input from there.
       body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
-      const Eigen::Vector3f solved = world_positions[database_->rig().topology.landmarks.pelvis];
+      const Eigen::Vector3f solved = world_positions[l.pelvis];
       const Eigen::Vector3f hands = 0.5f * (s.input[e][0] + s.input[e][1]);
       const Eigen::Vector3f offset = motion_guard_.Next(frame.time, solved, hands, &frame.motion_limited) - solved;
       frame.pose.root_position += offset;
@@ -460,8 +460,6 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // filter's centimetres: its legs take the difference); it goes along when the guard held
       // the body back further than a leg can bend for.
       const bool feet_stay = offset.norm() <= kPlantedFootReach;
-      const BodyLandmarks& l = database_->rig().topology.landmarks;
-      const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
       for (int side = 0; side < 2; ++side) {
         auto& target = frame.ankle_targets[side];
         if (!target) continue;
@@ -475,15 +473,12 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     if (options_.hand_target_sigma >= 0.0f) {
       // Hands on the input: a local linear fit over the samples that have arrived, which is the
       // Gaussian average where the window is centred and has no lag where it is one-sided.
-      const BodyLandmarks& l = database_->rig().topology.landmarks;
-      const int wrist_joints[2] = {l.left_wrist, l.right_wrist};
       const SmoothedWrists target = FitInput(s, e, hand_kernel_);
       for (int side = 0; side < 2; ++side) SolveLegIk(body, wrist_joints[side], target.position[side], &frame.pose);
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
-    const int pelvis = database_->rig().topology.landmarks.pelvis;
-    frame.pelvis_rotation = world_rotations[pelvis];
-    frame.pelvis_position = world_positions[pelvis];
+    frame.pelvis_rotation = world_rotations[l.pelvis];
+    frame.pelvis_position = world_positions[l.pelvis];
     frame.index = next_output_index_++;
     out->push_back(std::move(frame));
     ++s.emitted;
