@@ -171,9 +171,22 @@ void InputMonitor::TrackSides(const WristSample& sample, std::vector<InputWarnin
   travel.y() = 0.0f;
   const float speed = travel.norm();
   if (!(speed > kTravelSpeed)) return;
-  const Eigen::Vector3f left_of_travel(travel.z() / speed, 0.0f, -travel.x() / speed);  // up × travel
-  const float side = (sample.left - sample.right).dot(left_of_travel);
+  const Eigen::Vector3f along = travel / speed;
+  const Eigen::Vector3f left_of_travel(along.z(), 0.0f, -along.x());  // up × travel
+  const Eigen::Vector3f apart = sample.left - sample.right;
+  // Walking backwards also puts the left wrist on the right of the travel. What tells it from a
+  // swap: the wrist ahead of the body swings higher (the elbow bends on the forward swing), so the
+  // wrist leading along the travel is the higher one while walking forwards, whichever label it
+  // carries. A swap is voted only while that says "forwards" clearly, or at a speed nobody walks
+  // backwards (running, elbows bent, also raises the hand behind: the cue only holds for walks);
+  // a correct side is voted either way.
+  const float lead_times_rise = 0.5f * apart.dot(along) * apart.y();
+  facing_evidence_ = (1.0f - kFacingSmoothing) * facing_evidence_ + kFacingSmoothing * lead_times_rise;
+  facing_scale_ = (1.0f - kFacingSmoothing) * facing_scale_ + kFacingSmoothing * std::abs(lead_times_rise);
+  const float side = apart.dot(left_of_travel);
   if (std::abs(side) < kMinSideOffsetFraction * options_.body_height) return;
+  const bool forwards = speed > kBackwardsWalkSpeed || facing_evidence_ > kMinForwardEvidence * facing_scale_;
+  if (side < 0 && !forwards) return;
   ++votes_;
   if (side < 0) ++swapped_votes_;
   if (votes_ < kSwapVotes) return;

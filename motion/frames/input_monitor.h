@@ -19,11 +19,18 @@
 //   −kBelowFloorFraction · H ("wrists below the floor"), or above kAboveFloorFraction · H (both
 //   wrists higher than a raised hand reaches: the floor is too low).
 // - sides (whole session): while the body travels (the wrists' midpoint moving faster than
-//   kTravelSpeed over ~0.5 s), the left wrist is on the left of the travel direction. When at least
-//   kSwapVoteShare of kSwapVotes consecutive travelling votes (one per 0.1 s, each with the wrists
-//   at least kMinSideOffsetFraction · H apart across the travel) say otherwise: "left and right
-//   look swapped" (or a mirrored frame: the handedness declared wrong). Standing still says
-//   nothing: a mirrored pair of wrists at rest is another pose's.
+//   kTravelSpeed over ~0.5 s), the left wrist is on the left of the travel direction, unless the
+//   body walks backwards. Walking forwards, the wrist ahead of the body swings higher than the
+//   one behind (the elbow bends on the forward swing), so the smoothed product of the wrists'
+//   lead along the travel and their height difference (label-free) says which way the body
+//   faces; a vote for "swapped" needs it to say forwards (at least kMinForwardEvidence of its
+//   magnitude) or a pace nobody walks backwards (kBackwardsWalkSpeed). When at least
+//   kSwapVoteShare of kSwapVotes consecutive votes (one per 0.1 s, each with the wrists at least
+//   kMinSideOffsetFraction · H apart across the travel) say swapped: "left and right look
+//   swapped" (or a mirrored frame: the handedness declared wrong). Standing still says nothing:
+//   a mirrored pair of wrists at rest is another pose's. On bandai-namco-1 no correct walk,
+//   backwards walk or side step is said swapped, and 50 of its 60 forward walks, runs and dashes
+//   are when swapped (tests/motion/frames/held_out_input_test.cc).
 //
 // Thread safety: none; one session's caller at a time.
 #pragma once
@@ -45,6 +52,9 @@ inline constexpr float kBelowFloorFraction = 0.05f;
 inline constexpr float kAboveFloorFraction = 1.1f;
 inline constexpr float kTravelSpeed = 0.4f;  // m/s
 inline constexpr float kMinSideOffsetFraction = 0.03f;
+inline constexpr float kFacingSmoothing = 0.05f;    // per look (0.1 s): two gait cycles' memory
+inline constexpr float kMinForwardEvidence = 0.5f;  // of the smoothed lead · rise against its magnitude
+inline constexpr float kBackwardsWalkSpeed = 2.0f;  // m/s: the walk-to-run transition; faster is a run, forwards
 inline constexpr int kSwapVotes = 15;
 inline constexpr float kSwapVoteShare = 0.8f;
 
@@ -103,6 +113,8 @@ class InputMonitor {
   std::array<Waypoint, kWaypoints> waypoints_{};
   int waypoint_count_ = 0;
   int votes_ = 0, swapped_votes_ = 0;
+  // Smoothed (leading wrist's lead along the travel) × (its height above the other), and |…|.
+  float facing_evidence_ = 0.0f, facing_scale_ = 0.0f;
   bool swap_reported_ = false;
 };
 

@@ -13,10 +13,13 @@ constexpr float kHeight = 1.7f;
 constexpr double kRate = 30.0;
 
 // A performer walking at `speed` m/s along `direction` (horizontal, unit), wrists hanging around
-// the hang fraction and swinging, the left wrist on the left of the direction; `floor` added to y.
+// the hang fraction and swinging, the hand in front of the body higher (the elbow bends on the
+// forward swing), the left wrist on the left of the direction; `floor` added to y. `backwards`:
+// the same body facing away from the direction.
 std::vector<WristSample> Walk(int frames, float speed, Eigen::Vector3f direction, float floor = 0.0f,
-                              bool swapped = false) {
-  const Eigen::Vector3f left_side(direction.z(), 0.0f, -direction.x());  // up × direction
+                              bool swapped = false, bool backwards = false) {
+  const Eigen::Vector3f facing = backwards ? Eigen::Vector3f(-direction) : direction;
+  const Eigen::Vector3f left_side(facing.z(), 0.0f, -facing.x());  // up × facing
   std::vector<WristSample> samples;
   for (int f = 0; f < frames; ++f) {
     const float t = static_cast<float>(f / kRate);
@@ -24,8 +27,9 @@ std::vector<WristSample> Walk(int frames, float speed, Eigen::Vector3f direction
     const float swing = 0.2f * std::sin(2.0f * static_cast<float>(M_PI) * t);
     WristSample s;
     s.time = 5.0 + t;
-    s.left = middle + 0.2f * left_side + swing * direction;
-    s.right = middle - 0.2f * left_side - swing * direction;
+    const Eigen::Vector3f rise(0.0f, 0.3f * std::abs(swing), 0.0f);
+    s.left = middle + 0.2f * left_side + swing * facing + (swing > 0 ? rise : Eigen::Vector3f::Zero());
+    s.right = middle - 0.2f * left_side - swing * facing + (swing < 0 ? rise : Eigen::Vector3f::Zero());
     if (swapped) std::swap(s.left, s.right);
     samples.push_back(s);
   }
@@ -119,6 +123,21 @@ TEST(InputMonitorTest, SwappedSidesAreNamedOnlyWhileTheBodyTravels) {
   }
   // Standing still, a swapped pair is just another pose.
   EXPECT_TRUE(Monitor(Walk(200, 0.0f, {0, 0, 1}, 0.0f, true), false).warnings.empty());
+}
+
+TEST(InputMonitorTest, WalkingBackwardsIsNoSwap) {
+  // The left wrist is on the right of the travel, but the hand rising on its swing is the one
+  // behind along the travel: the body faces away from where it goes.
+  EXPECT_TRUE(Monitor(Walk(300, 0.8f, {0, 0, -1}, 0.0f, false, /*backwards=*/true), false).warnings.empty());
+  // Without that rise (hands that do not swing) nothing tells a backwards walk from a swap: no
+  // alarm either.
+  std::vector<WristSample> stiff = Walk(300, 0.8f, {0, 0, -1}, 0.0f, false, true);
+  for (WristSample& s : stiff) s.left.y() = s.right.y() = kWristHangFraction * kHeight;
+  EXPECT_TRUE(Monitor(stiff, false).warnings.empty());
+  // At a running pace nobody goes backwards: swapped sides are named whatever the hands do.
+  std::vector<WristSample> run = Walk(300, 3.0f, {0, 0, -1}, 0.0f, /*swapped=*/true);
+  for (WristSample& s : run) s.left.y() = s.right.y() = kWristHangFraction * kHeight;
+  EXPECT_TRUE(Has(Monitor(run, false), InputWarning::Kind::kSwapped));
 }
 
 TEST(WristSeparationProblemTest, NamesTheUnitThatMakesTheWristsABodys) {
