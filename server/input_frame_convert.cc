@@ -65,6 +65,9 @@ v1::InputWarning ToProto(const InputWarning& warning) {
     case InputWarning::Kind::kSwapped:
       out.set_kind(v1::INPUT_WARNING_KIND_SWAPPED);
       break;
+    case InputWarning::Kind::kUpAxis:
+      out.set_kind(v1::INPUT_WARNING_KIND_UP_AXIS);
+      break;
   }
   out.set_message(warning.message);
   return out;

@@ -92,6 +92,7 @@ void InputMonitor::Add(const WristSample& sample, long index, std::vector<Monito
       if (!calibrate_floor_) {
         ready->push_back(window_.back());
         TrackSides(sample, warnings);
+        TrackHeight(sample, warnings);
       }
       return;
     }
@@ -102,6 +103,7 @@ void InputMonitor::Add(const WristSample& sample, long index, std::vector<Monito
   shifted.right.y() -= calibrated_floor_;
   ready->push_back({shifted, index});
   TrackSides(shifted, warnings);
+  TrackHeight(shifted, warnings);
 }
 
 void InputMonitor::Finish(std::vector<MonitoredSample>* ready, std::vector<InputWarning>* warnings) {
@@ -123,6 +125,7 @@ void InputMonitor::CloseWindow(std::vector<MonitoredSample>* ready, std::vector<
       s.sample.right.y() -= calibrated_floor_;
       ready->push_back(s);
       TrackSides(s.sample, warnings);
+      TrackHeight(s.sample, warnings);
     }
   }
   const std::string seconds = StrCat(Rounded(options_.window_seconds), " s");
@@ -138,22 +141,108 @@ void InputMonitor::CloseWindow(std::vector<MonitoredSample>* ready, std::vector<
   }
   if (!calibrate_floor_) {
     const float lower = Median(lower_heights);
+    // Another axis holding the wrists at hanging height names the likelier mistake.
+    const std::optional<std::string> other_up = UpAxisHoldingHangingWrists();
+    const std::string other_up_hint = other_up
+                                          ? StrCat(", or ", *other_up, " up declared as ", UpAxisName(convention_.up),
+                                                   " up: along it the wrists hang where hands do; --up ", *other_up)
+                                          : "";
     if (lower < -kBelowFloorFraction * height) {
       warnings->push_back(
           {InputWarning::Kind::kBelowFloor,
            StrCat("wrists below the floor: the lower wrist is ", Rounded(-lower), " m below it on median over ",
                   "the first ", seconds, " (wrong floor height, or the up axis ", UpAxisName(convention_.up),
-                  " the wrong way round?)")});
+                  " the wrong way round", other_up_hint, "?)")});
     } else if (lower > kAboveFloorFraction * height) {
       warnings->push_back(
           {InputWarning::Kind::kAboveFloor,
            StrCat("wrists far above the floor: the lower wrist is ", Rounded(lower), " m above it on median ",
                   "over the first ", seconds, ", higher than a raised hand reaches at a height of ", Rounded(height),
-                  " m (floor declared too low? 'calibrate' estimates it)")});
+                  " m (floor declared too low? 'calibrate' estimates it", other_up_hint, ")")});
+    } else if (lower < kUpAxisFloorFraction * height && other_up) {
+      up_axis_reported_ = true;
+      warnings->push_back(
+          {InputWarning::Kind::kUpAxis,
+           StrCat("the up axis looks wrong: along the declared up axis ", UpAxisName(convention_.up),
+                  " the lower wrist is ", Rounded(lower), " m from the floor on median over the first ", seconds,
+                  ", where no hand hangs, but along ", *other_up, " it is where hanging hands are (",
+                  Rounded(kHangBand[0] * height), "-", Rounded(kHangBand[1] * height), " m at a height of ",
+                  Rounded(height), " m): ", *other_up, " up declared as ", UpAxisName(convention_.up),
+                  " up? (declare the up axis: --up ", *other_up, ", InputFrame.up)")});
     }
   }
   window_.clear();
   window_.shrink_to_fit();
+}
+
+std::string InputMonitor::CallerAxisName(int index, float sign) const {
+  const Eigen::Vector3f caller =
+      NativeBasis(convention_.up, convention_.handedness).transpose() * (sign * Eigen::Vector3f::Unit(index));
+  Eigen::Index axis = 0;
+  caller.cwiseAbs().maxCoeff(&axis);
+  return StrCat(caller[axis] > 0 ? "+" : "-", std::string(1, static_cast<char>('X' + axis)));
+}
+
+std::optional<std::string> InputMonitor::UpAxisHoldingHangingWrists() const {
+  // A horizontal native axis (and sign) along which the lower wrist's median sits where hanging
+  // hands are, nearest the typical hang; the floor taken at 0 on it.
+  const float height = options_.body_height;
+  std::optional<std::string> best;
+  float best_distance = 0.0f;
+  for (int index : {0, 2}) {
+    for (float sign : {1.0f, -1.0f}) {
+      std::vector<float> lower;
+      for (const MonitoredSample& s : window_)
+        lower.push_back(std::min(sign * s.sample.left[index], sign * s.sample.right[index]));
+      const float median = Median(std::move(lower));
+      if (!(median >= kHangBand[0] * height && median <= kHangBand[1] * height)) continue;
+      const float distance = std::abs(median - kWristHangFraction * height);
+      if (!best || distance < best_distance) {
+        best = CallerAxisName(index, sign);
+        best_distance = distance;
+      }
+    }
+  }
+  return best;
+}
+
+void InputMonitor::TrackHeight(const WristSample& sample, std::vector<InputWarning>* warnings) {
+  if (up_axis_reported_) return;
+  if (!heights_.empty() && !(sample.time - heights_.back().time >= 0.2)) return;
+  heights_.push_back({sample.time, 0.5f * (sample.left + sample.right)});
+  while (heights_.size() > 2 && sample.time - heights_[1].time >= kVerticalTravelSeconds) heights_.pop_front();
+  const Waypoint& first = heights_.front();
+  const Waypoint& last = heights_.back();
+  const float rise = last.middle.y() - first.middle.y();
+  if (!(std::abs(rise) > kVerticalTravelFraction * options_.body_height)) return;
+  // The true up axis: the horizontal one holding the wrists' midpoint at a hanging hand's height
+  // (its floor taken at 0), else the one that moved least meanwhile.
+  float low[3], high[3], mean[3];
+  for (int axis : {0, 2}) {
+    low[axis] = high[axis] = first.middle[axis];
+    mean[axis] = 0.0f;
+    for (const Waypoint& w : heights_) {
+      low[axis] = std::min(low[axis], w.middle[axis]);
+      high[axis] = std::max(high[axis], w.middle[axis]);
+      mean[axis] += w.middle[axis] / static_cast<float>(heights_.size());
+    }
+  }
+  const auto hangs = [&](int axis) {
+    const float level = std::abs(mean[axis]) / options_.body_height;
+    return level >= kHangBand[0] && level <= kHangBand[1];
+  };
+  int index = high[0] - low[0] < high[2] - low[2] ? 0 : 2;
+  if (hangs(0) != hangs(2)) index = hangs(0) ? 0 : 2;
+  const float level = mean[index];
+  const std::string other_up = CallerAxisName(index, level >= 0.0f ? 1.0f : -1.0f);
+  up_axis_reported_ = true;
+  warnings->push_back(
+      {InputWarning::Kind::kUpAxis,
+       StrCat("the up axis looks wrong: the wrists ", rise > 0 ? "rose " : "sank ", Rounded(std::abs(rise)),
+              " m along the declared up axis ", UpAxisName(convention_.up), " within ", Rounded(last.time - first.time),
+              " s, faster than anyone climbs (the body travels along it, so it is ", "horizontal): ", other_up,
+              " up declared as ", UpAxisName(convention_.up), " up? (declare the up axis: --up ", other_up,
+              ", InputFrame.up)")});
 }
 
 void InputMonitor::TrackSides(const WristSample& sample, std::vector<InputWarning>* warnings) {

@@ -31,11 +31,19 @@
 //   a mirrored pair of wrists at rest is another pose's. On bandai-namco-1 no correct walk,
 //   backwards walk or side step is said swapped, and 50 of its 60 forward walks, runs and dashes
 //   are when swapped (tests/motion/frames/held_out_input_test.cc).
+// - up axis: the first window's lower wrist along the declared up axis at the floor (below
+//   kUpAxisFloorFraction · H) while another axis holds it at hanging height (kHangBand · H, the
+//   floor at 0 on it): "Z up declared as Y up?"; below or far above the floor, that axis is named
+//   in the floor warning as the other possible cause. Over
+//   the whole session, the wrists' midpoint rising or sinking more than kVerticalTravelFraction · H
+//   within kVerticalTravelSeconds (faster than anyone climbs stairs): the body travels along the
+//   declared up axis, which is then a horizontal one.
 //
 // Thread safety: none; one session's caller at a time.
 #pragma once
 
 #include <array>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,10 +64,14 @@ inline constexpr float kFacingSmoothing = 0.05f;    // per look (0.1 s): two gai
 inline constexpr float kMinForwardEvidence = 0.5f;  // of the smoothed lead · rise against its magnitude
 inline constexpr float kBackwardsWalkSpeed = 2.0f;  // m/s: the walk-to-run transition; faster is a run, forwards
 inline constexpr int kSwapVotes = 15;
+inline constexpr float kUpAxisFloorFraction = 0.15f;
+inline constexpr float kHangBand[2] = {0.3f, 0.75f};
+inline constexpr float kVerticalTravelFraction = 1.5f;
+inline constexpr double kVerticalTravelSeconds = 4.0;
 inline constexpr float kSwapVoteShare = 0.8f;
 
 struct InputWarning {
-  enum class Kind { kUnits, kBelowFloor, kAboveFloor, kSwapped };
+  enum class Kind { kUnits, kBelowFloor, kAboveFloor, kSwapped, kUpAxis };
   Kind kind;
   std::string message;
 };
@@ -96,6 +108,11 @@ class InputMonitor {
  private:
   void CloseWindow(std::vector<MonitoredSample>* ready, std::vector<InputWarning>* warnings);
   void TrackSides(const WristSample& sample, std::vector<InputWarning>* warnings);
+  void TrackHeight(const WristSample& sample, std::vector<InputWarning>* warnings);
+  // The caller's name ("+Z") of the native axis `index` (0 X, 2 Z) with `sign`.
+  std::string CallerAxisName(int index, float sign) const;
+  // The caller's name of another axis that holds the first window's wrists at hanging height.
+  std::optional<std::string> UpAxisHoldingHangingWrists() const;
 
   FrameConvention convention_;
   bool calibrate_floor_;
@@ -116,6 +133,9 @@ class InputMonitor {
   // Smoothed (leading wrist's lead along the travel) × (its height above the other), and |…|.
   float facing_evidence_ = 0.0f, facing_scale_ = 0.0f;
   bool swap_reported_ = false;
+  // Up axis: the wrists' midpoint every ≥ 0.2 s over the last kVerticalTravelSeconds.
+  std::deque<Waypoint> heights_;
+  bool up_axis_reported_ = false;
 };
 
 // A message when two wrists `separation_metres` apart (as declared) are not one person's: more

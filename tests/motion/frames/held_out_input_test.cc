@@ -169,7 +169,7 @@ TEST(HeldOutInputTest, WrongDeclarationsAreNamed) {
   const std::vector<ClipWrists>& clips = HeldOutClips(folder);
   ASSERT_GE(clips.size(), 250u);
   int travelling = 0, swaps_named = 0, mirrors_named = 0, refused = 0, refused_hinting_cm = 0, samples = 0;
-  int local_named = 0;
+  int local_named = 0, z_up_named_declared = 0, z_up_named_calibrated = 0;
   for (const ClipWrists& clip : clips) {
     const float h = clip.height;
     // Metres declared as centimetres: a hundredth of the size.
@@ -199,6 +199,17 @@ TEST(HeldOutInputTest, WrongDeclarationsAreNamed) {
                   h, false),
             InputWarning::Kind::kBelowFloor, "wrists below the floor");
     local_named += local;
+    // Z-up samples declared as Y up: a body lying along the world's Y.
+    const std::vector<InputWarning> z_up = Check(
+        Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p.x(), -p.z(), p.y()); }), h, false);
+    const bool z_up_named = Has(z_up, InputWarning::Kind::kUpAxis, "+Z up declared as +Y up") ||
+                            Has(z_up, InputWarning::Kind::kBelowFloor, "+Z up declared as +Y up") ||
+                            Has(z_up, InputWarning::Kind::kAboveFloor, "+Z up declared as +Y up");
+    z_up_named_declared += z_up_named;
+    z_up_named_calibrated +=
+        Has(Check(Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p.x(), -p.z(), p.y()); }),
+                  h, true),
+            InputWarning::Kind::kUpAxis, "up declared as +Y up?");
     if (!clip.travels) continue;
     EXPECT_TRUE(local) << clip.name;
     ++travelling;
@@ -214,6 +225,8 @@ TEST(HeldOutInputTest, WrongDeclarationsAreNamed) {
   std::cout << "[ input frames ] a head-origin space declared floor-origin named in " << local_named << " of "
             << clips.size() << " clips\n";
   EXPECT_GE(local_named, 0.85 * static_cast<double>(clips.size()));
+  std::cout << "[ input frames ] Z up declared as Y up named in " << z_up_named_declared << " of " << clips.size()
+            << " clips (floor declared), " << z_up_named_calibrated << " (floor calibrated)\n";
   std::cout << "[ input frames ] swapped sides named in " << swaps_named << " of " << travelling
             << " travelling clips, mirrored frames in " << mirrors_named << "; cm declared as m: " << refused << " of "
             << samples << " samples refused, " << refused_hinting_cm << " naming centimetres\n";

@@ -125,6 +125,38 @@ TEST(InputMonitorTest, SwappedSidesAreNamedOnlyWhileTheBodyTravels) {
   EXPECT_TRUE(Monitor(Walk(200, 0.0f, {0, 0, 1}, 0.0f, true), false).warnings.empty());
 }
 
+// Z-up samples (x, y, z) of a Y-up body: (x, −z, y), as Blender writes them.
+std::vector<WristSample> AsZUp(std::vector<WristSample> samples) {
+  for (WristSample& s : samples) {
+    for (Eigen::Vector3f* p : {&s.left, &s.right}) *p = Eigen::Vector3f(p->x(), -p->z(), p->y());
+  }
+  return samples;
+}
+
+TEST(InputMonitorTest, ZUpDeclaredAsYUpIsNamed) {
+  // Standing near the origin: along the declared up axis the wrists are at the floor, along +Z
+  // where hanging hands are.
+  std::vector<WristSample> near_origin = AsZUp(Walk(90, 0.0f, {0, 0, 1}));
+  for (WristSample& s : near_origin) s.left.y() += 0.25f, s.right.y() += 0.25f;
+  const Outcome standing = Monitor(near_origin, false);
+  ASSERT_TRUE(Has(standing, InputWarning::Kind::kUpAxis));
+  EXPECT_FALSE(Has(standing, InputWarning::Kind::kBelowFloor));
+  EXPECT_NE(standing.warnings.front().message.find("+Z up declared as +Y up?"), std::string::npos)
+      << standing.warnings.front().message;
+  // Where the wrists swing below 0 on "up": a floor warning, naming +Z as well.
+  const Outcome below = Monitor(AsZUp(Walk(90, 0.0f, {0, 0, 1})), false);
+  ASSERT_TRUE(Has(below, InputWarning::Kind::kBelowFloor));
+  EXPECT_NE(below.warnings.front().message.find("or +Z up declared as +Y up"), std::string::npos)
+      << below.warnings.front().message;
+  // Walking along the world's Y with a calibrated floor: the wrists sink metres along "up".
+  const Outcome walking = Monitor(AsZUp(Walk(200, 1.3f, {0, 0, 1})), true);
+  ASSERT_TRUE(Has(walking, InputWarning::Kind::kUpAxis));
+  EXPECT_NE(walking.warnings.back().message.find("sank"), std::string::npos) << walking.warnings.back().message;
+  EXPECT_NE(walking.warnings.back().message.find("--up +Z"), std::string::npos) << walking.warnings.back().message;
+  // Declared right (the samples reach the monitor in native axes), nothing.
+  EXPECT_TRUE(Monitor(Walk(200, 1.3f, {0, 0, 1}), true).warnings.empty());
+}
+
 TEST(InputMonitorTest, WalkingBackwardsIsNoSwap) {
   // The left wrist is on the right of the travel, but the hand rising on its swing is the one
   // behind along the travel: the body faces away from where it goes.
