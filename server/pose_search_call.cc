@@ -114,7 +114,7 @@ absl::Status PoseSearchCall::SearchSlice(v1::FindSimilarPosesResponse* out) {
   out->set_exact(options_.exact);
   for (; next_ < end; ++next_) {
     MOCAP_ASSIGN_OR_RETURN(std::vector<FoundPose> found, query_->Search(next_, options_));
-    ToProto(query_->frames()[next_], found, out->add_results());
+    ToProto(query_->frames()[next_], found, MatchNovelty(found, options_), out->add_results());
   }
   return absl::OkStatus();
 }

@@ -179,8 +179,13 @@ absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& r
   return SimilarQuery::FromBvh(std::move(clip), name, first, last, step);
 }
 
-void ToProto(int query_frame, const std::vector<FoundPose>& matches, v1::QueryFrameMatches* out) {
+void ToProto(int query_frame, const std::vector<FoundPose>& matches, std::optional<float> novelty,
+             v1::QueryFrameMatches* out) {
   out->set_query_frame(query_frame);
+  if (novelty) {
+    out->set_novelty(*novelty);
+    out->set_no_similar_pose(*novelty > kNoSimilarPoseNovelty);
+  }
   for (const FoundPose& found : matches) {
     const ClipSummary& clip = found.database->clips[found.match.clip];
     v1::PoseMatch* match = out->add_matches();

@@ -2,6 +2,7 @@
 // request checks with the service's limits, the query, and the matches of a query frame.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -39,6 +40,8 @@ absl::StatusOr<SimilarQuery> QueryFromProto(const v1::FindSimilarPosesRequest& r
                                             bool streaming, const BodyPointOptions& points);
 
 // One query frame's matches.
-void ToProto(int query_frame, const std::vector<FoundPose>& matches, v1::QueryFrameMatches* out);
+// `novelty` (MatchNovelty) sets novelty and no_similar_pose.
+void ToProto(int query_frame, const std::vector<FoundPose>& matches, std::optional<float> novelty,
+             v1::QueryFrameMatches* out);
 
 }  // namespace mocap

@@ -93,6 +93,17 @@ absl::Status SimilarQuery::Prepare(const std::vector<SearchDatabasePtr>& databas
   return absl::OkStatus();
 }
 
+std::optional<float> MatchNovelty(const std::vector<FoundPose>& found, const PoseSearchOptions& options) {
+  std::optional<float> novelty;
+  for (const FoundPose& pose : found) {
+    const absl::StatusOr<NeighbourDistances> reference = pose.database->index.NeighbourReference(options);
+    if (!reference.ok() || !(reference->isolated > 0.0f)) continue;
+    const float ratio = pose.match.distance.total / reference->isolated;
+    if (!novelty || ratio < *novelty) novelty = ratio;
+  }
+  return novelty;
+}
+
 absl::StatusOr<std::vector<FoundPose>> SimilarQuery::Search(size_t index, const PoseSearchOptions& options) const {
   std::vector<FoundPose> merged;
   for (size_t d = 0; d < databases_.size(); ++d) {

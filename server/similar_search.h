@@ -69,4 +69,9 @@ class SimilarQuery {
   std::vector<ClipPoints> clip_points_;  // per database, for a clip
 };
 
+// The novelty of a query frame's matches (NeighbourDistances): the smallest match distance
+// against its database's isolated-frame distance under `options`; nullopt when no match's
+// database has two clips (nothing to compare with).
+std::optional<float> MatchNovelty(const std::vector<FoundPose>& found, const PoseSearchOptions& options);
+
 }  // namespace mocap

@@ -39,7 +39,7 @@ absl::StatusOr<v1::FindSimilarPosesResponse> FindSimilarPosesInStore(const Simil
   response.set_exact(options.search.exact);
   for (size_t i = 0; i < query->frames().size(); ++i) {
     MOCAP_ASSIGN_OR_RETURN(std::vector<FoundPose> found, query->Search(i, options.search));
-    ToProto(query->frames()[i], found, response.add_results());
+    ToProto(query->frames()[i], found, MatchNovelty(found, options.search), response.add_results());
   }
   return response;
 }

@@ -48,7 +48,7 @@ inline Eigen::Vector3f DeviceToWrist(const Eigen::Vector3f& position, const Eige
 
 struct InputFramePreset {
   std::string_view name;         // as the CLI takes it, e.g. "openxr-local-floor"
-  std::string_view description;  // the assumption, one line (README "Input conventions")
+  std::string_view description;  // the assumption, one line (docs/input-conventions.md)
   InputFrame frame;
 };
 // Every preset, in a fixed order: native, openxr-local-floor, openxr-local, webxr-local-floor,

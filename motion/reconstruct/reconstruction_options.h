@@ -1,5 +1,5 @@
 // Every parameter of the reconstruction (METHOD.md A2–A7); the defaults are the patent's where it
-// gives one, otherwise what measured best (see README, mocap-eval).
+// gives one, otherwise what measured best (see docs/evaluation.md, mocap-eval).
 #pragma once
 
 #include "motion/reconstruct/ankle_path.h"
@@ -58,7 +58,7 @@ struct ReconstructionOptions {
   // flagged kPredicted, one continuous body); longer ones end the segment. Hand trackers lose the
   // hands for up to a couple of seconds (out of the camera's view, a controller occluded); at
   // 0.25 s each such dropout restarted the body, and on device-like input with 0.1-2 s dropouts
-  // the full method fell behind a plain lookup (README, issue #22).
+  // the full method fell behind a plain lookup (docs/evaluation.md, issue #22).
   double max_gap_seconds = 2.0;
 };
 

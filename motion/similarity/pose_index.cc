@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 
 #include <Eigen/Eigenvalues>
 #include "motion/core/kd_tree.h"
 
+#include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 
 namespace mocap {
@@ -59,6 +61,14 @@ struct PoseIndex::Impl {
   Eigen::RowVectorXf mean;
   Eigen::MatrixXf basis;  // features x kReducedDims
   KdTree kd_tree;         // over the reduced features
+  // Neighbour references per search options (weights, window, candidates, exact), computed once.
+  struct Reference {
+    PoseSearchOptions options;
+    NeighbourDistances distances;
+  };
+  mutable std::mutex reference_mutex;
+  mutable std::vector<Reference> references;    // guarded by reference_mutex
+  static constexpr size_t kMaxReferences = 16;  // weights are the caller's: a bounded cache
 
   int pose_points() const { return kNumBodyGroups * options.points_per_group; }
 
@@ -182,6 +192,7 @@ absl::StatusOr<std::vector<PoseMatch>> PoseIndex::Search(const ClipPoints& query
   matches.reserve(rows.size());
   for (std::int64_t row : rows) {
     const auto [clip, candidate_frame] = m.Locate(row);
+    if (clip == options.exclude_clip) continue;
     m.WindowCloud(m.clips[clip], candidate_frame, options.window, candidate_cloud.data());
     PoseMatch match;
     match.clip = clip;
@@ -207,6 +218,45 @@ absl::StatusOr<std::vector<PoseMatch>> PoseIndex::Search(const ClipPoints& query
     if (!suppressed) top.push_back(match);
   }
   return top;
+}
+
+absl::StatusOr<NeighbourDistances> PoseIndex::NeighbourReference(const PoseSearchOptions& options) const {
+  const Impl& m = *impl_;
+  if (!m.built) return absl::FailedPreconditionError("pose index is not built");
+  if (m.clips.size() < 2) return absl::FailedPreconditionError("a single clip has no other clip to be near");
+  const auto same = [&](const PoseSearchOptions& a) {
+    return a.weights.weight == options.weights.weight && a.window == options.window &&
+           a.candidates == options.candidates && a.exact == options.exact;
+  };
+  {
+    std::lock_guard<std::mutex> lock(m.reference_mutex);
+    for (const Impl::Reference& reference : m.references) {
+      if (same(reference.options)) return reference.distances;
+    }
+  }
+  // Computed outside the lock: two first callers may both measure (the same figures).
+  PoseSearchOptions search = options;
+  search.top_k = 1;
+  search.suppress_within_frames = 0;
+  const std::int64_t samples = std::min<std::int64_t>(kNeighbourReferenceFrames, m.rows);
+  std::vector<float> distances;
+  for (std::int64_t i = 0; i < samples; ++i) {
+    const std::int64_t row = (2 * i + 1) * m.rows / (2 * samples);  // evenly, away from the ends
+    const auto [clip, frame] = m.Locate(row);
+    search.exclude_clip = clip;
+    MOCAP_ASSIGN_OR_RETURN(std::vector<PoseMatch> best, Search(m.clips[clip], frame, search));
+    if (!best.empty()) distances.push_back(best.front().distance.total);
+  }
+  if (distances.empty()) return absl::FailedPreconditionError("no frame has a neighbour in another clip");
+  std::sort(distances.begin(), distances.end());
+  const auto at = [&](double fraction) {
+    return distances[static_cast<size_t>(fraction * static_cast<double>(distances.size() - 1))];
+  };
+  NeighbourDistances result{at(0.5), std::max(at(0.95), kMinIsolatedDistance), static_cast<int>(distances.size())};
+  std::lock_guard<std::mutex> lock(m.reference_mutex);
+  if (m.references.size() >= Impl::kMaxReferences) m.references.erase(m.references.begin());  // oldest out
+  m.references.push_back({options, result});
+  return result;
 }
 
 int PoseIndex::num_clips() const { return static_cast<int>(impl_->clips.size()); }

@@ -3,8 +3,8 @@
 // with a FLANN kd-tree over a rig-independent feature (heading-normalised body points reduced by
 // PCA) and re-ranks the candidates with the exact distance.
 //
-// Thread safety: build once (AddClip..., Build), then Search is const and safe to call from many
-// threads at once.
+// Thread safety: build once (AddClip..., Build), then Search and NeighbourReference are const and
+// safe to call from many threads at once.
 #pragma once
 
 #include <cstdint>
@@ -30,7 +30,24 @@ struct PoseSearchOptions {
   // Matches closer than this many frames to a better match in the same clip are dropped, so the
   // top K are not K neighbours of one frame. 0 keeps all.
   int suppress_within_frames = 0;
+  // Matches in this clip (index in the order added) are left out; −1 none.
+  int exclude_clip = -1;
 };
+
+// How far a database's own frames lie from their nearest pose in another clip, with the same
+// search options: the yardstick of "nothing here is like this" (issue #25). A query frame whose
+// best match is further than kNoSimilarPoseNovelty × `isolated` has no similar pose here.
+struct NeighbourDistances {
+  float median = 0.0f;
+  float isolated = 0.0f;  // the 95th percentile, at least kMinIsolatedDistance
+  int frames = 0;         // database frames measured
+};
+inline constexpr int kNeighbourReferenceFrames = 256;
+// The least `isolated` taken (body scales): a database of copies of one clip measures about 0,
+// against which every query would be new (bandai-namco-2, one clip in 8: median 0.36, 95th
+// percentile 0.69).
+inline constexpr float kMinIsolatedDistance = 0.1f;
+inline constexpr float kNoSimilarPoseNovelty = 3.0f;
 
 struct PoseMatch {
   int clip = 0;   // index of the clip in the order added
@@ -63,6 +80,11 @@ class PoseIndex {
   // Top matches for frame `frame` of `query` (a clip made with the same BodyPointOptions).
   absl::StatusOr<std::vector<PoseMatch>> Search(const ClipPoints& query, int frame,
                                                 const PoseSearchOptions& options) const;
+
+  // The database's neighbour distances under `options` (their weights, window and candidates),
+  // measured on up to kNeighbourReferenceFrames frames spread evenly over the database, computed
+  // on first use and kept. FailedPrecondition with a single clip (no other clip to be near).
+  absl::StatusOr<NeighbourDistances> NeighbourReference(const PoseSearchOptions& options) const;
 
   int num_clips() const;
   std::int64_t num_frames() const;

@@ -29,7 +29,12 @@ nlohmann::json SimilarResultsJson(const std::string& query, const v1::FindSimila
                            {"x_body_scales", match.alignment().x_body_scales()},
                            {"z_body_scales", match.alignment().z_body_scales()}}}});
     }
-    results.push_back({{"query_frame", frame.query_frame()}, {"matches", std::move(matches)}});
+    nlohmann::json result = {{"query_frame", frame.query_frame()}, {"matches", std::move(matches)}};
+    if (frame.has_novelty()) {
+      result["novelty"] = frame.novelty();
+      result["no_similar_pose"] = frame.no_similar_pose();
+    }
+    results.push_back(std::move(result));
   }
   return {
       {"query", query}, {"window", response.window()}, {"exact", response.exact()}, {"results", std::move(results)}};
@@ -53,7 +58,12 @@ absl::StatusOr<std::pair<int, int>> ParseFrameRange(const std::string& text) {
 
 void PrintSimilarText(const nlohmann::json& results, std::ostream& out) {
   for (const auto& entry : results["results"]) {
-    out << "query frame " << entry["query_frame"] << ":\n";
+    out << "query frame " << entry["query_frame"];
+    if (entry.contains("novelty")) {
+      out << " (novelty " << entry["novelty"].get<double>()
+          << (entry["no_similar_pose"].get<bool>() ? ": no similar pose here, the nearest only" : "") << ")";
+    }
+    out << ":\n";
     for (const auto& match : entry["matches"]) {
       out << "  " << match["distance"].get<double>() << "  " << match["database"].get<std::string>() << "/"
           << match["file"].get<std::string>() << " frame " << match["frame"] << "\n";

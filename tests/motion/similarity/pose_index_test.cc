@@ -593,3 +593,45 @@ TEST(PoseIndexTest, BoneDirectionsFactorOutEveryBonesLength) {
 
 }  // namespace
 }  // namespace mocap
+
+namespace mocap {
+namespace {
+
+TEST(PoseIndexTest, NeighbourReferenceMeasuresOtherClipsAndIsKept) {
+  absl::StatusOr<PoseIndex> single = BuildIndex({Walk()});
+  ASSERT_TRUE(single.ok()) << single.status();
+  EXPECT_EQ(single->NeighbourReference({}).status().code(), absl::StatusCode::kFailedPrecondition);
+
+  SyntheticRigOptions other;
+  other.clavicle_length = 18.0;
+  absl::StatusOr<PoseIndex> index = BuildIndex({Walk(), Walk(other)});
+  ASSERT_TRUE(index.ok()) << index.status();
+  PoseSearchOptions options;
+  options.exact = true;
+  // Left out: its own clip (else every frame would find itself at 0).
+  options.exclude_clip = 0;
+  absl::StatusOr<std::vector<PoseMatch>> matches = index->Search(index->clip(0), 10, options);
+  ASSERT_TRUE(matches.ok()) << matches.status();
+  for (const PoseMatch& match : *matches) EXPECT_EQ(match.clip, 1);
+  options.exclude_clip = -1;
+  absl::StatusOr<NeighbourDistances> reference = index->NeighbourReference(options);
+  ASSERT_TRUE(reference.ok()) << reference.status();
+  EXPECT_EQ(reference->frames, std::min<int>(kNeighbourReferenceFrames, static_cast<int>(index->num_frames())));
+  EXPECT_GT(reference->median, 0.0f);  // the other clip's shoulders are wider: near, not equal
+  EXPECT_GE(reference->isolated, reference->median);
+  absl::StatusOr<NeighbourDistances> again = index->NeighbourReference(options);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->isolated, reference->isolated);
+  // A pose no clip has (the left arm raised overhead) is further than the isolated frames.
+  BvhClip raised = Walk();
+  RaiseLeftArmOverTime(raised, 170.0f);
+  absl::StatusOr<PoseIndex> query_index = BuildIndex({raised});
+  ASSERT_TRUE(query_index.ok());
+  absl::StatusOr<std::vector<PoseMatch>> best =
+      index->Search(query_index->clip(0), static_cast<int>(query_index->clip(0).points.rows()) - 1, options);
+  ASSERT_TRUE(best.ok() && !best->empty());
+  EXPECT_GT(best->front().distance.total, kNoSimilarPoseNovelty * reference->isolated);
+}
+
+}  // namespace
+}  // namespace mocap

@@ -214,3 +214,61 @@ INSTANTIATE_TEST_SUITE_P(WindowsAndSamplings, SharedDataSimilarityTest,
 
 }  // namespace
 }  // namespace mocap
+
+namespace mocap {
+namespace {
+
+// "Nothing here is like this" (issue #25): against the Bandai walks, runs, waves and raises, the
+// frames of CMU walks and runs (another rig, other people) have similar poses, those of swordplay,
+// bending over and a playground climb do not.
+TEST(SharedDataNoveltyTest, PosesUnlikeTheDatabaseAreFlaggedAndOtherRigsWalksAreNot) {
+  MOCAP_REQUIRE_SHARED_DATA(bandai, "bandai-namco-2");
+  MOCAP_REQUIRE_SHARED_DATA(cmu, "cmu-cc");
+  const BodyPointOptions options;
+  const Database& database = GetDatabase(bandai, options);
+  ASSERT_TRUE(database.error.empty()) << database.error;
+  const PoseSearchOptions search;
+  absl::StatusOr<NeighbourDistances> reference = database.index.NeighbourReference(search);
+  ASSERT_TRUE(reference.ok()) << reference.status();
+  EXPECT_EQ(reference->frames, kNeighbourReferenceFrames);
+  EXPECT_GT(reference->isolated, reference->median);
+  std::cout << "[ novelty ] Bandai database: frames' distance to their nearest pose in another clip, median "
+            << reference->median << ", 95th percentile " << reference->isolated << " body scales\n";
+  // Share of each query's frames (every 5th) whose best match is beyond kNoSimilarPoseNovelty.
+  const auto flagged_share = [&](const ClipPoints& query) {
+    int flagged = 0, frames = 0;
+    for (int f = 0; f < query.points.rows(); f += 5, ++frames) {
+      absl::StatusOr<std::vector<PoseMatch>> best = database.index.Search(query, f, search);
+      EXPECT_TRUE(best.ok() && !best->empty());
+      if (best.ok() && !best->empty())
+        flagged += best->front().distance.total > kNoSimilarPoseNovelty * reference->isolated;
+    }
+    return frames > 0 ? static_cast<double>(flagged) / frames : 0.0;
+  };
+  std::string error;
+  const std::vector<Query> walks_and_runs = LoadQueries(cmu, options, &error);
+  ASSERT_TRUE(error.empty()) << error;
+  ASSERT_FALSE(walks_and_runs.empty());
+  for (const Query& query : walks_and_runs) {
+    const double share = flagged_share(query.points);
+    std::cout << "[ novelty ] " << query.file << " (" << query.label << "): " << share * 100 << "% of frames flagged\n";
+    EXPECT_LT(share, 0.1) << query.file;
+  }
+  // The bend starts and ends upright (poses the database has): about half its frames are new.
+  for (const auto& [file, least_share] :
+       std::vector<std::pair<std::string, double>>{{"002_06.bvh", 0.4}, {"002_07.bvh", 0.8}, {"001_14.bvh", 0.6}}) {
+    absl::StatusOr<BvhClip> clip = ReadBvhFile(cmu / file);
+    ASSERT_TRUE(clip.ok()) << clip.status();
+    absl::StatusOr<RigModel> rig = BuildRigModel(*clip, {});
+    ASSERT_TRUE(rig.ok()) << rig.status();
+    absl::StatusOr<ClipPoints> points = PointsOf(*clip, *rig, options);
+    ASSERT_TRUE(points.ok()) << points.status();
+    const double share = flagged_share(*points);
+    std::cout << "[ novelty ] " << file << " (bend over, swordplay, playground): " << share * 100
+              << "% of frames flagged\n";
+    EXPECT_GE(share, least_share) << file;
+  }
+}
+
+}  // namespace
+}  // namespace mocap
