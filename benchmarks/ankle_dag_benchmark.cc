@@ -1,4 +1,4 @@
-// METHOD.md A4: cost of one DAG step (K1 x K1 edges) on real ankle clouds. Database = the
+// docs/method.md A4: cost of one DAG step (K1 x K1 edges) on real ankle clouds. Database = the
 // standard split's database clips (bandai-namco-2 takes not ≡ 3 mod 10); query = a held-out walk's
 // wrists by FK with σ = 0.5 cm noise; K1 = 1000 (and 200), both slide rules. Reported: time per
 // step, for AnkleDagStep and, in the same run, for the scalar reference step it replaced.

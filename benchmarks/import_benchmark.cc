@@ -1,6 +1,6 @@
 // Per-stage cost of importing real BVH: parse, local motion, forward kinematics, features (the
 // whole PrepareClip), in frames per second, on a sample of bandai-namco-2 (single thread). The end
-// to end figure (parallel pipeline + SQLite) comes from `mocapd import`; see README.
+// to end figure (parallel pipeline + SQLite) comes from `mocapd import`; see docs/evaluation.md.
 #include <fstream>
 #include <sstream>
 

@@ -1,4 +1,4 @@
-// The whole reconstruction pipeline (METHOD.md A2–A7) on the standard split, single thread,
+// The whole reconstruction pipeline (docs/method.md A2–A7) on the standard split, single thread,
 // K1 = 1000, K2 = 200: frames per second and time per stage per frame, plus the resident memory
 // of the loaded database and indices per database frame.
 //   build/benchmarks/mocap_reconstruction_benchmark --benchmark_counters_tabular=true

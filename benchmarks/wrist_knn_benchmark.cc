@@ -1,4 +1,4 @@
-// METHOD.md A3 on the standard split: K1 = 1000 nearest database frames by eq. 2, FLANN kd-tree
+// docs/method.md A3 on the standard split: K1 = 1000 nearest database frames by eq. 2, FLANN kd-tree
 // against exact brute force in the same run (speed-up and recall as counters). Database =
 // bandai-namco-2 takes not ≡ 3 (mod 10); queries = frames of the held-out takes (≡ 3 mod 10) with
 // their wrists' features perturbed as by σ = 0.5 cm position noise (fixed seed).

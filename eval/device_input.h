@@ -22,7 +22,7 @@ struct DeviceModel {
   double gap_min_s = 0.1, gap_max_s = 2.0;  // each dropout's length, uniform
 };
 
-// The devices every report measures (named in the README's table):
+// The devices every report measures (named in docs/evaluation.md's table):
 //   controllers_72hz  two VR controllers: 72 Hz, 1 cm quantisation, half the samples repeated
 //   tracker_90hz      a 90 Hz optical tracker: 3 mm jitter, 1 mm quantisation
 //   phone_ar          two phones' AR tracking: 60 Hz, 2.5 cm jitter, 1 cm/√s drift

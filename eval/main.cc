@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
                "a height declared as the service takes it (performer_height, with a 3% error)");
   app.add_flag("--generalisation", generalisation,
                "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
-  app.add_option("--noise-cm", noise_cm, "wrist noise σ in cm (METHOD.md A8: 0.5)");
+  app.add_option("--noise-cm", noise_cm, "wrist noise σ in cm (docs/method.md A8: 0.5)");
   app.add_option("--seed", seed, "noise seed");
   app.add_option("--max-frames", max_frames, "cut test clips to this many frames (0 = whole)");
   app.add_option("--max-clips", max_clips, "use at most this many test clips (0 = all)");

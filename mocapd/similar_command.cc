@@ -1,4 +1,4 @@
-// `mocapd similar`: cross-skeleton similar-pose search on a store file (METHOD.md B; server/store_pose_search.h).
+// `mocapd similar`: cross-skeleton similar-pose search on a store file (docs/method.md B; server/store_pose_search.h).
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -29,10 +29,11 @@ void RegisterSimilarCommand(CLI::App& app, CommandRegistry& registry) {
   command->add_option("--tenant", options->similar.tenant, "Tenant owning the databases (default: 'default')");
   auto* query =
       command->add_option("--query", options->query, "BVH file with the query pose(s)")->check(CLI::ExistingFile);
-  auto* pose = command
-                   ->add_option("--query-pose", options->pose_file,
-                                "JSON file with one pose as named joint positions and landmarks (see README)")
-                   ->check(CLI::ExistingFile);
+  auto* pose =
+      command
+          ->add_option("--query-pose", options->pose_file,
+                       "JSON file with one pose as named joint positions and landmarks (see docs/similarity.md)")
+          ->check(CLI::ExistingFile);
   query->excludes(pose);
   command->add_option("--frames", options->frames, "Query frames A:B (inclusive, the file's numbering); default all");
   command->add_option("--step", options->similar.frame_step, "Use every Nth query frame")->check(CLI::PositiveNumber);

@@ -1,5 +1,5 @@
 // ReconstructionDatabases: the query-ready form of each store database (ReconstructionDatabase:
-// A1 features, pose features and the kd-trees of METHOD.md A3/A5), built from the store when a
+// A1 features, pose features and the kd-trees of docs/method.md A3/A5), built from the store when a
 // session first needs it and then shared read-only by every session on that database; an import
 // or a deletion makes the next session use a rebuilt version (caching rules: VersionRegistry).
 //

@@ -1,5 +1,5 @@
 // The similar-pose search over store databases that `mocapd similar` and the PoseSearch service
-// share (METHOD.md B; issue #11): a query checked before any search work, the searchable form of
+// share (docs/method.md B; issue #11): a query checked before any search work, the searchable form of
 // a database version, and the matches of one query frame merged over several databases. No gRPC:
 // the service converts (server/pose_search_convert.h), `mocapd similar` prints.
 #pragma once

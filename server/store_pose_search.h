@@ -1,4 +1,4 @@
-// Cross-skeleton similar-pose search straight on a store file (METHOD.md B), without a server:
+// Cross-skeleton similar-pose search straight on a store file (docs/method.md B), without a server:
 // what `mocapd similar` runs. The same search and answer as the PoseSearch service.
 #pragma once
 

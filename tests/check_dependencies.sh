@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fails when a folder includes what the README's "Architecture" says it must not: motion <- storage
+# Fails when a folder includes what docs/architecture.md says it must not: motion <- storage
 # <- server <- mocapd, proto <- client <- mocap / mocap-load; tools/ serves the tools only.
 set -euo pipefail
 root=${1:-$(cd "$(dirname "$0")/.." && pwd)}

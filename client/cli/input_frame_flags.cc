@@ -25,9 +25,9 @@ void ToDeclared(const FrameTransform& transform, v1::Vec3* v) {
 }  // namespace
 
 void AddInputFrameFlags(CLI::App* command, InputFrameFlags* flags) {
-  command->add_option("--input-frame", flags->preset,
-                      "Convention of the wrist samples, a preset: " + PresetNames() +
-                          " (README \"Input conventions\"; default native)");
+  command->add_option(
+      "--input-frame", flags->preset,
+      "Convention of the wrist samples, a preset: " + PresetNames() + " (docs/input-conventions.md; default native)");
   command->add_option("--units", flags->units, "Length unit of the samples: m, cm, mm or in (over the preset)");
   command->add_option("--up", flags->up, "Up axis of the samples: +X, -X, +Y, -Y, +Z or -Z (over the preset)");
   command->add_option("--handedness", flags->handedness, "right or left (over the preset)");

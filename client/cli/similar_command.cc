@@ -87,10 +87,11 @@ void RegisterSimilar(CLI::App& app, Registry& registry) {
                                          "databases, across skeletons (any rig: no joint mapping needed)");
   command->add_option("--database", o->databases, "Database(s) to search (repeat for several)")->required();
   auto* query = command->add_option("--query", o->query, "BVH file with the query pose(s)")->check(CLI::ExistingFile);
-  auto* pose = command
-                   ->add_option("--query-pose", o->pose_file,
-                                "JSON file with one pose as named joint positions and landmarks (see README)")
-                   ->check(CLI::ExistingFile);
+  auto* pose =
+      command
+          ->add_option("--query-pose", o->pose_file,
+                       "JSON file with one pose as named joint positions and landmarks (see docs/similarity.md)")
+          ->check(CLI::ExistingFile);
   query->excludes(pose);
   command->add_option("--frames", o->frames, "Query frames A:B (inclusive, the file's numbering); default all");
   command->add_option("--step", o->step, "Use every Nth query frame")->check(CLI::PositiveNumber);

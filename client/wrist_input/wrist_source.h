@@ -1,6 +1,6 @@
 // Wrist trajectories for the reconstruction service, read on the client side: from a CSV of
 // timestamped tracker samples, or from a BVH clip's forward kinematics (what mocap-eval feeds the
-// engine, METHOD.md A8 / the standard split's input). Used by `mocap reconstruct` and `mocap-load`.
+// engine, docs/method.md A8 / the standard split's input). Used by `mocap reconstruct` and `mocap-load`.
 #pragma once
 
 #include <array>

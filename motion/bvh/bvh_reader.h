@@ -1,4 +1,4 @@
-// Reader for real-world BVH files (METHOD.md; shared/data/README "What real files throw at an importer").
+// Reader for real-world BVH files (docs/method.md; shared/data/README "What real files throw at an importer").
 #pragma once
 
 #include <filesystem>

@@ -1,4 +1,4 @@
-// Turns parsed BVH clips into database-ready clips (METHOD.md A1): unit conversion to metres,
+// Turns parsed BVH clips into database-ready clips (docs/method.md A1): unit conversion to metres,
 // world turned Y-up, resampling to the database rate, per-frame features, compact pose encoding.
 #pragma once
 
@@ -18,7 +18,7 @@
 namespace mocap {
 
 struct PreprocessOptions {
-  double frame_rate = 30.0;        // database rate, frames per second (METHOD.md A8: 30 fps)
+  double frame_rate = 30.0;        // database rate, frames per second (docs/method.md A8: 30 fps)
   std::optional<LengthUnit> unit;  // override unit detection
   // For importers: a clip of another rig is retargeted onto the database's rig instead of being
   // refused (motion/retarget/retarget_clip.h; its own unit is detected).

@@ -1,4 +1,4 @@
-// Per-frame features of METHOD.md A1, expressed in each frame's wrist reference frame.
+// Per-frame features of docs/method.md A1, expressed in each frame's wrist reference frame.
 #pragma once
 
 #include <vector>

@@ -38,7 +38,7 @@ absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<Fr
     candidate.wrist_distance = neighbours[i].distance;
     for (int side = 0; side < 2; ++side) {
       // The neighbour's ankles are in its own wrist frame; the same local coordinates in the
-      // query's wrist frame give the query-world positions (METHOD.md A1, A3).
+      // query's wrist frame give the query-world positions (docs/method.md A1, A3).
       candidate.position[side] =
           ref.origin + ref.rotation * Eigen::Vector3f(f.ankle_position[side][0], f.ankle_position[side][1],
                                                       f.ankle_position[side][2]);

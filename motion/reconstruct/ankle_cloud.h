@@ -1,4 +1,4 @@
-// Ankle position clouds of METHOD.md A3: the K1 database frames nearest to the input wrists by
+// Ankle position clouds of docs/method.md A3: the K1 database frames nearest to the input wrists by
 // eq. 2 (WristFeatureIndex), their ankle positions and velocities mapped from each frame's own
 // wrist reference frame into the query's world frame.
 #pragma once

@@ -1,4 +1,4 @@
-// AnkleDagStep: the inner loop of METHOD.md A4's dynamic programme (Algorithm 1), K1 × K1 edges
+// AnkleDagStep: the inner loop of docs/method.md A4's dynamic programme (Algorithm 1), K1 × K1 edges
 // per frame. Exact: it returns what scanning every edge with AnkleEdgeCost would (the same float
 // costs, and on equal costs the predecessor with the lowest path cost first, in the order a
 // std::sort by path cost gives). Fast because

@@ -1,4 +1,4 @@
-// The A4 edge cost of METHOD.md (eqs. 3–7): w = β·s²·σ + (1−β)·d between a node at t−1 and a node
+// The A4 edge cost of docs/method.md (eqs. 3–7): w = β·s²·σ + (1−β)·d between a node at t−1 and a node
 // at t (see ankle_path.h for the terms). Shared by the DP step, the start costs and the tests'
 // reference implementation, so that all of them round the same way.
 #pragma once

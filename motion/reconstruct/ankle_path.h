@@ -1,4 +1,4 @@
-// Optimal ankle trajectory of METHOD.md A4: a shortest path through the ankle clouds. Nodes are
+// Optimal ankle trajectory of docs/method.md A4: a shortest path through the ankle clouds. Nodes are
 // the cloud candidates of every frame; every node at t−1 links to every node at t with cost
 //   w = β·σ + (1−β)·d,  β = 0.5,
 //   σ = ‖y_j^(t−1) + Δt·ẏ_j^(t−1) − y_k^t‖²   (motion prior: where the neighbour's velocity goes)

@@ -1,4 +1,4 @@
-// BodyModel: the database rig as METHOD.md A6 drives it. The unknowns are the pelvis' world
+// BodyModel: the database rig as docs/method.md A6 drives it. The unknowns are the pelvis' world
 // transform z = (z_R, z_P) and the joint rotations q of the pose feature (rotation vectors relative
 // to the rig's reference rotations, for ReconstructionDatabase::pose_joints()). Joints on the
 // root-to-pelvis chain keep their reference rotations; the root's transform follows from z.
@@ -81,7 +81,7 @@ class BodyModel {
 
 // Standing height of the body, metres: the extent of its zero-rotation pose along that pose's own
 // up axis (pelvis → head, BodyTopology::rest_up_axis), end sites included. Used to scale a
-// performer of another height (METHOD.md does not scale; the service does).
+// performer of another height (docs/method.md does not scale; the service does).
 float RestPoseHeight(const BodyModel& body);
 
 // The performer's standing height (floor to the top of the head), metres, told from the legs'

@@ -1,4 +1,4 @@
-// Footskate cleanup of METHOD.md A7 (in the manner of Kovar, Schreiner & Gleicher 2002), causal so
+// Footskate cleanup of docs/method.md A7 (in the manner of Kovar, Schreiner & Gleicher 2002), causal so
 // that the stream and the offline path share it. Which foot is planted comes either from the
 // captured database frame the A4 path chose for this frame (its foot was planted: the contact
 // labels motion-matching systems use) or from the estimated ankle itself. Either way "planted" is

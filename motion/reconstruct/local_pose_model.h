@@ -1,4 +1,4 @@
-// Local linear pose model of METHOD.md A5 (eqs. 8–9; Chai & Hodgins 2005): PCA over the pose
+// Local linear pose model of docs/method.md A5 (eqs. 8–9; Chai & Hodgins 2005): PCA over the pose
 // features m = (θ, h, q) of the K2 database frames nearest to the current wrists and ankles,
 //   m ≈ p̄ + U·w,  w ∈ R^D' (D' = 6),
 // with Λ the examples' covariance, which the A6 prior term E_prior = (m − p̄)ᵀ Λ⁻¹ (m − p̄) uses

@@ -1,6 +1,6 @@
 // The performer's size from the wrists alone (issue #22): the database knows how wrists move on
 // its own body, so the factor that brings the input nearest to the database's wrist features
-// (METHOD.md A3, eq. 2) is the input's size relative to the database body. Unlike a wrist height,
+// (docs/method.md A3, eq. 2) is the input's size relative to the database body. Unlike a wrist height,
 // it reads content and size together: a bow's low hands match the database's bent bodies at the
 // performer's own size, not a standing body at a smaller one.
 //

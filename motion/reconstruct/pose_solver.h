@@ -1,4 +1,4 @@
-// Per-frame pose optimisation of METHOD.md A6 (eqs. 10–14). Unknowns: the local pose model's
+// Per-frame pose optimisation of docs/method.md A6 (eqs. 10–14). Unknowns: the local pose model's
 // weights w (m = p̄ + U·w, A5) and the pelvis z = (z_R quaternion, z_P position). Minimises
 //   E_const  = (z_Rᵀz_R − 1)² + w_θ(θ(w) − θ|z)² + w_h(h(w) − h|z)²
 //   E_prior  = Σ w_i² / λ_i                      (= (m − p̄)ᵀ Λ⁻¹ (m − p̄) within the model)

@@ -1,4 +1,4 @@
-// ReconstructionDatabase: the immutable, query-ready form of a motion database for METHOD.md
+// ReconstructionDatabase: the immutable, query-ready form of a motion database for docs/method.md
 // A3–A6: every frame's A1 features and pose feature m = (θ, h, q), clip boundaries, and the two
 // nearest-neighbour indices (A3: wrists only, eq. 2; A5: wrists and ankles, eq. 8).
 //

@@ -1,4 +1,4 @@
-// Every parameter of the reconstruction (METHOD.md A2–A7); the defaults are the patent's where it
+// Every parameter of the reconstruction (docs/method.md A2–A7); the defaults are the patent's where it
 // gives one, otherwise what measured best (see docs/evaluation.md, mocap-eval).
 #pragma once
 

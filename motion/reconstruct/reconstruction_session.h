@@ -1,4 +1,4 @@
-// ReconstructionSession: METHOD.md A2–A7 as one pipeline that takes timestamped wrist samples one
+// ReconstructionSession: docs/method.md A2–A7 as one pipeline that takes timestamped wrist samples one
 // at a time and emits whole-body frames as soon as they are decided. Offline reconstruction is the
 // same session fed a whole trajectory (ReconstructOffline), so the two cannot disagree.
 //

@@ -1,4 +1,4 @@
-// Nearest database frames to a wrist query under METHOD.md A3, eq. 2:
+// Nearest database frames to a wrist query under docs/method.md A3, eq. 2:
 //   α‖x̃ − x_n‖² + (1−α)‖ẋ̃ − ẋ_n‖²   (both wrists, positions and velocities in their own wrist
 // reference frames). The weights are folded into the coordinates (√α, √(1−α)), so the metric is
 // plain squared L2 and a FLANN kd-tree answers it exactly (FACTS.md: a single kd-tree with leaf
@@ -20,7 +20,7 @@ namespace mocap {
 inline constexpr int kWristFeatureDims = 12;
 
 struct WristFeatureOptions {
-  float position_weight = 0.8f;  // α, METHOD.md A3
+  float position_weight = 0.8f;  // α, docs/method.md A3
 };
 
 // The 12-D weighted feature of one frame: left/right wrist positions (m) then velocities (m/s).

@@ -1,4 +1,4 @@
-// Input preprocessing of METHOD.md A2: exponential smoothing of the measured wrists,
+// Input preprocessing of docs/method.md A2: exponential smoothing of the measured wrists,
 //   x̃^t = s·x^t + (1−s)·x̃^(t−1),  s = 0.5,
 // and wrist velocities by numerical differentiation of neighbouring (smoothed) samples. Causal:
 // usable sample by sample in a stream and identically over a whole clip.
@@ -13,7 +13,7 @@
 namespace mocap {
 
 struct WristSmoothingOptions {
-  float smoothing = 0.5f;  // s, METHOD.md A2; 1 = no smoothing
+  float smoothing = 0.5f;  // s, docs/method.md A2; 1 = no smoothing
   // > 0: instead of the exponential filter (which trails the input by (1 − s)/s frames: 4 cm at
   // walking pace), a local linear fit over a Gaussian window of this σ (frames), position and
   // velocity from the same fit: no lag for steady motion. The window reaches `lookahead` frames

@@ -1,5 +1,5 @@
 // A rig as the retargeting sees it (issue #12): its hierarchy in metres, the body analysis of
-// METHOD.md B1 (AnalyseBody: groups, landmarks, elbows and knees; no joint names), and what the
+// docs/method.md B1 (AnalyseBody: groups, landmarks, elbows and knees; no joint names), and what the
 // analysis implies for mapping one body onto another:
 //  - chains (similarity's MakeBodyChains: spine pelvis -> chest, head neck -> head, arms from the
 //    clavicle to the wrist, legs from the hip to the ankle), each cut into sections at anchors

@@ -1,4 +1,4 @@
-// Rig-independent body point clouds (METHOD.md B3–B4): for every body group, points along the
+// Rig-independent body point clouds (docs/method.md B3–B4): for every body group, points along the
 // group's main chain, relative to the pelvis and divided by the body scale, so that skeletons of
 // different size, joint count and joint names give comparable clouds.
 #pragma once
@@ -16,7 +16,7 @@
 
 namespace mocap {
 
-// How each group's chain becomes a fixed number of points (METHOD.md B4).
+// How each group's chain becomes a fixed number of points (docs/method.md B4).
 enum class PointSampling {
   // Points at equal fractions of the chain's length: rigs with extra twist or split joints
   // still give the same body points. The default: as good as dropping on real cross-rig queries
@@ -83,7 +83,7 @@ struct BodyPointOptions {
 
 // The chains of a rig: per group, joint indices from the group's start to its end landmark
 // (spine: pelvis -> the joint the arms branch off; head: neck -> head; arms: shoulder -> wrist;
-// legs: hip joint -> ankle). The body scale (METHOD.md B2) is measured on each pose as the mean
+// legs: hip joint -> ankle). The body scale (docs/method.md B2) is measured on each pose as the mean
 // length of the two leg chains, which no rotation changes (the zero-rotation pose of real rigs
 // is not a standing pose), so any length unit works.
 struct BodyChains {
@@ -107,7 +107,7 @@ BodyChains MakeBodyChains(const Skeleton& skeleton, const BodyTopology& topology
 // outside its arm).
 absl::StatusOr<BodyChains> ChainsFromLandmarks(const Skeleton& skeleton, const BodyLandmarks& landmarks);
 
-// Body scale of one pose (METHOD.md B2): the mean length of the two leg chains; 1 when zero.
+// Body scale of one pose (docs/method.md B2): the mean length of the two leg chains; 1 when zero.
 float BodyScale(const GlobalPoses& poses, int frame, const BodyChains& chains);
 
 // Points of one pose: kNumBodyGroups x points_per_group, Y up, relative to the pelvis, in body

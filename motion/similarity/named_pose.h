@@ -1,5 +1,5 @@
 // A pose given as named joint positions with its landmarks named (what an app sends: no rig
-// analysis), turned into body points comparable with any rig's (METHOD.md B3–B4).
+// analysis), turned into body points comparable with any rig's (docs/method.md B3–B4).
 #pragma once
 
 #include <string>

@@ -1,5 +1,5 @@
 // Distance between two body point clouds after the optimal ground-plane alignment
-// (METHOD.md B5–B6; Kovar, Gleicher & Pighin 2002): one rotation about the vertical and one
+// (docs/method.md B5–B6; Kovar, Gleicher & Pighin 2002): one rotation about the vertical and one
 // ground translation for the whole pose, then a weighted sum of per-group point distances.
 #pragma once
 
@@ -11,7 +11,7 @@
 
 namespace mocap {
 
-// Group weights (METHOD.md B6), indexed by BodyGroup.
+// Group weights (docs/method.md B6), indexed by BodyGroup.
 struct GroupWeights {
   std::array<float, kNumBodyGroups> weight{1, 1, 1, 1, 1, 1};
   static GroupWeights Uniform() { return {}; }

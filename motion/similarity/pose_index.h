@@ -1,4 +1,4 @@
-// PoseIndex: cross-skeleton similar-pose search over a motion database (METHOD.md B; issue #5).
+// PoseIndex: cross-skeleton similar-pose search over a motion database (docs/method.md B; issue #5).
 // Exact search compares the query with every frame (the reference). The fast path prefilters
 // with a FLANN kd-tree over a rig-independent feature (heading-normalised body points reduced by
 // PCA) and re-ranks the candidates with the exact distance.

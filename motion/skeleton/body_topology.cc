@@ -114,7 +114,7 @@ absl::StatusOr<BodyTopology> AnalyseBody(const Skeleton& skeleton, const LocalMo
     leg_joints[i] = *leg;
   }
   // The upper arm starts at a shoulder, and the shoulders lie wider apart than the hips: a longer
-  // clavicle from the middle of the chest is not the upper arm (METHOD.md B1, step 6 above).
+  // clavicle from the middle of the chest is not the upper arm (docs/method.md B1, step 6 above).
   const float hip_separation = steps::MeanDistance(poses, frames, leg_joints[0].start, leg_joints[1].start);
   for (int i = 0; i < 2; ++i) {
     absl::StatusOr<steps::LimbJoints> arm =

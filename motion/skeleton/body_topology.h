@@ -1,4 +1,4 @@
-// Body topology of an arbitrary humanoid rig without using joint names (METHOD.md B1), made
+// Body topology of an arbitrary humanoid rig without using joint names (docs/method.md B1), made
 // robust for real rigs: zero-length helper joints, twist and "share" bones, hubs in hands, feet
 // and face, an extra root above the hips, a rest pose that is not standing, a Z-up hierarchy.
 // The seed's hub rule (joints with >= 3 children start groups) fails on such rigs; instead, in

@@ -192,7 +192,7 @@ absl::StatusOr<LimbJoints> FindLimbJoints(const Skeleton& skeleton, const TreeMe
 // Every cue is read in its own frame against that frame's own body: a clip that turns (a walk in
 // a circle) has no mean facing direction, and a clip's mean says nothing about which limb is on
 // which side. Per sampled frame, the hip line (left hip minus right hip, if the first leg is the
-// left one) gives the facing up to its sign, forward = hip line x up (METHOD.md B1 step 1: sides
+// left one) gives the facing up to its sign, forward = hip line x up (docs/method.md B1 step 1: sides
 // from the cross product with the up vector, here per frame); the anatomical cues of that same
 // frame (knees bend forward, toes point forward in stance) give the sign. The arms are then sided
 // against the same per-frame body: the left shoulder lies toward that frame's left.

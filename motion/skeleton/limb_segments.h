@@ -1,4 +1,4 @@
-// Where a limb chain (METHOD.md B1 groups: clavicle -> wrist, hip -> ankle) is cut into its two
+// Where a limb chain (docs/method.md B1 groups: clavicle -> wrist, hip -> ankle) is cut into its two
 // long bones, from lengths along the chain alone, so that a clavicle, a hip offset, a twist joint
 // or a split bone never takes the place of the shoulder (hip) or the elbow (knee).
 #pragma once

@@ -1,5 +1,5 @@
 // Analytic two-bone inverse kinematics (hip-knee-ankle, shoulder-elbow-wrist) on world positions,
-// shared by the footskate cleanup (METHOD.md A7) and the retargeting onto a caller's rig.
+// shared by the footskate cleanup (docs/method.md A7) and the retargeting onto a caller's rig.
 #pragma once
 
 #include <Eigen/Core>

@@ -68,7 +68,7 @@ def main():
         mounts = [v for v in volumes if isinstance(v, dict) and store.startswith(v.get("target", "//") + "/")]
         expect(len(mounts) == 1, f"{name}: the store {store} is not on exactly one long-syntax mount")
         # A read-only store folder needs a read-only server (SQLite cannot open a WAL store where
-        # it cannot create the -shm file): `mocapd serve --read-only` (README "Scaling out").
+        # it cannot create the -shm file): `mocapd serve --read-only` (docs/deployment.md "Scaling out").
         expect(mounts[0].get("read_only") is not True or "--read-only" in command,
                f"{name}: the store is mounted read_only but `mocapd serve` lacks --read-only (it would not start)")
         read_only.add(mounts[0].get("read_only") is True)

@@ -37,7 +37,7 @@ dir=$test_lib_dir
 note "temp dir $dir; $("$nginx" -v 2>&1)"
 
 # 1. A store with a tenant, a key and a database of synthetic walks (built offline, as a store
-#    file for a deployment is: README "Scaling out").
+#    file for a deployment is: docs/deployment.md "Scaling out").
 store="$dir/store/mocap.db"
 mkdir -p "$dir/store" "$dir/clips" "$dir/out"
 "$mocapd" tenant create acme --store "$store" >/dev/null

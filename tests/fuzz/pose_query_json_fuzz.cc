@@ -1,5 +1,5 @@
 // libFuzzer target: a `--query-pose` JSON file (mocap similar, mocapd similar) through the
-// parser and, when it parses, the named pose's body points (METHOD.md B3–B4), as a search does.
+// parser and, when it parses, the named pose's body points (docs/method.md B3–B4), as a search does.
 #include <cstddef>
 #include <cstdint>
 

@@ -1,4 +1,4 @@
-// A clip's body points (METHOD.md B3–B4) as the importer makes them: rig model, prepared clip
+// A clip's body points (docs/method.md B3–B4) as the importer makes them: rig model, prepared clip
 // (metres, Y up, 30 fps), forward kinematics, points per frame.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The straightforward A4 DP step (METHOD.md A4, Algorithm 1) that AnkleDagStep must agree with:
+// The straightforward A4 DP step (docs/method.md A4, Algorithm 1) that AnkleDagStep must agree with:
 // every node of `current` scans the predecessors by increasing path cost, one AnkleEdgeCost at a
 // time, until a predecessor's path cost alone reaches the best total found. Kept for the tests
 // and the benchmark (side by side with the fast step).

@@ -1,5 +1,5 @@
 // A reconstruction database built from synthetic walking clips (tests/support/synthetic_clip.h),
-// and a test clip with its ground truth, for unit tests of METHOD.md A3–A7.
+// and a test clip with its ground truth, for unit tests of docs/method.md A3–A7.
 #pragma once
 
 #include <memory>

@@ -1,4 +1,4 @@
-// A1 features on real captured walks: the reference frame and its quantities mean what METHOD.md
+// A1 features on real captured walks: the reference frame and its quantities mean what docs/method.md
 // says (wrist frame x from right to left wrist, z forward, heights above the ground).
 #include <algorithm>
 #include <cmath>

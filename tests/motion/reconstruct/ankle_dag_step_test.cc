@@ -1,4 +1,4 @@
-// AnkleDagStep (the vectorised, bounded A4 step of METHOD.md) against the scalar reference step it
+// AnkleDagStep (the vectorised, bounded A4 step of docs/method.md) against the scalar reference step it
 // replaced: the same path costs and the same best predecessors, except where two predecessors
 // tie, on random clouds and on real ankle clouds, for both slide rules.
 #include <random>
