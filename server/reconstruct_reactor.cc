@@ -31,8 +31,15 @@ ReconstructReactor::ReconstructReactor(ReconstructionState& state, grpc::Callbac
 void ReconstructReactor::Authenticate() {
   absl::Status status = call_.Begin(&state_.sessions, "sessions_per_tenant");
   if (!status.ok()) return Deliver({}, status);
+  // The server's own capacity, after the tenant's: a refused key or tenant limit says so first.
+  absl::StatusOr<StreamCapacity::Ticket> stream = state_.streams.Admit(call_.tenant().id);
+  if (!stream.ok()) {
+    state_.service.metrics.Rejected("server_streams");
+    return Deliver({}, stream.status());
+  }
   pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
   MutexLock lock(&mutex_);
+  stream_ticket_ = *std::move(stream);
   authenticated_ = true;
 }
 

@@ -88,12 +88,13 @@ class ReconstructReactor
   // Guarded by the base's mutex_ (owned_reactor.h).
   bool reading_ ABSL_GUARDED_BY(mutex_) = false;
   bool writing_ ABSL_GUARDED_BY(mutex_) = false;
-  bool authenticated_ ABSL_GUARDED_BY(mutex_) = false;  // key checked, session admitted: reads may start
-  int tasks_ ABSL_GUARDED_BY(mutex_) = 0;               // compute tasks queued or running, and a database wait
-  bool configured_ ABSL_GUARDED_BY(mutex_) = false;     // config received
-  bool input_done_ ABSL_GUARDED_BY(mutex_) = false;     // half-close, `finish`, or drain: no more reads
-  bool completing_ ABSL_GUARDED_BY(mutex_) = false;     // the final status is decided
-  bool finished_ ABSL_GUARDED_BY(mutex_) = false;       // Finish called
+  bool authenticated_ ABSL_GUARDED_BY(mutex_) = false;            // key checked, session admitted: reads may start
+  StreamCapacity::Ticket stream_ticket_ ABSL_GUARDED_BY(mutex_);  // one of the server's live streams, until deleted
+  int tasks_ ABSL_GUARDED_BY(mutex_) = 0;            // compute tasks queued or running, and a database wait
+  bool configured_ ABSL_GUARDED_BY(mutex_) = false;  // config received
+  bool input_done_ ABSL_GUARDED_BY(mutex_) = false;  // half-close, `finish`, or drain: no more reads
+  bool completing_ ABSL_GUARDED_BY(mutex_) = false;  // the final status is decided
+  bool finished_ ABSL_GUARDED_BY(mutex_) = false;    // Finish called
   grpc::Status final_status_ ABSL_GUARDED_BY(mutex_);
   std::deque<v1::ReconstructResponse> outbox_ ABSL_GUARDED_BY(mutex_);
   v1::ReconstructResponse writing_message_ ABSL_GUARDED_BY(mutex_);

@@ -32,6 +32,8 @@ ReconstructionState::ReconstructionState(ServiceContext& service_context, const 
       limits(limits_in),
       databases(service_context.stores, limits_in.max_cached_databases),
       sessions(limits_in.max_sessions_per_tenant, "reconstruction sessions"),
+      streams(limits_in.max_streams > 0 ? limits_in.max_streams
+                                        : kDefaultStreamsPerComputeThread * ComputeThreads(limits_in)),
       instance_tag(RandomInstanceTag()),
       compute(ComputeThreads(limits_in)) {}
 

@@ -17,11 +17,14 @@
 #include "server/reconstruction_databases.h"
 #include "server/service_context.h"
 #include "server/session_driver.h"
+#include "server/stream_capacity.h"
 
 namespace mocap {
 
 struct ReconstructionLimits {
   int max_sessions_per_tenant = 64;
+  int max_streams =
+      0;  // live streams on the server, all tenants (0: kDefaultStreamsPerComputeThread per compute thread)
   std::chrono::milliseconds idle_timeout{30000};  // no message from the client for this long
   SessionLimits session;
   int compute_threads = 0;  // 0: one per core
@@ -37,6 +40,7 @@ struct ReconstructionState {
   const ReconstructionLimits limits;
   ReconstructionDatabases databases;
   TenantAdmission sessions;
+  StreamCapacity streams;
   std::atomic<bool> draining{false};
   // Session ids are "<instance>-s<n>": the instance tag is random per process, so replicas behind
   // one load balancer never hand out the same id.

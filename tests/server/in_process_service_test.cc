@@ -232,6 +232,38 @@ TEST_F(InProcessServiceTest, SessionLimitsPerTenantAndTheIdleLimit) {
   EXPECT_TRUE((*third)->Finish().ok());
 }
 
+TEST_F(InProcessServiceTest, TheServersStreamCapacityRefusesTheExcessWhoeverItBelongsTo) {
+  ReconstructionLimits limits;
+  limits.max_streams = 2;
+  Start(limits);
+  auto acme = Connect(keys_["acme"]);
+  ImportWalks(*acme);
+  auto other = Connect(keys_["other"]);
+  ImportWalks(*other);
+  auto first = acme->OpenReconstruction(Config(0));
+  ASSERT_TRUE(first.ok()) << first.status();
+  auto second = other->OpenReconstruction(Config(0));
+  ASSERT_TRUE(second.ok()) << second.status();
+  auto third = other->OpenReconstruction(Config(0));  // within its tenant's limit, past the server's
+  EXPECT_EQ(third.status().code(), absl::StatusCode::kResourceExhausted);
+  EXPECT_NE(third.status().message().find("--max-streams"), std::string::npos) << third.status();
+  EXPECT_TRUE((*first)->Finish().ok());
+  // The finished stream's place is free again (the server frees it when the call is deleted, just
+  // after the client sees the end: retried briefly).
+  absl::Status opened = absl::UnknownError("not tried");
+  for (int attempt = 0; attempt < 50 && !opened.ok(); ++attempt) {
+    auto stream = acme->OpenReconstruction(Config(0));
+    opened = stream.status();
+    if (stream.ok()) {
+      EXPECT_TRUE((*stream)->Finish().ok());
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  EXPECT_TRUE(opened.ok()) << opened;
+  EXPECT_TRUE((*second)->Finish().ok());
+}
+
 TEST_F(InProcessServiceTest, ShutdownEndsAnOpenStreamAndReturns) {
   Start();
   auto acme = Connect(keys_["acme"]);
