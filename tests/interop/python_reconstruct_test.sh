@@ -3,8 +3,8 @@
 # (python_reconstruct_test.py, python_pose_search_test.py).
 #   usage: python_reconstruct_test.sh MOCAPD MOCAP STUB_DIR
 # Generates the Python stubs of proto/mocap/v1/*.proto into STUB_DIR (in the build dir; generated
-# code is never committed) with `python3 -m grpc_tools.protoc` when available, else protoc and
-# grpc_python_plugin (Debian: protobuf-compiler, protobuf-compiler-grpc); starts one
+# code is never committed) with protoc and grpc_python_plugin (Debian: protobuf-compiler,
+# protobuf-compiler-grpc) when available, else `python3 -m grpc_tools.protoc`; starts one
 # `mocapd serve` on 127.0.0.1 over a store of synthetic walks; reconstructs a wrist CSV with
 # `mocap reconstruct --csv ... --json` (C++ SDK); then runs the Python client on the same CSV and
 # config and compares; then searches similar poses of another walk with `mocap similar
@@ -31,16 +31,25 @@ case "$stubs" in
 esac
 rm -rf "$stubs" && mkdir -p "$stubs"
 protos=("$root"/proto/mocap/v1/*.proto)
-if "$python" -c 'import grpc_tools.protoc' >/dev/null 2>&1; then
-  "$python" -m grpc_tools.protoc -I "$root/proto" --python_out="$stubs" --grpc_python_out="$stubs" "${protos[@]}"
-  generator="grpc_tools.protoc"
-elif command -v protoc >/dev/null && command -v grpc_python_plugin >/dev/null; then
+# The system's protoc and plugin first: they match the system's protobuf runtime, and Debian's
+# python3-grpc-tools bundles a protoc (3.5.1) too old for the protos' `optional` fields.
+generated=""
+if command -v protoc >/dev/null && command -v grpc_python_plugin >/dev/null; then
   protoc -I "$root/proto" --python_out="$stubs" --grpc_python_out="$stubs" \
     --plugin=protoc-gen-grpc_python="$(command -v grpc_python_plugin)" "${protos[@]}"
   generator="protoc $(protoc --version | awk '{print $2}') + grpc_python_plugin"
-else
-  skip "no Python stub generator (grpc_tools, or protoc with grpc_python_plugin from protobuf-compiler-grpc)"
+  generated=yes
+elif "$python" -c 'import grpc_tools.protoc' >/dev/null 2>&1; then
+  if "$python" -m grpc_tools.protoc -I "$root/proto" --python_out="$stubs" --grpc_python_out="$stubs" \
+    "${protos[@]}"; then
+    generator="grpc_tools.protoc"
+    generated=yes
+  else
+    skip "grpc_tools.protoc could not compile the protos (an old bundled protoc rejects 'optional' fields): apt-get install protobuf-compiler protobuf-compiler-grpc"
+  fi
 fi
+[ -n "$generated" ] ||
+  skip "no Python stub generator (protoc with grpc_python_plugin from protobuf-compiler-grpc, or grpc_tools)"
 [ -f "$stubs/mocap/v1/reconstruction_pb2_grpc.py" ] || fail "stub generation made no reconstruction_pb2_grpc.py"
 "$python" -c "import sys; sys.path.insert(0, sys.argv[1]); import mocap.v1.reconstruction_pb2_grpc" "$stubs" ||
   fail "the generated stubs do not import (protobuf runtime $("$python" -c 'import google.protobuf as p; print(p.__version__)'))"
