@@ -230,6 +230,10 @@ void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool 
         return v1::TRACKING_STATE_IMPLAUSIBLE;
       case TrackingState::kPredicted:
         return v1::TRACKING_STATE_PREDICTED;
+      case TrackingState::kOutOfReach:
+        return v1::TRACKING_STATE_OUT_OF_REACH;
+      case TrackingState::kPutDown:
+        return v1::TRACKING_STATE_PUT_DOWN;
       case TrackingState::kTracked:
         break;
     }

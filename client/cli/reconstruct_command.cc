@@ -121,6 +121,7 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
 struct Plausibility {
   PlausibilityStats stats;
   float input_speed_max = 0;  // m/s, the input wrists' midpoint (the smoothed wrists the frames were given)
+  long predicted_hand_frames = 0, put_down_hand_frames = 0;  // the server's tracking states, per hand and frame
 };
 
 std::optional<Plausibility> PlausibilityOf(const v1::SessionStarted& started, const std::vector<v1::Frame>& frames) {
@@ -165,6 +166,10 @@ std::optional<Plausibility> PlausibilityOf(const v1::SessionStarted& started, co
     for (int j = 0; j < count; ++j) positions[j] = poses.position(f, j);
     const bool implausible = frame.left_hand_state() == v1::TRACKING_STATE_IMPLAUSIBLE ||
                              frame.right_hand_state() == v1::TRACKING_STATE_IMPLAUSIBLE;
+    for (v1::TrackingState state : {frame.left_hand_state(), frame.right_hand_state()}) {
+      result.predicted_hand_frames += state == v1::TRACKING_STATE_PREDICTED;
+      result.put_down_hand_frames += state == v1::TRACKING_STATE_PUT_DOWN;
+    }
     measured.push_back(MakePlausibilityFrame(plausibility_rig, positions,
                                              {vec(frame.left_wrist()), vec(frame.right_wrist())}, frame.time(),
                                              frame.segment(), implausible, frame.motion_limited()));
@@ -243,6 +248,8 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
           {"lower_foot_height_max_cm", 100 * p.lower_foot_height.max()},
           {"ground_penetration_max_cm", 100 * p.penetration_max},
           {"implausible_input_frames", p.flagged_frames},
+          {"predicted_hand_frames", plausibility->predicted_hand_frames},
+          {"put_down_hand_frames", plausibility->put_down_hand_frames},
           {"motion_limited_frames", p.motion_limited_frames},
       };
     }
@@ -276,7 +283,12 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
               << "); lower foot ≤ " << 100 * p.lower_foot_height.Quantile(0.99) << " cm above the ground in 99% (max "
               << 100 * p.lower_foot_height.max() << "); under the floor ≤ " << 100 * p.penetration_max << " cm; "
               << p.flagged_frames << " frames with implausible input, " << p.motion_limited_frames
-              << " frames where the body was held to a body's speed\n";
+              << " frames where the body was held to a body's speed";
+    if (plausibility->predicted_hand_frames || plausibility->put_down_hand_frames) {
+      std::cout << "; hand-frames bridged over a dropout " << plausibility->predicted_hand_frames
+                << ", with the device put down " << plausibility->put_down_hand_frames;
+    }
+    std::cout << "\n";
     std::cout.unsetf(std::ios::floatfield);
   }
   std::cout << "  wrote " << bvh_path << " and " << json_path << "\n";

@@ -442,10 +442,13 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     }
     for (int side = 0; side < 2; ++side) {  // the step into this frame's input
       auto input_at = [&](int f) { return f >= s.input.first() && f >= 0 ? &s.input[f][side] : nullptr; };
+      const bool put_down = hand_rest_[side].Update(frame.time, s.input[e][side], s.input[e][1 - side]);
       if (jump_detector_.Implausible(input_at(e - 2), input_at(e - 1), s.input[e][side])) {
         frame.hand_state[side] = TrackingState::kImplausible;
       } else if (s.bridged[e]) {
         frame.hand_state[side] = TrackingState::kPredicted;
+      } else if (put_down) {
+        frame.hand_state[side] = TrackingState::kPutDown;
       }
     }
     if (options_.motion_guard.enabled) {
@@ -477,6 +480,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       for (int side = 0; side < 2; ++side) SolveLegIk(body, wrist_joints[side], target.position[side], &frame.pose);
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
+    MarkOutOfReach(s.input[e], world_positions, &frame);
     frame.pelvis_rotation = world_rotations[l.pelvis];
     frame.pelvis_position = world_positions[l.pelvis];
     frame.index = next_output_index_++;
@@ -489,6 +493,23 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     }
   }
   ForgetSettledFrames();
+}
+
+void ReconstructionSession::MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input,
+                                           const std::vector<Eigen::Vector3f>& world_positions,
+                                           ReconstructedFrame* frame) const {
+  const BodyLandmarks& l = database_->rig().topology.landmarks;
+  const std::array<std::array<int, 3>, 2> arms{
+      {{l.left_shoulder, l.left_elbow, l.left_wrist}, {l.right_shoulder, l.right_elbow, l.right_wrist}}};
+  for (int side = 0; side < 2; ++side) {
+    const auto [shoulder, elbow, wrist] = arms[side];
+    if (shoulder < 0 || elbow < 0 || frame->hand_state[side] != TrackingState::kTracked) continue;
+    const float reach = (world_positions[elbow] - world_positions[shoulder]).norm() +
+                        (world_positions[wrist] - world_positions[elbow]).norm();
+    if ((input[side] - world_positions[shoulder]).norm() > kOutOfReachFactor * reach) {
+      frame->hand_state[side] = TrackingState::kOutOfReach;
+    }
+  }
 }
 
 SmoothedWrists ReconstructionSession::FitInput(const Segment& s, int frame, const std::vector<float>& kernel) const {

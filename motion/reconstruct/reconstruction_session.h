@@ -22,6 +22,7 @@
 #include <Eigen/Geometry>
 
 #include "absl/status/statusor.h"
+#include "motion/reconstruct/hand_rest.h"
 #include "motion/reconstruct/motion_guard.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/reconstruction_options.h"
@@ -40,15 +41,20 @@ struct FrameDiagnostics {
   bool bridged = false;                  // input interpolated across a dropout
 };
 
-// What the engine makes of one hand's input in a frame (the states of issue #25; only these two
-// so far).
+// What the engine makes of one hand's input in a frame (the states of issue #25; "lost" is not
+// told apart yet: a gap longer than max_gap_seconds starts a new segment).
 enum class TrackingState {
   kTracked,      // the input moves as a hand can
   kImplausible,  // the input stepped faster than any hand in the database (a controller's jump,
                  // a tracker that repeated samples and caught up): the body does not follow it
   kPredicted,    // no input at this time: a dropout (up to max_gap_seconds) bridged by the input
                  // interpolated across it
+  kOutOfReach,   // the input is further from the body's shoulder than its arm reaches
+                 // (kOutOfReachFactor × upper arm + forearm): the hand stops short of it
+  kPutDown,      // the device lies still while the person moves (hand_rest.h)
 };
+
+inline constexpr float kOutOfReachFactor = 1.1f;
 
 struct ReconstructedFrame {
   int segment = 0;  // increments after each long input gap
@@ -120,6 +126,9 @@ class ReconstructionSession {
   void EmitFiltered(bool flush, std::vector<ReconstructedFrame>* out);
   // A2's local linear fit of the input at `frame` over the samples that have arrived.
   SmoothedWrists FitInput(const Segment& s, int frame, const std::vector<float>& kernel) const;
+  // Marks a tracked hand whose input lies beyond its arm's reach from the emitted body's shoulder.
+  void MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input, const std::vector<Eigen::Vector3f>& world_positions,
+                      ReconstructedFrame* frame) const;
   // Drops per-frame state no stage will read again: memory bounded by window and lag.
   void ForgetSettledFrames();
 
@@ -136,6 +145,7 @@ class ReconstructionSession {
   // Issue #22: the output pelvis moves as the database's bodies do, across segments too.
   MotionGuard motion_guard_;
   InputJumpDetector jump_detector_;
+  std::array<HandRestDetector, 2> hand_rest_;  // left, right
   SessionStatistics statistics_;
   const std::atomic<bool>* cancel_ = nullptr;
 };
