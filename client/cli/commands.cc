@@ -179,7 +179,8 @@ void RegisterExport(CLI::App& app, Registry& registry) {
     std::string output;
   };
   auto options = std::make_shared<Options>();
-  CLI::App* command = app.add_subcommand("export", "Write a stored clip as BVH (metres, Y up, the database's rate)");
+  CLI::App* command = app.add_subcommand(
+      "export", "Write a stored clip as BVH (the rig's own unit and axes, as imported; the database's rate)");
   command->add_option("--database", options->database, "Database name")->required();
   command->add_option("--clip", options->clip_id, "Clip id (see `mocap clips`)")->required();
   command->add_option("-o,--output", options->output, "Output file (default: stdout)");

@@ -135,7 +135,7 @@ class Client {
                                                     const ImportProgressCallback& progress = nullptr);
 
   absl::StatusOr<std::vector<v1::Clip>> ListClips(const std::string& database);
-  // The clip as BVH text (metres, Y up, the database's frame rate).
+  // The clip as BVH text (the rig's own unit and axes, as imported; the database's frame rate).
   absl::StatusOr<std::string> ExportClip(const std::string& database, std::int64_t clip_id);
   absl::Status DeleteClip(const std::string& database, std::int64_t clip_id);
 

@@ -31,7 +31,7 @@ TEST(HandRestDetectorTest, AStillDeviceWhileTheOtherHandMovesIsPutDownWithinThre
 }
 
 TEST(HandRestDetectorTest, AHeldHandOrAPersonAtRestIsNot) {
-  EXPECT_FALSE(FirstPutDown(0.03f, 0.5f));  // a held hand moves by centimetres
+  EXPECT_FALSE(FirstPutDown(0.03f, 0.5f));   // a held hand moves by centimetres
   EXPECT_FALSE(FirstPutDown(0.003f, 0.0f));  // both still: at rest, or both devices down
 }
 
