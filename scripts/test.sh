@@ -23,8 +23,9 @@ if [ "${1:-}" = "--tsan" ]; then
   rm -rf "$reports" && mkdir -p "$reports"
   export TSAN_OPTIONS="log_path=$reports/report second_deadlock_stack=1 suppressions=$repo/tests/tsan.supp"
   status=0
-  # (The every-file landmark sweep is single-threaded parsing, minutes under TSan: the plain run has it.)
-  ctest --output-on-failure -j "$(nproc)" -E 'InspectSharedDataTest' "$@" || status=$?
+  # (The every-file landmark sweep and export round trip are single-threaded parsing and writing,
+  # minutes under TSan: the plain run has them.)
+  ctest --output-on-failure -j "$(nproc)" -E 'InspectSharedDataTest|EveryFileOfEverySharedSet' "$@" || status=$?
   if compgen -G "$reports/report.*" >/dev/null; then
     echo "ThreadSanitizer reports ($(ls "$reports" | wc -l) processes):"
     cat "$reports"/report.*
