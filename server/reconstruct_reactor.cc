@@ -1,5 +1,6 @@
 #include "server/reconstruct_reactor.h"
 
+#include <algorithm>
 #include <new>
 #include <optional>
 
@@ -7,6 +8,7 @@
 
 #include "motion/core/str_cat.h"
 #include "server/log_text.h"
+#include "storage/tenant_directory.h"
 
 namespace mocap {
 
@@ -32,7 +34,11 @@ void ReconstructReactor::Authenticate() {
   absl::Status status = call_.Begin(&state_.sessions, "sessions_per_tenant");
   if (!status.ok()) return Deliver({}, status);
   // The server's own capacity, after the tenant's: a refused key or tenant limit says so first.
-  absl::StatusOr<StreamCapacity::Ticket> stream = state_.streams.Admit(call_.tenant().id);
+  absl::StatusOr<std::vector<Tenant>> tenants = TenantDirectory(call_.store()).ListTenants();
+  if (!tenants.ok()) return Deliver({}, tenants.status());
+  const bool shared =
+      std::count_if(tenants->begin(), tenants->end(), [](const Tenant& t) { return t.active_keys > 0; }) > 1;
+  absl::StatusOr<StreamCapacity::Ticket> stream = state_.streams.Admit(call_.tenant().id, shared);
   if (!stream.ok()) {
     state_.service.metrics.Rejected("server_streams");
     return Deliver({}, stream.status());

@@ -11,7 +11,7 @@ StreamCapacity::StreamCapacity(int max_streams)
     : max_streams_(max_streams),
       max_per_tenant_(std::max(1, static_cast<int>(std::floor(kTenantShareOfStreams * max_streams)))) {}
 
-absl::StatusOr<StreamCapacity::Ticket> StreamCapacity::Admit(TenantId tenant) {
+absl::StatusOr<StreamCapacity::Ticket> StreamCapacity::Admit(TenantId tenant, bool shared) {
   {
     MutexLock lock(&mutex_);
     if (live_ >= max_streams_) {
@@ -21,7 +21,7 @@ absl::StatusOr<StreamCapacity::Ticket> StreamCapacity::Admit(TenantId tenant) {
                  "later or connect to another replica"));
     }
     int& held = per_tenant_[tenant];
-    if (held >= max_per_tenant_) {
+    if (shared && held >= max_per_tenant_) {
       return absl::ResourceExhaustedError(
           StrCat("this tenant holds ", held, " of this server's ", max_streams_,
                  " live reconstruction streams, the most one tenant may (the rest stay for others; mocapd serve "

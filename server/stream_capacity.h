@@ -2,8 +2,9 @@
 // (issue #26). Past what two cores carry, every stream's latency grows to seconds together (40
 // real-time streams at 30 Hz: p99 375 ms; 50: 6.2 s, docs/deployment.md "Sizing"), so the excess
 // is refused at admission (RESOURCE_EXHAUSTED, saying so) and the admitted streams keep their
-// latency. One tenant may hold at most kTenantShareOfStreams of them, so a tenant that opens
-// streams as fast as it can does not lock the others out. Thread-safe.
+// latency. Where several tenants have keys, one tenant may hold at most kTenantShareOfStreams of
+// them, so a tenant that opens streams as fast as it can does not lock the others out; a server
+// with one tenant gives it all. Thread-safe.
 #pragma once
 
 #include <map>
@@ -28,8 +29,9 @@ class StreamCapacity {
 
   // Holding a ticket counts one live stream; dropping it ends it.
   using Ticket = std::shared_ptr<void>;
-  // ResourceExhausted when max_streams streams are live already, or the tenant holds its share.
-  absl::StatusOr<Ticket> Admit(TenantId tenant);
+  // ResourceExhausted when max_streams streams are live already, or, when `shared` (other tenants
+  // have keys), the tenant holds its share.
+  absl::StatusOr<Ticket> Admit(TenantId tenant, bool shared = true);
 
   int live() const;
   int max_streams() const { return max_streams_; }

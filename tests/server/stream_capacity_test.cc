@@ -43,6 +43,15 @@ TEST(StreamCapacityTest, OneTenantLeavesAQuarterForTheOthers) {
       << seventh.status();
   EXPECT_TRUE(capacity.Admit(8).ok());  // another tenant still gets in
   EXPECT_EQ(StreamCapacity(1).max_per_tenant(), 1);
+  // The only tenant with keys gets the whole server.
+  StreamCapacity alone(4);
+  std::vector<StreamCapacity::Ticket> all;
+  for (int i = 0; i < 4; ++i) {
+    auto ticket = alone.Admit(7, /*shared=*/false);
+    ASSERT_TRUE(ticket.ok()) << i << ": " << ticket.status();
+    all.push_back(*std::move(ticket));
+  }
+  EXPECT_FALSE(alone.Admit(7, false).ok());
 }
 
 TEST(StreamCapacityTest, ManyThreadsNeverAdmitMoreThanTheMost) {
