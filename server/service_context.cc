@@ -1,5 +1,7 @@
 #include "server/service_context.h"
 
+#include <new>
+
 #include <spdlog/spdlog.h>
 
 #include "motion/core/status_macros.h"
@@ -69,6 +71,16 @@ absl::Status CallScope::CheckKeyPresent() {
 }
 
 absl::Status CallScope::Begin(TenantAdmission* admission, const char* limit_name) {
+  try {
+    return BeginUnguarded(admission, limit_name);
+  } catch (const std::bad_alloc&) {
+    return absl::ResourceExhaustedError("the server ran out of memory authenticating the call; retry later");
+  } catch (const std::exception& error) {
+    return absl::InternalError(StrCat("authenticating the call failed: ", error.what()));
+  }
+}
+
+absl::Status CallScope::BeginUnguarded(TenantAdmission* admission, const char* limit_name) {
   MOCAP_RETURN_IF_ERROR(CheckKeyPresent());
   const std::string key = BearerKey(*context_);
   MOCAP_ASSIGN_OR_RETURN(StorePool::Lease lease, service_.stores.Acquire());

@@ -52,6 +52,8 @@ class CallScope {
   // Leases a store connection, checks the bearer key (Unauthenticated) and admits the call for
   // its tenant (ResourceExhausted) by `admission` (default: the service's calls per tenant).
   // Call once, first.
+  // Never throws: a store that fails underneath (an exception from SQLite, an allocation) is an
+  // Internal status, so that every reactor that begins with it finishes its call (issue #24).
   absl::Status Begin(TenantAdmission* admission = nullptr, const char* limit_name = "calls_per_tenant");
   // Unauthenticated when the call carries no bearer key at all: checked without the store, so a
   // stream can refuse a keyless client before reading anything. Begin checks it too.
@@ -70,6 +72,7 @@ class CallScope {
   grpc::CallbackServerContext* context() { return context_; }
 
  private:
+  absl::Status BeginUnguarded(TenantAdmission* admission, const char* limit_name);
   ServiceContext& service_;
   grpc::CallbackServerContext* context_;
   const std::string method_;
