@@ -94,10 +94,15 @@ absl::Status SimilarQuery::Prepare(const std::vector<SearchDatabasePtr>& databas
 }
 
 std::optional<float> MatchNovelty(const std::vector<FoundPose>& found, const PoseSearchOptions& options) {
+  // `found` is best first, so each database's first match is its best: one reference per database
+  // (isolated is at least kMinIsolatedDistance, never 0).
   std::optional<float> novelty;
+  std::vector<const SearchDatabase*> seen;
   for (const FoundPose& pose : found) {
+    if (std::find(seen.begin(), seen.end(), pose.database) != seen.end()) continue;
+    seen.push_back(pose.database);
     const absl::StatusOr<NeighbourDistances> reference = pose.database->index.NeighbourReference(options);
-    if (!reference.ok() || !(reference->isolated > 0.0f)) continue;
+    if (!reference.ok()) continue;
     const float ratio = pose.match.distance.total / reference->isolated;
     if (!novelty || ratio < *novelty) novelty = ratio;
   }

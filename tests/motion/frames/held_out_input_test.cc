@@ -200,16 +200,14 @@ TEST(HeldOutInputTest, WrongDeclarationsAreNamed) {
             InputWarning::Kind::kBelowFloor, "wrists below the floor");
     local_named += local;
     // Z-up samples declared as Y up: a body lying along the world's Y.
-    const std::vector<InputWarning> z_up = Check(
-        Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p.x(), -p.z(), p.y()); }), h, false);
+    const std::vector<WristSample> z_up_samples =
+        Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p.x(), -p.z(), p.y()); });
+    const std::vector<InputWarning> z_up = Check(z_up_samples, h, false);
     const bool z_up_named = Has(z_up, InputWarning::Kind::kUpAxis, "+Z up declared as +Y up") ||
                             Has(z_up, InputWarning::Kind::kBelowFloor, "+Z up declared as +Y up") ||
                             Has(z_up, InputWarning::Kind::kAboveFloor, "+Z up declared as +Y up");
     z_up_named_declared += z_up_named;
-    z_up_named_calibrated +=
-        Has(Check(Mapped(clip.samples, [](const Eigen::Vector3f& p) { return Eigen::Vector3f(p.x(), -p.z(), p.y()); }),
-                  h, true),
-            InputWarning::Kind::kUpAxis, "up declared as +Y up?");
+    z_up_named_calibrated += Has(Check(z_up_samples, h, true), InputWarning::Kind::kUpAxis, "up declared as +Y up?");
     if (!clip.travels) continue;
     EXPECT_TRUE(local) << clip.name;
     ++travelling;
