@@ -240,12 +240,13 @@ absl::StatusOr<LandmarkTestSet> LoadCrossDatasetTests(const datasets::DataLocati
 }
 
 absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
-    std::shared_ptr<const ReconstructionDatabase> database, const std::vector<LandmarkTestClip>& tests,
+    const EvaluationDatabases& databases, const std::vector<LandmarkTestClip>& tests,
     const std::vector<Experiment>& experiments, unsigned seed, int threads,
     const std::function<void(const std::string&)>& progress) {
   std::vector<LandmarkExperimentResult> results;
-  const SizeReference reference = DatabaseSizeReference(*database);
+  const SizeReference reference = DatabaseSizeReference(*databases.captured);
   for (const Experiment& experiment : experiments) {
+    const std::shared_ptr<const ReconstructionDatabase>& database = databases.For(experiment);
     std::vector<LandmarkMetrics> per_clip(tests.size());
     std::vector<float> input_scales(tests.size(), 1.0f);
     std::vector<PerformerScaleEstimate> fits(tests.size());

@@ -13,6 +13,7 @@
 
 #include "absl/status/statusor.h"
 #include "eval/datasets/shared_data.h"
+#include "eval/evaluation.h"
 #include "eval/experiments.h"
 #include "eval/landmark_metrics.h"
 
@@ -63,7 +64,7 @@ struct LandmarkExperimentResult {
 // Every test's wrists (its own rate, plus the experiment's noise, one seed per clip) through every
 // experiment, scored on landmarks.
 absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
-    std::shared_ptr<const ReconstructionDatabase> database, const std::vector<LandmarkTestClip>& tests,
+    const EvaluationDatabases& databases, const std::vector<LandmarkTestClip>& tests,
     const std::vector<Experiment>& experiments, unsigned seed, int threads,
     const std::function<void(const std::string&)>& progress);
 

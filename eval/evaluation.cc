@@ -17,7 +17,9 @@
 
 namespace mocap::eval {
 
-absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
+namespace {
+
+absl::StatusOr<std::pair<RigModel, std::vector<DatabaseClip>>> LoadDatabaseClips(
     const std::vector<std::filesystem::path>& files) {
   if (files.empty()) return absl::InvalidArgumentError("no database files");
   MOCAP_ASSIGN_OR_RETURN(BvhClip first, ReadBvhFile(files.front()));
@@ -26,7 +28,24 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
   MOCAP_RETURN_IF_ERROR(PrepareAll(files, rig, [&](size_t i, PreparedClip&& prepared) {
     clips[i] = {std::move(prepared.features), EncodePoses(prepared.motion, rig)};
   }));
-  return ReconstructionDatabase::Build(rig, clips);
+  return std::pair{std::move(rig), std::move(clips)};
+}
+
+}  // namespace
+
+absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
+    const std::vector<std::filesystem::path>& files) {
+  MOCAP_ASSIGN_OR_RETURN(auto loaded, LoadDatabaseClips(files));
+  return ReconstructionDatabase::Build(loaded.first, loaded.second);
+}
+
+absl::StatusOr<EvaluationDatabases> LoadDatabases(const std::vector<std::filesystem::path>& files) {
+  MOCAP_ASSIGN_OR_RETURN(auto loaded, LoadDatabaseClips(files));
+  EvaluationDatabases databases;
+  MOCAP_ASSIGN_OR_RETURN(databases.method, ReconstructionDatabase::Build(loaded.first, loaded.second));
+  MOCAP_ASSIGN_OR_RETURN(databases.captured,
+                         ReconstructionDatabase::Build(loaded.first, loaded.second, {.time_reversed_copies = false}));
+  return databases;
 }
 
 absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files,
@@ -117,7 +136,7 @@ constexpr double kMaxWrittenDeviationMetres = 0.001;
 
 }  // namespace
 
-absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<const ReconstructionDatabase> database,
+absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(const EvaluationDatabases& databases,
                                                             const std::vector<TestClip>& tests,
                                                             const std::vector<Experiment>& experiments,
                                                             const EvaluationConfig& config,
@@ -125,6 +144,7 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<cons
   std::vector<ExperimentResult> results;
   if (!config.bvh_dir.empty()) std::filesystem::create_directories(config.bvh_dir / "truth");
   for (const Experiment& experiment : experiments) {
+    const std::shared_ptr<const ReconstructionDatabase>& database = databases.For(experiment);
     ExperimentResult result{experiment, {}, {}};
     std::vector<Metrics> per_clip(tests.size());
     MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), config.threads, [&](size_t i) -> absl::Status {

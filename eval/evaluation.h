@@ -36,9 +36,22 @@ struct ExperimentResult {
   std::vector<ClipResult> clips;  // in test order
 };
 
-// Database from BVH files (all cores). The rig comes from the first file.
+// Database from BVH files (all cores), built as the service builds it. The rig comes from the
+// first file.
 absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
     const std::vector<std::filesystem::path>& files);
+
+// The databases an evaluation searches, built from the same files: the method's, as the service
+// builds it (every clip also played backwards), and the captured frames alone, which the lookup
+// baselines search, as a plain motion-matching lookup of the imported motion would
+// (Experiment::captured_only).
+struct EvaluationDatabases {
+  std::shared_ptr<const ReconstructionDatabase> method, captured;
+  const std::shared_ptr<const ReconstructionDatabase>& For(const Experiment& experiment) const {
+    return experiment.captured_only ? captured : method;
+  }
+};
+absl::StatusOr<EvaluationDatabases> LoadDatabases(const std::vector<std::filesystem::path>& files);
 // Test clips on `rig`, cut to `max_frames` (0 = whole). Clips on another rig are an error.
 absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files,
                                                     const RigModel& rig, int max_frames,
@@ -57,7 +70,7 @@ struct EvaluationConfig {
       bvh_dir;  // where the "full" run's reconstructions go (the captured clips in truth/); empty = nowhere
 };
 
-absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(std::shared_ptr<const ReconstructionDatabase> database,
+absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(const EvaluationDatabases& databases,
                                                             const std::vector<TestClip>& tests,
                                                             const std::vector<Experiment>& experiments,
                                                             const EvaluationConfig& config,

@@ -6,8 +6,14 @@ namespace mocap::eval {
 
 std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, double noise_cm, bool ablations) {
   std::vector<Experiment> runs;
-  auto add = [&](std::string name, std::string group, double x, ReconstructionOptions options, double noise) {
-    runs.push_back({std::move(name), std::move(group), x, options, noise});
+  auto add = [&](std::string name, std::string group, double x, ReconstructionOptions options, double noise,
+                 bool captured_only = false) {
+    runs.push_back({.name = std::move(name),
+                    .group = std::move(group),
+                    .x = x,
+                    .options = options,
+                    .noise_cm = noise,
+                    .captured_only = captured_only});
   };
   add("full", "main", 0, base, noise_cm);
   ReconstructionOptions nn = base;
@@ -15,16 +21,17 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   nn.joint_smoothing_sigma = 0.0f;  // a plain lookup, as motion matching would return it
   nn.hand_target_sigma = -1.0f;
   nn.motion_guard.enabled = false;  // nor does a lookup guard its motion
-  add("nearest_neighbour", "main", 0, nn, noise_cm);
+  add("nearest_neighbour", "main", 0, nn, noise_cm, true);
   ReconstructionOptions average = nn;
   average.method = ReconstructionMethod::kNearestAverage;  // K = options.average_neighbours (10)
-  add("nearest_average", "main", 0, average, noise_cm);
+  add("nearest_average", "main", 0, average, noise_cm, true);
   ReconstructionOptions wrists = base;
   wrists.method = ReconstructionMethod::kWristsOnly;
   wrists.hand_target_sigma = -1.0f;  // the patent's baseline: the pose model alone
   wrists.motion_guard.enabled = false;
-  add("wrists_only", "main", 0, wrists, noise_cm);
+  add("wrists_only", "main", 0, wrists, noise_cm, true);
   if (!ablations) return runs;
+  add("full_captured_only", "main", 0, base, noise_cm, true);  // without the reversed clips
   for (int window : {10, 50, 100}) {
     ReconstructionOptions o = base;
     o.window = window;
@@ -46,7 +53,12 @@ std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base)
   for (const DeviceModel& device : StandardDevices()) {
     for (const Experiment& e : main) {
       if (e.name != "full" && e.name != "nearest_neighbour") continue;
-      runs.push_back({StrCat(e.name, "@", device.name), "device", 0, e.options, 0.0, device, PerformerSize::kDatabase});
+      runs.push_back({.name = StrCat(e.name, "@", device.name),
+                      .group = "device",
+                      .options = e.options,
+                      .noise_cm = 0.0,
+                      .device = device,
+                      .captured_only = e.captured_only});
     }
   }
   return runs;

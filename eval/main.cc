@@ -51,9 +51,9 @@ std::vector<std::filesystem::path> QuickSubset(const std::vector<std::filesystem
 
 // Tests scored on landmarks (clips on any rig; the cross-dataset protocol): runs, writes
 // landmarks.md / landmarks.json, prints the per-source table.
-int RunLandmarkTests(std::shared_ptr<const mocap::ReconstructionDatabase> database,
-                     const mocap::eval::LandmarkTestSet& tests, const std::vector<mocap::eval::Experiment>& experiments,
-                     nlohmann::json context, const std::string& out_dir, unsigned seed, int threads) {
+int RunLandmarkTests(const mocap::eval::EvaluationDatabases& databases, const mocap::eval::LandmarkTestSet& tests,
+                     const std::vector<mocap::eval::Experiment>& experiments, nlohmann::json context,
+                     const std::string& out_dir, unsigned seed, int threads) {
   if (tests.clips.empty()) {
     std::cerr << "mocap-eval: no test clip can be scored\n";
     return kExitError;
@@ -61,7 +61,7 @@ int RunLandmarkTests(std::shared_ptr<const mocap::ReconstructionDatabase> databa
   context["test_clips"] = tests.clips.size();
   std::cerr << "reconstructing " << tests.clips.size() << " clips (scored on landmarks) with " << experiments.size()
             << " runs...\n";
-  auto results = mocap::eval::RunLandmarkEvaluation(database, tests.clips, experiments, seed, threads,
+  auto results = mocap::eval::RunLandmarkEvaluation(databases, tests.clips, experiments, seed, threads,
                                                     [](const std::string& line) { std::cerr << "  " << line << "\n"; });
   if (!results.ok()) {
     std::cerr << "mocap-eval: " << results.status().message() << "\n";
@@ -218,11 +218,12 @@ int main(int argc, char** argv) {
     return kExitError;
   }
   std::cerr << "loading the database (" << database_files.size() << " files)...\n";
-  auto database = mocap::eval::LoadDatabase(database_files);
-  if (!database.ok()) {
-    std::cerr << "mocap-eval: database: " << database.status().message() << "\n";
+  auto databases = mocap::eval::LoadDatabases(database_files);
+  if (!databases.ok()) {
+    std::cerr << "mocap-eval: database: " << databases.status().message() << "\n";
     return kExitError;
   }
+  const std::shared_ptr<const mocap::ReconstructionDatabase>& database = databases->method;
   auto make_experiments = [&] {
     auto experiments = mocap::eval::MakeExperiments(base, noise_cm, ablations);
     std::erase_if(experiments, [&](const mocap::eval::Experiment& e) {
@@ -232,19 +233,19 @@ int main(int argc, char** argv) {
     return experiments;
   };
   auto add_limits = [&] {
-    const mocap::MotionLimits& limits = (*database)->motion_limits();
-    context["database_frames"] = (*database)->num_frames();
+    const mocap::MotionLimits& limits = database->motion_limits();
+    context["database_frames"] = database->num_frames();
     context["database_pelvis_speed_max_m_per_s"] = limits.pelvis_speed_max;
     context["seed"] = seed;
     context["noise_cm"] = noise_cm;
-    const mocap::eval::LandmarkBodySize size = mocap::eval::BodySizeOf(**database);
+    const mocap::eval::LandmarkBodySize size = mocap::eval::BodySizeOf(*database);
     context["database_leg_m"] = size.leg;
     context["database_arm_m"] = size.arm;
   };
   bool by_landmarks = landmarks || cross_dataset;
   absl::StatusOr<std::vector<mocap::eval::TestClip>> tests = std::vector<mocap::eval::TestClip>{};
   if (!by_landmarks) {
-    tests = mocap::eval::LoadTestClips(test_files, (*database)->rig(), max_frames, "");
+    tests = mocap::eval::LoadTestClips(test_files, database->rig(), max_frames, "");
     by_landmarks = tests.status().code() == absl::StatusCode::kFailedPrecondition;  // a clip on another rig
   }
   if (by_landmarks) {  // every test clip is scored on its body landmarks
@@ -273,7 +274,7 @@ int main(int argc, char** argv) {
           experiments.push_back(sized);
       }
     }
-    return RunLandmarkTests(*database, *landmark_tests, experiments, context, out_dir, seed, threads);
+    return RunLandmarkTests(*databases, *landmark_tests, experiments, context, out_dir, seed, threads);
   }
   if (!tests.ok()) {
     std::cerr << "mocap-eval: test clips: " << tests.status().message() << "\n";
@@ -292,15 +293,15 @@ int main(int argc, char** argv) {
       if (c == "walk" || c == "walk-back" || c == "walk-left" || c == "walk-right" || c == "run" || c == "dash")
         extra.push_back(f);
     }
-    auto more = mocap::eval::LoadTestClips(extra, (*database)->rig(), max_frames, "bn1:");
+    auto more = mocap::eval::LoadTestClips(extra, database->rig(), max_frames, "bn1:");
     if (!more.ok()) {
       std::cerr << "mocap-eval: bandai-namco-1: " << more.status().message() << "\n";
       return kExitError;
     }
     for (auto& t : *more) tests->push_back(std::move(t));
   }
-  context["database_frames"] = (*database)->num_frames();
-  const mocap::MotionLimits& motion_limits = (*database)->motion_limits();
+  context["database_frames"] = database->num_frames();
+  const mocap::MotionLimits& motion_limits = database->motion_limits();
   context["database_pelvis_speed_max_m_per_s"] = motion_limits.pelvis_speed_max;
   context["database_pelvis_speed_p99_m_per_s"] = motion_limits.pelvis_speed_p99;
   context["database_pelvis_acceleration_max_m_per_s2"] = motion_limits.pelvis_acceleration_max;
@@ -317,7 +318,7 @@ int main(int argc, char** argv) {
   mocap::eval::EvaluationConfig config{
       .seed = seed, .threads = threads, .bvh_dir = no_bvh ? "" : std::filesystem::path(out_dir) / "bvh"};
   std::cerr << "reconstructing " << tests->size() << " clips with " << experiments.size() << " runs...\n";
-  auto results = mocap::eval::RunEvaluation(*database, *tests, experiments, config,
+  auto results = mocap::eval::RunEvaluation(*databases, *tests, experiments, config,
                                             [](const std::string& line) { std::cerr << "  " << line << "\n"; });
   if (!results.ok()) {
     std::cerr << "mocap-eval: " << results.status().message() << "\n";

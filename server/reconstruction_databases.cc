@@ -15,7 +15,7 @@ absl::StatusOr<ReconstructionDatabases::Database> ReconstructionDatabases::Load(
     clips.push_back({std::move(clip.features), EncodePoses(clip.motion, rig)});
   }
   const double frame_rate = key.frame_rate > 0 ? key.frame_rate : 30.0;
-  return ReconstructionDatabase::Build(rig, clips, 0.8f, 1.0 / frame_rate);
+  return ReconstructionDatabase::Build(rig, clips, {.frame_time = 1.0 / frame_rate});
 }
 
 }  // namespace mocap

@@ -85,4 +85,15 @@ std::vector<FrameFeatures> ComputeFrameFeatures(const GlobalPoses& poses, const 
   return features;
 }
 
+FrameFeatures PlayedBackwards(const FrameFeatures& features) {
+  FrameFeatures reversed = features;
+  for (int side = 0; side < 2; ++side) {
+    for (int axis = 0; axis < 3; ++axis) {
+      reversed.wrist_velocity[side][axis] = -features.wrist_velocity[side][axis];
+      reversed.ankle_velocity[side][axis] = -features.ankle_velocity[side][axis];
+    }
+  }
+  return reversed;
+}
+
 }  // namespace mocap

@@ -52,4 +52,8 @@ ReferenceFrame WristReferenceFrame(const Eigen::Vector3f& left_wrist, const Eige
 std::vector<FrameFeatures> ComputeFrameFeatures(const GlobalPoses& poses, const BodyLandmarks& landmarks,
                                                 const Eigen::Vector3f& pelvis_up_local, double frame_time);
 
+// The same frame in the clip played backwards: positions and pose as they are, every velocity
+// negated (ComputeFrameFeatures' central differences change sign when time runs the other way).
+FrameFeatures PlayedBackwards(const FrameFeatures& features);
+
 }  // namespace mocap

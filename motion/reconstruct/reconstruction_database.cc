@@ -20,11 +20,12 @@ void WristAnkleFeature(const FrameFeatures& f, float position_weight, float out[
 }
 
 absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionDatabase::Build(
-    const RigModel& rig, const std::vector<DatabaseClip>& clips, float position_weight, double frame_time) {
+    const RigModel& rig, const std::vector<DatabaseClip>& clips, const DatabaseBuildOptions& options) {
   std::shared_ptr<ReconstructionDatabase> db(new ReconstructionDatabase());
   db->rig_ = rig;
+  const float position_weight = options.position_weight;
   db->position_weight_ = position_weight;
-  db->frame_time_ = frame_time;
+  db->frame_time_ = options.frame_time;
   const int joints = rig.skeleton.num_joints();
   // q: every joint except those from the root down to the pelvis (their rotations are z_R).
   std::vector<bool> on_pelvis_chain(joints, false);
@@ -42,7 +43,8 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
     total += clips[c].features.size();
   }
   if (total == 0) return absl::FailedPreconditionError("reconstruction database has no frames");
-  db->frames_.reserve(total);
+  db->captured_frames_ = static_cast<int>(total);
+  db->frames_.reserve(options.time_reversed_copies ? 2 * total : total);
   db->pose_features_.resize(static_cast<Eigen::Index>(total),
                             2 + 3 * static_cast<Eigen::Index>(db->pose_joints_.size()));
   for (size_t c = 0; c < clips.size(); ++c) {
@@ -71,6 +73,19 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   absl::StatusOr<BodyModel> body = BodyModel::Create(rig, Skeleton(std::move(body_joints)), db->pose_joints_);
   if (!body.ok()) return body.status();
   db->body_.emplace(std::move(*body));
+  if (options.time_reversed_copies) {
+    // Each clip backwards, last frame first; the pose rows stay shared (clip_frame_row).
+    int clip_start = 0;
+    for (const DatabaseClip& clip : clips) {
+      const int frames = static_cast<int>(clip.features.size());
+      for (int f = frames - 1; f >= 0; --f) {
+        db->frames_.push_back(PlayedBackwards(clip.features[f]));
+        db->reversed_source_.push_back(clip_start + f);
+      }
+      clip_start += frames;
+    }
+  }
+  const size_t rows = db->frames_.size();
   std::vector<float> lower_ankle(total);
   for (size_t r = 0; r < total; ++r) {
     lower_ankle[r] = std::min(db->frames_[r].ankle_position[0][1], db->frames_[r].ankle_position[1][1]);
@@ -79,12 +94,12 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   db->planted_ankle_height_ = lower_ankle[total / 10];
   std::vector<std::span<const FrameFeatures>> clip_features;
   for (const DatabaseClip& clip : clips) clip_features.emplace_back(clip.features);
-  db->motion_limits_ = MeasureMotionLimits(clip_features, frame_time);
+  db->motion_limits_ = MeasureMotionLimits(clip_features, options.frame_time);
   if (absl::Status status = db->wrist_index_.Build(db->frames_, {.position_weight = position_weight}); !status.ok()) {
     return status;
   }
-  std::vector<float> points(total * kWristAnkleFeatureDims);
-  for (size_t r = 0; r < total; ++r)
+  std::vector<float> points(rows * kWristAnkleFeatureDims);
+  for (size_t r = 0; r < rows; ++r)
     WristAnkleFeature(db->frames_[r], position_weight, points.data() + r * kWristAnkleFeatureDims);
   if (absl::Status status = db->full_index_.Build(std::move(points), kWristAnkleFeatureDims); !status.ok())
     return status;

@@ -1,6 +1,8 @@
 // ReconstructionDatabase: the immutable, query-ready form of a motion database for docs/method.md
 // A3–A6: every frame's A1 features and pose feature m = (θ, h, q), clip boundaries, and the two
-// nearest-neighbour indices (A3: wrists only, eq. 2; A5: wrists and ankles, eq. 8).
+// nearest-neighbour indices (A3: wrists only, eq. 2; A5: wrists and ankles, eq. 8). Besides the
+// captured frames it may hold every clip played backwards (DatabaseBuildOptions): rows
+// [0, num_frames()) are the captured frames, rows [num_frames(), num_rows()) their reversed copies.
 //
 // Thread safety: built once, then shared read-only (const) by any number of sessions.
 #pragma once
@@ -28,6 +30,16 @@ struct DatabaseClip {
 
 inline constexpr int kWristAnkleFeatureDims = 24;
 
+struct DatabaseBuildOptions {
+  float position_weight = 0.8f;    // α of eq. 2 and eq. 8 (docs/method.md A3, A5)
+  double frame_time = 1.0 / 30.0;  // the database's frame period, s
+  // Also search every clip played backwards (docs/method.md A3, issue #22): a capture of walking
+  // forwards, reversed, is a body walking backwards, which few databases hold and users do. The
+  // reversed frames share their pose rows with the captured ones; only the A1 features (their
+  // velocities negated) and the two indices grow.
+  bool time_reversed_copies = true;
+};
+
 // The 24-D eq. 8 feature: √α·(wrist and ankle positions), √(1−α)·(their velocities).
 void WristAnkleFeature(const FrameFeatures& features, float position_weight, float out[kWristAnkleFeatureDims]);
 
@@ -37,20 +49,22 @@ class ReconstructionDatabase {
   // when there are no frames.
   static absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> Build(const RigModel& rig,
                                                                              const std::vector<DatabaseClip>& clips,
-                                                                             float position_weight = 0.8f,
-                                                                             double frame_time = 1.0 / 30.0);
+                                                                             const DatabaseBuildOptions& options = {});
 
   const RigModel& rig() const { return rig_; }
-  int num_frames() const { return static_cast<int>(frames_.size()); }
+  // Captured frames (the clips' own), and every searchable row (with the reversed copies).
+  int num_frames() const { return captured_frames_; }
+  int num_rows() const { return static_cast<int>(frames_.size()); }
+  // A1 features of every row (a reversed row: its frame's, velocities negated).
   const std::vector<FrameFeatures>& frames() const { return frames_; }
-  // Row r: pose feature m of frame r: θ, h, then the rotation vectors of every joint below the
-  // pelvis chain (the root-to-pelvis joints are the solver's z_R, not part of q).
-  const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& pose_features() const {
-    return pose_features_;
-  }
+  // Pose feature m of a row: θ, h, then the rotation vectors of every joint below the pelvis
+  // chain (the root-to-pelvis joints are the solver's z_R, not part of q).
+  auto pose_feature(int row) const { return pose_features_.row(clip_frame_row(row)); }
+  int pose_feature_size() const { return static_cast<int>(pose_features_.cols()); }
   const std::vector<int>& pose_joints() const { return pose_joints_; }  // joints of q, in order
-  int clip_of(int row) const { return clip_of_row_[row]; }
-  int frame_in_clip(int row) const { return frame_of_row_[row]; }
+  int clip_of(int row) const { return clip_of_row_[clip_frame_row(row)]; }
+  int frame_in_clip(int row) const { return frame_of_row_[clip_frame_row(row)]; }
+  bool is_reversed(int row) const { return row >= captured_frames_; }
   const WristFeatureIndex& wrist_index() const { return wrist_index_; }
   float position_weight() const { return position_weight_; }
   // The rig with the first performer's offsets in metres, as the A6 solver drives it.
@@ -70,7 +84,11 @@ class ReconstructionDatabase {
 
  private:
   ReconstructionDatabase() = default;
+  // The captured frame a row shows (itself, or the frame a reversed row copies).
+  int clip_frame_row(int row) const { return row < captured_frames_ ? row : reversed_source_[row - captured_frames_]; }
   RigModel rig_;
+  int captured_frames_ = 0;
+  std::vector<int> reversed_source_;  // row num_frames() + i copies captured row reversed_source_[i]
   std::vector<FrameFeatures> frames_;
   Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> pose_features_;
   std::vector<int> pose_joints_;

@@ -329,7 +329,7 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
                       options_.method == ReconstructionMethod::kNearestAverage;
   SolvedPose solved;
   if (lookup || !s.previous) {
-    solved.pose_feature = db.pose_features().row(nearest).transpose();
+    solved.pose_feature = db.pose_feature(nearest).transpose();
     PelvisInQueryFrame(db.frames()[nearest], ref, &solved);
   }
   if (options_.method == ReconstructionMethod::kNearestAverage) {
@@ -345,7 +345,7 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
       Eigen::Vector4f q = one.pelvis_rotation.coeffs();
       if (q.dot(solved.pelvis_rotation.coeffs()) < 0) q = -q;
       rotation += q;
-      solved.pose_feature += db.pose_features().row(n.row).transpose();
+      solved.pose_feature += db.pose_feature(n.row).transpose();
     }
     const float count = static_cast<float>(neighbours.size());
     solved.pose_feature /= count;
@@ -353,9 +353,9 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
     solved.pelvis_rotation = Eigen::Quaternionf(rotation.normalized());
   }
   if (!lookup) {
-    Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_features().cols());
+    Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_feature_size());
     for (size_t i = 0; i < neighbours.size(); ++i)
-      examples.row(static_cast<Eigen::Index>(i)) = db.pose_features().row(neighbours[i].row);
+      examples.row(static_cast<Eigen::Index>(i)) = db.pose_feature(neighbours[i].row);
     MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, options_.pose_components));
     ControlTargets targets = {wrists.position[0], wrists.position[1], ankles[0], ankles[1]};
     PoseSolverOptions solver_options = options_.solver;

@@ -13,7 +13,7 @@ TEST(BodyModelTest, ControlPointsMatchTheFullPoseAndThePelvisLandsOnZ) {
     const ReconstructionDatabase& db = *setup.database;
     const BodyModel& body = db.body();
     for (int row : {0, 17, 100}) {
-      const Eigen::VectorXf m = db.pose_features().row(row).transpose();
+      const Eigen::VectorXf m = db.pose_feature(row).transpose();
       const Eigen::Quaternionf z_r(Eigen::AngleAxisf(0.7f, Eigen::Vector3f(0.2f, 1.0f, 0.1f).normalized()));
       const Eigen::Vector3f z_p(0.3f, 0.9f, -1.2f);
       const BodyPose pose = body.Pose(z_r, z_p, m.data() + 2);

@@ -8,7 +8,7 @@ namespace mocap {
 namespace {
 
 BodyPose PoseOfRow(const ReconstructionDatabase& db, int row) {
-  const Eigen::VectorXf m = db.pose_features().row(row).transpose();
+  const Eigen::VectorXf m = db.pose_feature(row).transpose();
   return db.body().Pose(Eigen::Quaternionf::Identity(), Eigen::Vector3f(0, 0.9f, 0), m.data() + 2);
 }
 

@@ -19,8 +19,8 @@ class PoseSolverTest : public ::testing::Test {
     WristAnkleFeature(setup_.test_clip.features[f], db.position_weight(), query);
     auto neighbours = db.NearestByWristsAndAnkles(query, 60);
     EXPECT_TRUE(neighbours.ok());
-    Eigen::MatrixXf examples(neighbours->size(), db.pose_features().cols());
-    for (size_t i = 0; i < neighbours->size(); ++i) examples.row(i) = db.pose_features().row((*neighbours)[i].row);
+    Eigen::MatrixXf examples(neighbours->size(), db.pose_feature_size());
+    for (size_t i = 0; i < neighbours->size(); ++i) examples.row(i) = db.pose_feature((*neighbours)[i].row);
     return *FitLocalPoseModel(examples, 6);
   }
   ControlTargets TargetsAt(int f) const {

@@ -31,6 +31,7 @@ TEST(ReconstructionDatabaseTest, HoldsFeaturesPosesAndClipBoundaries) {
     auto db = ReconstructionDatabase::Build(b.rig, b.clips);
     ASSERT_TRUE(db.ok()) << db.status();
     EXPECT_EQ((*db)->num_frames(), 90 + 61);
+    EXPECT_EQ((*db)->num_rows(), 2 * (90 + 61));  // and every clip backwards
     EXPECT_EQ((*db)->clip_of(89), 0);
     EXPECT_EQ((*db)->clip_of(90), 1);
     EXPECT_EQ((*db)->frame_in_clip(95), 5);
@@ -41,13 +42,13 @@ TEST(ReconstructionDatabaseTest, HoldsFeaturesPosesAndClipBoundaries) {
       EXPECT_NE(skeleton.joint(j).name, "Root");
     }
     EXPECT_EQ((*db)->pose_joints().size(), static_cast<size_t>(skeleton.num_joints() - (extra_root ? 2 : 1)));
-    const auto& m = (*db)->pose_features();
-    EXPECT_EQ(m.cols(), 2 + 3 * static_cast<int>((*db)->pose_joints().size()));
-    EXPECT_FLOAT_EQ(m(95, 0), b.clips[1].features[5].pelvis_tilt);
-    EXPECT_FLOAT_EQ(m(95, 1), b.clips[1].features[5].pelvis_height);
+    EXPECT_EQ((*db)->pose_feature_size(), 2 + 3 * static_cast<int>((*db)->pose_joints().size()));
+    const Eigen::VectorXf m = (*db)->pose_feature(95).transpose();
+    EXPECT_FLOAT_EQ(m[0], b.clips[1].features[5].pelvis_tilt);
+    EXPECT_FLOAT_EQ(m[1], b.clips[1].features[5].pelvis_height);
     const int stride = EncodedPoseFloats(skeleton.num_joints());
     const int joint = (*db)->pose_joints()[3];
-    EXPECT_FLOAT_EQ(m(95, 2 + 3 * 3 + 1), b.clips[1].encoded_poses[5 * stride + 3 + 3 * joint + 1]);
+    EXPECT_FLOAT_EQ(m[2 + 3 * 3 + 1], b.clips[1].encoded_poses[5 * stride + 3 + 3 * joint + 1]);
   }
 }
 
@@ -61,13 +62,58 @@ TEST(ReconstructionDatabaseTest, NearestFramesAndALocalModelThatFitsThem) {
   ASSERT_TRUE(neighbours.ok());
   ASSERT_EQ(neighbours->size(), 40u);
   EXPECT_NEAR(neighbours->front().distance, 0.0f, 1e-9f);
-  Eigen::MatrixXf examples(neighbours->size(), (*db)->pose_features().cols());
-  for (size_t i = 0; i < neighbours->size(); ++i) examples.row(i) = (*db)->pose_features().row((*neighbours)[i].row);
+  Eigen::MatrixXf examples(neighbours->size(), (*db)->pose_feature_size());
+  for (size_t i = 0; i < neighbours->size(); ++i) examples.row(i) = (*db)->pose_feature((*neighbours)[i].row);
   auto model = FitLocalPoseModel(examples, 6);
   ASSERT_TRUE(model.ok());
-  const Eigen::VectorXf pose = (*db)->pose_features().row(40).transpose();
+  const Eigen::VectorXf pose = (*db)->pose_feature(40).transpose();
   // The query's own pose lies close to the 6-D local model of its neighbours (A5).
   EXPECT_LT((model->Reconstruct(model->Project(pose)) - pose).norm(), 0.05f * pose.norm() + 1e-3f);
+}
+
+TEST(ReconstructionDatabaseTest, ReversedRowsPlayEveryClipBackwards) {
+  const Built b = MakeClips({});
+  auto db = ReconstructionDatabase::Build(b.rig, b.clips);
+  ASSERT_TRUE(db.ok()) << db.status();
+  const int captured = 90 + 61;
+  ASSERT_EQ((*db)->num_rows(), 2 * captured);
+  // Clip 0 backwards first: its last frame is the first reversed row; clip 1's last follows clip 0's first.
+  const int row = captured + (89 - 10);  // clip 0, frame 10
+  EXPECT_TRUE((*db)->is_reversed(row));
+  EXPECT_FALSE((*db)->is_reversed(10));
+  EXPECT_EQ((*db)->clip_of(row), 0);
+  EXPECT_EQ((*db)->frame_in_clip(row), 10);
+  EXPECT_EQ((*db)->clip_of(captured + 90), 1);
+  EXPECT_EQ((*db)->frame_in_clip(captured + 90), 60);
+  EXPECT_EQ((*db)->pose_feature(row), (*db)->pose_feature(10));
+  const FrameFeatures& forward = (*db)->frames()[10];
+  const FrameFeatures& backward = (*db)->frames()[row];
+  for (int side = 0; side < 2; ++side) {
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_EQ(backward.wrist_position[side][axis], forward.wrist_position[side][axis]);
+      EXPECT_EQ(backward.ankle_position[side][axis], forward.ankle_position[side][axis]);
+      EXPECT_EQ(backward.wrist_velocity[side][axis], -forward.wrist_velocity[side][axis]);
+      EXPECT_EQ(backward.ankle_velocity[side][axis], -forward.ankle_velocity[side][axis]);
+    }
+  }
+  // A body walking backwards (the walk's velocities negated) finds the reversed rows, exactly.
+  float query[kWristAnkleFeatureDims];
+  WristAnkleFeature(backward, 0.8f, query);
+  auto by_ankles = (*db)->NearestByWristsAndAnkles(query, 1);
+  ASSERT_TRUE(by_ankles.ok());
+  EXPECT_EQ(by_ankles->front().row, row);
+  float wrist_query[kWristFeatureDims];
+  WristFeature(backward, {}, wrist_query);
+  auto by_wrists = (*db)->wrist_index().Search(wrist_query, 1);
+  ASSERT_TRUE(by_wrists.ok());
+  EXPECT_TRUE((*db)->is_reversed(by_wrists->front().row));
+  EXPECT_NEAR(by_wrists->front().distance, 0.0f, 1e-9f);
+  // Without the copies: only the captured frames.
+  auto plain = ReconstructionDatabase::Build(b.rig, b.clips, {.time_reversed_copies = false});
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ((*plain)->num_rows(), captured);
+  EXPECT_EQ((*plain)->num_frames(), captured);
+  EXPECT_EQ((*plain)->motion_limits().pelvis_speed_max, (*db)->motion_limits().pelvis_speed_max);
 }
 
 TEST(ReconstructionDatabaseTest, RejectsInconsistentInput) {
