@@ -115,6 +115,9 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
                    "Reconstruction indices kept in memory (least recently used dropped)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  command->add_flag("!--no-reversed-motion", reconstruction.time_reversed_copies,
+                    "Do not also search every clip played backwards (saves ~430 bytes per database frame; bodies "
+                    "walking backwards then only find forward motion)");
   command->add_option("--drain-seconds", *drain_seconds, "On SIGTERM/SIGINT, how long running calls may finish")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

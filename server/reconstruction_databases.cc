@@ -4,7 +4,8 @@
 
 namespace mocap {
 
-absl::StatusOr<ReconstructionDatabases::Database> ReconstructionDatabases::Load(MotionStore& store, const Key& key) {
+absl::StatusOr<ReconstructionDatabases::Database> ReconstructionDatabases::Load(MotionStore& store, const Key& key,
+                                                                                bool time_reversed_copies) {
   MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(key.database_id));
   MOCAP_ASSIGN_OR_RETURN(std::vector<ClipSummary> summaries, store.ListClips(key.database_id));
   if (summaries.empty()) return absl::FailedPreconditionError("the database has no clips: import motion into it first");
@@ -15,7 +16,8 @@ absl::StatusOr<ReconstructionDatabases::Database> ReconstructionDatabases::Load(
     clips.push_back({std::move(clip.features), EncodePoses(clip.motion, rig)});
   }
   const double frame_rate = key.frame_rate > 0 ? key.frame_rate : 30.0;
-  return ReconstructionDatabase::Build(rig, clips, {.frame_time = 1.0 / frame_rate});
+  return ReconstructionDatabase::Build(rig, clips,
+                                       {.frame_time = 1.0 / frame_rate, .time_reversed_copies = time_reversed_copies});
 }
 
 }  // namespace mocap

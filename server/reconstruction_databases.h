@@ -21,8 +21,11 @@ class ReconstructionDatabases {
   using Ready = std::function<void(absl::StatusOr<Database>)>;
   using Key = DatabaseVersion;
 
-  ReconstructionDatabases(StorePool& stores, int max_cached)
-      : registry_(stores, max_cached, "reconstruction database", &ReconstructionDatabases::Load) {}
+  ReconstructionDatabases(StorePool& stores, int max_cached, bool time_reversed_copies = true)
+      : registry_(stores, max_cached, "reconstruction database",
+                  [time_reversed_copies](MotionStore& store, const Key& key) {
+                    return Load(store, key, time_reversed_copies);
+                  }) {}
 
   // Calls `ready` exactly once: at once (on this thread) when the version is built, otherwise on
   // the builder thread when it is. FailedPrecondition for a database without clips.
@@ -32,8 +35,9 @@ class ReconstructionDatabases {
   static absl::StatusOr<std::string> ContentStamp(MotionStore& store, std::int64_t database_id) {
     return store.ContentStamp(database_id);
   }
-  // Builds one database from the store (what a builder thread runs).
-  static absl::StatusOr<Database> Load(MotionStore& store, const Key& key);
+  // Builds one database from the store (what a builder thread runs), with every clip also played
+  // backwards unless told not to (DatabaseBuildOptions).
+  static absl::StatusOr<Database> Load(MotionStore& store, const Key& key, bool time_reversed_copies = true);
 
   int builds() const { return registry_.builds(); }  // versions built so far (for tests and metrics)
 

@@ -30,7 +30,7 @@ std::string ReconstructionState::NextSessionId() { return StrCat(instance_tag, "
 ReconstructionState::ReconstructionState(ServiceContext& service_context, const ReconstructionLimits& limits_in)
     : service(service_context),
       limits(limits_in),
-      databases(service_context.stores, limits_in.max_cached_databases),
+      databases(service_context.stores, limits_in.max_cached_databases, limits_in.time_reversed_copies),
       sessions(limits_in.max_sessions_per_tenant, "reconstruction sessions"),
       streams(limits_in.max_streams > 0 ? limits_in.max_streams
                                         : kDefaultStreamsPerComputeThread * ComputeThreads(limits_in)),

@@ -3,9 +3,11 @@
 //   w = β·σ + (1−β)·d,  β = 0.5,
 //   σ = ‖y_j^(t−1) + Δt·ẏ_j^(t−1) − y_k^t‖²   (motion prior: where the neighbour's velocity goes)
 //   d = Σ_feet exp(w_s·‖y_j^(t−1) − y_k^t‖²) when that foot slides, else 0,
-// a foot sliding when it moves more than `slide_distance` while its height changes less than
-// `slide_height` (the patent's "2 cm" and "0.14 cm"; parameters). Dynamic programming over the
-// frames (O(L·K1²)), backtracking, then a Gaussian filter (Algorithm 1).
+// a foot sliding, by default, when it moves more than `slide_distance` with both ends near the
+// planted ankle height (SlideRule::kContact; the patent's rule, moving more than 2 cm while its
+// height changes less than "0.14 cm", is SlideRule::kPatent), plus a node cost on each candidate's
+// eq. 2 distance (`data_weight`; 0 = the patent's cost). Dynamic programming over the frames
+// (O(L·K1²)), backtracking, then a Gaussian filter (Algorithm 1).
 // Sub-intervals (§3.3.1): SolveAnkleWindow solves L frames starting from the previous window's
 // last node, so a stream can emit windows as they fill.
 #pragma once

@@ -32,7 +32,7 @@ struct ReconstructionOptions {
   // (the next window starts from its last node, §3.3.1), bounding memory; 0 = no cap (offline).
   int max_window_frames = 0;
 
-  WristSmoothingOptions smoothing;  // A2: s = 0.5
+  WristSmoothingOptions smoothing;  // A2: local linear fit, σ 1 frame, 2 ahead (s = 0.5: the patent's filter)
   // A3: K1. The patent's 1000; 500 measures the same with the A4 data term (mocap-eval
   // --dev-split: MPJPE 2.382 vs 2.381 cm) at half the A3/A4 cost.
   int ankle_candidates = 500;

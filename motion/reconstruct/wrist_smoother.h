@@ -1,7 +1,10 @@
-// Input preprocessing of docs/method.md A2: exponential smoothing of the measured wrists,
+// Input preprocessing of docs/method.md A2. By default a local linear fit over a Gaussian window
+// (LocalLinearWrists: position and velocity from one fit, reaching `lookahead` frames ahead);
+// WristSmoother is the patent's exponential smoothing,
 //   x̃^t = s·x^t + (1−s)·x̃^(t−1),  s = 0.5,
-// and wrist velocities by numerical differentiation of neighbouring (smoothed) samples. Causal:
-// usable sample by sample in a stream and identically over a whole clip.
+// with velocities by numerical differentiation of neighbouring (smoothed) samples, kept as an
+// option (local_linear_sigma = 0). Both work sample by sample in a stream and identically over a
+// whole clip.
 #pragma once
 
 #include <array>

@@ -2,7 +2,9 @@
 // its CLI11 subcommand with the function that runs it; after parsing, the tool runs the deepest
 // parsed one (`mocap databases describe` before `mocap databases`).
 //
-// Exit codes, the same in every tool: 0 success, 1 an error (logged), 2 bad usage (CLI11's).
+// Exit codes, the same in every tool: 0 success, 1 an error (logged), 2 no command given (the
+// help on stderr), and CLI11's own codes for bad usage (105 a value failing its check, 106 a
+// missing required option, 109 an unknown argument).
 #pragma once
 
 #include <functional>
