@@ -85,12 +85,22 @@ std::vector<FrameFeatures> ComputeFrameFeatures(const GlobalPoses& poses, const 
   return features;
 }
 
-FrameFeatures PlayedBackwards(const FrameFeatures& features) {
-  FrameFeatures reversed = features;
-  for (int side = 0; side < 2; ++side) {
-    for (int axis = 0; axis < 3; ++axis) {
-      reversed.wrist_velocity[side][axis] = -features.wrist_velocity[side][axis];
-      reversed.ankle_velocity[side][axis] = -features.ankle_velocity[side][axis];
+std::vector<FrameFeatures> PlayedBackwards(std::span<const FrameFeatures> clip) {
+  std::vector<FrameFeatures> reversed(clip.rbegin(), clip.rend());
+  const int frames = static_cast<int>(clip.size());
+  for (int f = 0; f < frames; ++f) {
+    FrameFeatures& out = reversed[frames - 1 - f];
+    const FrameFeatures& next = clip[std::min(f + 1, frames - 1)];
+    // next's velocities are in next's wrist frame: turn them by the heading change into f's.
+    const Eigen::Matrix3f turn =
+        Eigen::AngleAxisf(next.ref_heading - clip[f].ref_heading, Eigen::Vector3f::UnitY()).toRotationMatrix();
+    for (int side = 0; side < 2; ++side) {
+      const Eigen::Vector3f wrist = -(turn * Eigen::Map<const Eigen::Vector3f>(next.wrist_velocity[side]));
+      const Eigen::Vector3f ankle = -(turn * Eigen::Map<const Eigen::Vector3f>(next.ankle_velocity[side]));
+      for (int axis = 0; axis < 3; ++axis) {
+        out.wrist_velocity[side][axis] = wrist[axis];
+        out.ankle_velocity[side][axis] = ankle[axis];
+      }
     }
   }
   return reversed;

@@ -1,6 +1,7 @@
 // Per-frame features of docs/method.md A1, expressed in each frame's wrist reference frame.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -52,8 +53,10 @@ ReferenceFrame WristReferenceFrame(const Eigen::Vector3f& left_wrist, const Eige
 std::vector<FrameFeatures> ComputeFrameFeatures(const GlobalPoses& poses, const BodyLandmarks& landmarks,
                                                 const Eigen::Vector3f& pelvis_up_local, double frame_time);
 
-// The same frame in the clip played backwards: positions and pose as they are, every velocity
-// negated (ComputeFrameFeatures' central differences change sign when time runs the other way).
-FrameFeatures PlayedBackwards(const FrameFeatures& features);
+// The clip's features played backwards, last frame first: positions and pose as they are, and
+// the velocities ComputeFrameFeatures would measure on the reversed motion. Its velocities are
+// backward differences, so a frame's reversed velocity is the next frame's velocity negated
+// (turned into this frame's wrist reference frame); the last frame keeps its own, negated.
+std::vector<FrameFeatures> PlayedBackwards(std::span<const FrameFeatures> clip);
 
 }  // namespace mocap

@@ -78,10 +78,9 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
     int clip_start = 0;
     for (const DatabaseClip& clip : clips) {
       const int frames = static_cast<int>(clip.features.size());
-      for (int f = frames - 1; f >= 0; --f) {
-        db->frames_.push_back(PlayedBackwards(clip.features[f]));
-        db->reversed_source_.push_back(clip_start + f);
-      }
+      const std::vector<FrameFeatures> reversed = PlayedBackwards(clip.features);
+      db->frames_.insert(db->frames_.end(), reversed.begin(), reversed.end());
+      for (int f = frames - 1; f >= 0; --f) db->reversed_source_.push_back(clip_start + f);
       clip_start += frames;
     }
   }

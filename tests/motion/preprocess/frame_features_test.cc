@@ -306,6 +306,30 @@ TEST_P(FrameFeaturesWalkTest, WalkingCharacterFacingPlusZ) {
 
 INSTANTIATE_TEST_SUITE_P(Rigs, FrameFeaturesWalkTest, ::testing::Values(0, 1, 2, 4 | 8, 15));
 
+TEST(FrameFeaturesTest, PlayedBackwardsIsWhatTheReversedClipMeasures) {
+  // A synthetic walk and the same channels in reverse order, prepared as any clip is.
+  const PreparedWalk walk = PrepareWalk({}, 60);
+  PreparedWalk reversed = walk;
+  reversed.clip.channels = walk.clip.channels.colwise().reverse();
+  absl::StatusOr<PreparedClip> measured = PrepareClip(reversed.clip, walk.rig, {});
+  ASSERT_TRUE(measured.ok()) << measured.status();
+  const std::vector<FrameFeatures> played = PlayedBackwards(walk.prepared.features);
+  ASSERT_EQ(played.size(), measured->features.size());
+  for (size_t f = 0; f < played.size(); ++f) {
+    SCOPED_TRACE(f);
+    const FrameFeatures& a = played[f];
+    const FrameFeatures& b = measured->features[f];
+    EXPECT_NEAR(AngleDifference(a.ref_heading, b.ref_heading), 0.0f, 1e-4f);
+    EXPECT_NEAR(a.pelvis_height, b.pelvis_height, 1e-4f);
+    for (int side = 0; side < 2; ++side) {
+      EXPECT_LT((Vec(a.wrist_position[side]) - Vec(b.wrist_position[side])).norm(), 1e-4f);
+      EXPECT_LT((Vec(a.ankle_position[side]) - Vec(b.ankle_position[side])).norm(), 1e-4f);
+      EXPECT_LT((Vec(a.wrist_velocity[side]) - Vec(b.wrist_velocity[side])).norm(), 2e-3f);
+      EXPECT_LT((Vec(a.ankle_velocity[side]) - Vec(b.ankle_velocity[side])).norm(), 2e-3f);
+    }
+  }
+}
+
 TEST(FrameFeaturesTest, VelocityIsRotatedFiniteDifferenceOfWorldPositions) {
   const PreparedWalk walk = PrepareWalk({});
   const PreparedClip& prepared = walk.prepared;
