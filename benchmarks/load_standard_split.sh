@@ -4,7 +4,8 @@
 # built (bandai-namco-2 = the standard split's database takes), then mocap-load with each stream
 # count in turn, each stream replaying a held-out walk's wrists (FK + 0.5 cm noise) in real time.
 #   usage: benchmarks/load_standard_split.sh [STREAMS...]   (default: 5 10 20 30)
-#   env: STORE (var/mocap.db), SECONDS_PER_RUN (30), LAG (0), EXTRA (more mocap-load options)
+#   env: STORE (var/mocap.db), SECONDS_PER_RUN (30), LAG (0), EXTRA (more mocap-load options),
+#        SERVER_EXTRA (more mocapd serve options, e.g. --no-reversed-motion)
 # Prints one line per run and writes build/load/streams-N.json (mocap-load --json).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
@@ -24,7 +25,8 @@ streams=("$@")
 # shellcheck source=scripts/temporary_server.sh
 source "$repo/scripts/temporary_server.sh"
 trap stop_temporary_server EXIT
-start_temporary_server "$mocapd" "$store" "$out/server.log" --read-only
+# shellcheck disable=SC2086  # SERVER_EXTRA is a list of options
+start_temporary_server "$mocapd" "$store" "$out/server.log" --read-only ${SERVER_EXTRA:-}
 
 # One short session first, so the database's indices are built before any timing.
 "$load" --address "$address" --database bandai-namco-2 --bvh "$clip" --streams 1 --seconds 1 \

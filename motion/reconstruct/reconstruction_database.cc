@@ -19,6 +19,32 @@ void WristAnkleFeature(const FrameFeatures& f, float position_weight, float out[
   }
 }
 
+namespace {
+
+// Frames whose pelvis moves over the ground at `min_speed` or more, measured between the frames
+// 1/6 s before and after (a step's stop within a walk still counts as walking).
+std::vector<bool> TravellingFrames(const std::vector<FrameFeatures>& clip, double frame_time, float min_speed) {
+  const int frames = static_cast<int>(clip.size());
+  const int half = std::max(1, static_cast<int>(std::lround(1.0 / 6.0 / frame_time)));
+  std::vector<Eigen::Vector2f> pelvis(frames);
+  for (int f = 0; f < frames; ++f) {
+    const FrameFeatures& x = clip[f];
+    const float c = std::cos(x.ref_heading), s = std::sin(x.ref_heading);
+    // The pelvis' ground position: the reference frame's origin plus its local x and z turned by
+    // the heading about Y (x axis (cos h, 0, −sin h), z axis (sin h, 0, cos h)).
+    pelvis[f] = Eigen::Vector2f(x.ref_origin_x + c * x.pelvis_position[0] + s * x.pelvis_position[2],
+                                x.ref_origin_z - s * x.pelvis_position[0] + c * x.pelvis_position[2]);
+  }
+  std::vector<bool> travelling(frames, false);
+  for (int f = 0; f < frames; ++f) {
+    const int a = std::max(0, f - half), b = std::min(frames - 1, f + half);
+    if (b > a) travelling[f] = (pelvis[b] - pelvis[a]).norm() >= min_speed * static_cast<float>((b - a) * frame_time);
+  }
+  return travelling;
+}
+
+}  // namespace
+
 absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionDatabase::Build(
     const RigModel& rig, const std::vector<DatabaseClip>& clips, const DatabaseBuildOptions& options) {
   std::shared_ptr<ReconstructionDatabase> db(new ReconstructionDatabase());
@@ -79,8 +105,13 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
     for (const DatabaseClip& clip : clips) {
       const int frames = static_cast<int>(clip.features.size());
       const std::vector<FrameFeatures> reversed = PlayedBackwards(clip.features);
-      db->frames_.insert(db->frames_.end(), reversed.begin(), reversed.end());
-      for (int f = frames - 1; f >= 0; --f) db->reversed_source_.push_back(clip_start + f);
+      const std::vector<bool> travelling =
+          TravellingFrames(clip.features, options.frame_time, options.reversed_min_ground_speed);
+      for (int f = frames - 1; f >= 0; --f) {
+        if (!travelling[f]) continue;
+        db->frames_.push_back(reversed[frames - 1 - f]);
+        db->reversed_source_.push_back(clip_start + f);
+      }
       clip_start += frames;
     }
   }

@@ -1,8 +1,8 @@
 // ReconstructionDatabase: the immutable, query-ready form of a motion database for docs/method.md
 // A3–A6: every frame's A1 features and pose feature m = (θ, h, q), clip boundaries, and the two
 // nearest-neighbour indices (A3: wrists only, eq. 2; A5: wrists and ankles, eq. 8). Besides the
-// captured frames it may hold every clip played backwards (DatabaseBuildOptions): rows
-// [0, num_frames()) are the captured frames, rows [num_frames(), num_rows()) their reversed copies.
+// captured frames it may hold the travelling ones played backwards (DatabaseBuildOptions): rows
+// [0, num_frames()) are the captured frames, rows [num_frames(), num_rows()) reversed copies.
 //
 // Thread safety: built once, then shared read-only (const) by any number of sessions.
 #pragma once
@@ -33,11 +33,15 @@ inline constexpr int kWristAnkleFeatureDims = 24;
 struct DatabaseBuildOptions {
   float position_weight = 0.8f;    // α of eq. 2 and eq. 8 (docs/method.md A3, A5)
   double frame_time = 1.0 / 30.0;  // the database's frame period, s
-  // Also search every clip played backwards (docs/method.md A3, issue #22): a capture of walking
-  // forwards, reversed, is a body walking backwards, which few databases hold and users do. The
-  // reversed frames share their pose rows with the captured ones; only the A1 features (their
-  // velocities negated) and the two indices grow.
+  // Also search the travelling frames played backwards (docs/method.md A3, issue #22): a capture
+  // of walking forwards, reversed, is a body walking backwards, which few databases hold and users
+  // do. Only frames whose pelvis travels over the ground at `reversed_min_ground_speed` or more
+  // (over ±1/6 s) are copied: a standing motion reversed (a wave, a bow) is much like one the
+  // database has, and every copy costs memory and search time. The reversed frames share their
+  // pose rows with the captured ones; only the A1 features (their velocities as the reversed
+  // motion measures them) and the two indices grow.
   bool time_reversed_copies = true;
+  float reversed_min_ground_speed = 0.5f;  // m/s
 };
 
 // The 24-D eq. 8 feature: √α·(wrist and ankle positions), √(1−α)·(their velocities).

@@ -119,6 +119,26 @@ TEST(ReconstructionDatabaseTest, ReversedRowsPlayEveryClipBackwards) {
   EXPECT_EQ((*plain)->motion_limits().pelvis_speed_max, (*db)->motion_limits().pelvis_speed_max);
 }
 
+TEST(ReconstructionDatabaseTest, OnlyTravellingFramesArePlayedBackwards) {
+  // The walk, and the same walk on the spot (the Hips' ground position pinned): only the frames
+  // that travel get reversed copies.
+  Built b = MakeClips({});
+  BvhClip on_the_spot = testing::MakeWalkingClip({}, 61);
+  for (int column : {0, 2}) on_the_spot.channels.col(column).setConstant(on_the_spot.channels(0, column));
+  auto prepared = PrepareClip(on_the_spot, b.rig, {});
+  ASSERT_TRUE(prepared.ok()) << prepared.status();
+  b.clips[1] = {prepared->features, EncodePoses(prepared->motion, b.rig)};
+  auto db = ReconstructionDatabase::Build(b.rig, b.clips);
+  ASSERT_TRUE(db.ok()) << db.status();
+  EXPECT_EQ((*db)->num_frames(), 90 + 61);
+  EXPECT_EQ((*db)->num_rows(), 90 + 61 + 90);
+  for (int row = (*db)->num_frames(); row < (*db)->num_rows(); ++row) EXPECT_EQ((*db)->clip_of(row), 0);
+  // A threshold above the walk's speed copies nothing.
+  auto none = ReconstructionDatabase::Build(b.rig, b.clips, {.reversed_min_ground_speed = 100.0f});
+  ASSERT_TRUE(none.ok());
+  EXPECT_EQ((*none)->num_rows(), 90 + 61);
+}
+
 TEST(ReconstructionDatabaseTest, RejectsInconsistentInput) {
   Built b = MakeClips({});
   EXPECT_EQ(ReconstructionDatabase::Build(b.rig, {}).status().code(), absl::StatusCode::kFailedPrecondition);
