@@ -116,8 +116,8 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   command->add_flag("!--no-reversed-motion", reconstruction.time_reversed_copies,
-                    "Do not also search every clip played backwards (saves ~430 bytes per database frame; bodies "
-                    "walking backwards then only find forward motion)");
+                    "Do not also search the travelling frames played backwards (saves ~185 bytes per database "
+                    "frame of bandai-namco-2; bodies walking backwards then only find forward motion)");
   command->add_option("--drain-seconds", *drain_seconds, "On SIGTERM/SIGINT, how long running calls may finish")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

@@ -41,7 +41,9 @@ struct DatabaseBuildOptions {
   // pose rows with the captured ones; only the A1 features (their velocities as the reversed
   // motion measures them) and the two indices grow.
   bool time_reversed_copies = true;
-  float reversed_min_ground_speed = 0.5f;  // m/s
+  // m/s: a slow walk. Development split, causal mode: 0.5 / 0.8 / 1.1 m/s → 8 / 7 / 6 clips over
+  // the allowed pelvis speed (5 without copies), MPJPE the same to 0.003 cm.
+  float reversed_min_ground_speed = 0.8f;
 };
 
 // The 24-D eq. 8 feature: √α·(wrist and ankle positions), √(1−α)·(their velocities).
