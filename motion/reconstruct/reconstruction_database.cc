@@ -70,7 +70,7 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   }
   if (total == 0) return absl::FailedPreconditionError("reconstruction database has no frames");
   db->captured_frames_ = static_cast<int>(total);
-  db->frames_.reserve(options.time_reversed_copies ? 2 * total : total);
+  db->frames_.reserve(total);
   db->pose_features_.resize(static_cast<Eigen::Index>(total),
                             2 + 3 * static_cast<Eigen::Index>(db->pose_joints_.size()));
   for (size_t c = 0; c < clips.size(); ++c) {
@@ -114,6 +114,7 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
       }
       clip_start += frames;
     }
+    db->frames_.shrink_to_fit();  // the copies' count was not known: give back what growth left over
   }
   const size_t rows = db->frames_.size();
   std::vector<float> lower_ankle(total);

@@ -61,7 +61,8 @@ class ReconstructionDatabase {
   // Captured frames (the clips' own), and every searchable row (with the reversed copies).
   int num_frames() const { return captured_frames_; }
   int num_rows() const { return static_cast<int>(frames_.size()); }
-  // A1 features of every row (a reversed row: its frame's, velocities negated).
+  // A1 features of every row (a reversed row: its frame's, with the velocities the reversed
+  // motion measures).
   const std::vector<FrameFeatures>& frames() const { return frames_; }
   // Pose feature m of a row: θ, h, then the rotation vectors of every joint below the pelvis
   // chain (the root-to-pelvis joints are the solver's z_R, not part of q).
