@@ -31,7 +31,7 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   wrists.motion_guard.enabled = false;
   add("wrists_only", "main", 0, wrists, noise_cm, true);
   if (!ablations) return runs;
-  add("full_captured_only", "main", 0, base, noise_cm, true);  // without the reversed clips
+  add("full_captured_only", "main", 0, base, noise_cm, true);  // without the reversed copies
   for (int window : {10, 50, 100}) {
     ReconstructionOptions o = base;
     o.window = window;

@@ -35,8 +35,8 @@ class ReconstructionDatabases {
   static absl::StatusOr<std::string> ContentStamp(MotionStore& store, std::int64_t database_id) {
     return store.ContentStamp(database_id);
   }
-  // Builds one database from the store (what a builder thread runs), with every clip also played
-  // backwards unless told not to (DatabaseBuildOptions).
+  // Builds one database from the store (what a builder thread runs), with its travelling frames
+  // also played backwards unless told not to (DatabaseBuildOptions).
   static absl::StatusOr<Database> Load(MotionStore& store, const Key& key, bool time_reversed_copies = true);
 
   int builds() const { return registry_.builds(); }  // versions built so far (for tests and metrics)
