@@ -42,7 +42,7 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
     const std::vector<std::filesystem::path>& files);
 
 // The databases an evaluation searches, built from the same files: the method's, as the service
-// builds it (every clip also played backwards), and the captured frames alone, which the lookup
+// builds it (the travelling frames also played backwards), and the captured frames alone, which the lookup
 // baselines search, as a plain motion-matching lookup of the imported motion would
 // (Experiment::captured_only).
 struct EvaluationDatabases {

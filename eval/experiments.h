@@ -33,7 +33,7 @@ struct Experiment {
   double noise_cm = 0.5;
   DeviceModel device;  // the input (landmark tests only; empty name: the lab's, noise_cm)
   PerformerSize size = PerformerSize::kDatabase;
-  // Search the captured frames only, without the clips played backwards (DatabaseBuildOptions):
+  // Search the captured frames only, without the travelling frames played backwards (DatabaseBuildOptions):
   // the lookup baselines, and the ablation row of the method without them.
   bool captured_only = false;
 };

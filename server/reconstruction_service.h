@@ -29,7 +29,7 @@ struct ReconstructionLimits {
   SessionLimits session;
   int compute_threads = 0;  // 0: one per core
   int max_cached_databases = 4;
-  // Search every clip also played backwards (DatabaseBuildOptions::time_reversed_copies): bodies
+  // Search the travelling frames also played backwards (DatabaseBuildOptions::time_reversed_copies): bodies
   // walking backwards where the capture only walks forwards, for ~185 more bytes per frame of a
   // database like bandai-namco-2 (4 in 10 of its frames travel).
   bool time_reversed_copies = true;

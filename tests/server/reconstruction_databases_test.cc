@@ -1,5 +1,5 @@
 // ReconstructionDatabases::Load (server/reconstruction_databases.h): a store database becomes the
-// query-ready database the sessions search, with every clip also played backwards unless the
+// query-ready database the sessions search, with its travelling frames also played backwards unless the
 // server was told not to (mocapd serve --no-reversed-motion).
 #include "server/reconstruction_databases.h"
 
