@@ -31,6 +31,13 @@ ReferenceFrame WristReferenceFrame(const Eigen::Vector3f& left_wrist, const Eige
   return frame;
 }
 
+ReferenceFrame ReferenceFrameOf(const FrameFeatures& features) {
+  ReferenceFrame frame;
+  frame.origin = Eigen::Vector3f(features.ref_origin_x, 0.0f, features.ref_origin_z);
+  frame.rotation = Eigen::AngleAxisf(features.ref_heading, Eigen::Vector3f::UnitY()).toRotationMatrix();
+  return frame;
+}
+
 std::vector<FrameFeatures> ComputeFrameFeatures(const GlobalPoses& poses, const BodyLandmarks& landmarks,
                                                 const Eigen::Vector3f& pelvis_up_local, double frame_time) {
   const int frames = poses.num_frames();

@@ -48,6 +48,10 @@ struct ReferenceFrame {
 ReferenceFrame WristReferenceFrame(const Eigen::Vector3f& left_wrist, const Eigen::Vector3f& right_wrist,
                                    float fallback_heading, float* heading_out);
 
+// The world transform of the reference frame a FrameFeatures was expressed in (its stored origin
+// and heading).
+ReferenceFrame ReferenceFrameOf(const FrameFeatures& features);
+
 // Features of every frame of `poses` (world, metres, Y up, ground at y = 0). `pelvis_up_local`
 // is the pelvis-local direction that is vertical on average (RigModel).
 std::vector<FrameFeatures> ComputeFrameFeatures(const GlobalPoses& poses, const BodyLandmarks& landmarks,

@@ -10,12 +10,6 @@ namespace {
 
 Eigen::Vector3f Vec(const float v[3]) { return {v[0], v[1], v[2]}; }
 
-// World rotation and origin of a frame's wrist reference frame (frame_features.h).
-Eigen::Matrix3f RotationOf(const FrameFeatures& f) {
-  return Eigen::AngleAxisf(f.ref_heading, Eigen::Vector3f::UnitY()).toRotationMatrix();
-}
-Eigen::Vector3f OriginOf(const FrameFeatures& f) { return {f.ref_origin_x, 0.0f, f.ref_origin_z}; }
-
 float Percentile(std::vector<float> values, double q) {
   if (values.empty()) return 0.0f;
   const size_t k = std::min(values.size() - 1, static_cast<size_t>(q * static_cast<double>(values.size())));
@@ -44,9 +38,10 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
     Eigen::Vector3f previous_pelvis = Eigen::Vector3f::Zero(), previous_velocity = Eigen::Vector3f::Zero();
     std::array<Eigen::Vector3f, 2> previous_wrist_velocity{};
     for (size_t f = 0; f < clip.size(); ++f) {
-      const Eigen::Matrix3f rotation = RotationOf(clip[f]);
-      const Eigen::Vector3f pelvis = OriginOf(clip[f]) + rotation * Vec(clip[f].pelvis_position);
-      midpoints.push_back(OriginOf(clip[f]) +
+      const ReferenceFrame ref = ReferenceFrameOf(clip[f]);
+      const Eigen::Matrix3f& rotation = ref.rotation;
+      const Eigen::Vector3f pelvis = ref.origin + rotation * Vec(clip[f].pelvis_position);
+      midpoints.push_back(ref.origin +
                           rotation * (0.5f * (Vec(clip[f].wrist_position[0]) + Vec(clip[f].wrist_position[1]))));
       std::array<Eigen::Vector3f, 2> wrist_velocity;
       for (int side = 0; side < 2; ++side) wrist_velocity[side] = rotation * Vec(clip[f].wrist_velocity[side]);

@@ -28,12 +28,10 @@ std::vector<bool> TravellingFrames(const std::vector<FrameFeatures>& clip, doubl
   const int half = std::max(1, static_cast<int>(std::lround(1.0 / 6.0 / frame_time)));
   std::vector<Eigen::Vector2f> pelvis(frames);
   for (int f = 0; f < frames; ++f) {
-    const FrameFeatures& x = clip[f];
-    const float c = std::cos(x.ref_heading), s = std::sin(x.ref_heading);
-    // The pelvis' ground position: the reference frame's origin plus its local x and z turned by
-    // the heading about Y (x axis (cos h, 0, −sin h), z axis (sin h, 0, cos h)).
-    pelvis[f] = Eigen::Vector2f(x.ref_origin_x + c * x.pelvis_position[0] + s * x.pelvis_position[2],
-                                x.ref_origin_z - s * x.pelvis_position[0] + c * x.pelvis_position[2]);
+    const ReferenceFrame ref = ReferenceFrameOf(clip[f]);
+    const Eigen::Vector3f world =
+        ref.origin + ref.rotation * Eigen::Map<const Eigen::Vector3f>(clip[f].pelvis_position);
+    pelvis[f] = Eigen::Vector2f(world.x(), world.z());  // over the ground
   }
   std::vector<bool> travelling(frames, false);
   for (int f = 0; f < frames; ++f) {
