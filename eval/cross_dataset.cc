@@ -242,7 +242,7 @@ absl::StatusOr<LandmarkTestSet> LoadCrossDatasetTests(const datasets::DataLocati
 absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     const EvaluationDatabases& databases, const std::vector<LandmarkTestClip>& tests,
     const std::vector<Experiment>& experiments, unsigned seed, int threads,
-    const std::function<void(const std::string&)>& progress) {
+    const std::filesystem::path& confidence_samples, const std::function<void(const std::string&)>& progress) {
   std::vector<LandmarkExperimentResult> results;
   const SizeReference reference = DatabaseSizeReference(*databases.captured);
   for (const Experiment& experiment : experiments) {
@@ -250,6 +250,7 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     std::vector<LandmarkMetrics> per_clip(tests.size());
     std::vector<float> input_scales(tests.size(), 1.0f);
     std::vector<PerformerScaleEstimate> fits(tests.size());
+    std::vector<std::vector<ConfidenceSample>> confidence(tests.size());
     MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), threads, [&](size_t i) -> absl::Status {
       const LandmarkTruth& truth = tests[i].truth;
       std::vector<WristSample> wrists =
@@ -266,11 +267,25 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       absl::StatusOr<std::vector<ReconstructedFrame>> frames = ReconstructOffline(database, experiment.options, wrists);
       if (!frames.ok())
         return absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
-      per_clip[i] = MeasureLandmarks(*database, truth, *frames, 1.0f / scale);
+      per_clip[i] = MeasureLandmarks(*database, truth, *frames, 1.0f / scale, &confidence[i]);
+      for (ConfidenceSample& sample : confidence[i]) sample.clip = static_cast<int>(i);
       per_clip[i].seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return absl::OkStatus();
     }));
-    LandmarkExperimentResult result{experiment, {}, {}, {}, {}};
+    LandmarkExperimentResult result{experiment, {}, {}, {}, {}, {}, {}};
+    std::vector<ConfidenceSample> all_confidence;
+    std::map<std::string, std::vector<ConfidenceSample>> confidence_by_source;
+    for (size_t i = 0; i < tests.size(); ++i) {
+      all_confidence.insert(all_confidence.end(), confidence[i].begin(), confidence[i].end());
+      std::vector<ConfidenceSample>& source = confidence_by_source[tests[i].source];
+      source.insert(source.end(), confidence[i].begin(), confidence[i].end());
+      std::vector<ConfidenceSample>().swap(confidence[i]);
+    }
+    result.confidence = SummariseConfidence(all_confidence);
+    for (const auto& [source, samples] : confidence_by_source)
+      result.confidence_by_source[source] = SummariseConfidence(samples);
+    if (experiment.name == "full" && !confidence_samples.empty())
+      MOCAP_RETURN_IF_ERROR(WriteConfidenceSamples(all_confidence, confidence_samples));
     for (size_t i = 0; i < tests.size(); ++i) {
       result.overall.Add(per_clip[i]);
       result.by_source[tests[i].source].Add(per_clip[i]);

@@ -59,13 +59,16 @@ struct LandmarkExperimentResult {
   std::map<std::string, LandmarkMetrics> by_source;
   std::map<std::string, LandmarkMetrics> by_content;  // keyed "source/content"
   std::vector<LandmarkClipResult> clips;              // in test order
+  ConfidenceSummary confidence;                       // the expected landmark errors against the actual
+  std::map<std::string, ConfidenceSummary> confidence_by_source;
 };
 
 // Every test's wrists (its own rate, plus the experiment's noise, one seed per clip) through every
-// experiment, scored on landmarks.
+// experiment, scored on landmarks. The "full" run's confidence samples go to
+// `confidence_samples` unless it is empty.
 absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     const EvaluationDatabases& databases, const std::vector<LandmarkTestClip>& tests,
     const std::vector<Experiment>& experiments, unsigned seed, int threads,
-    const std::function<void(const std::string&)>& progress);
+    const std::filesystem::path& confidence_samples, const std::function<void(const std::string&)>& progress);
 
 }  // namespace mocap::eval

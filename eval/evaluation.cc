@@ -134,6 +134,26 @@ BvhClip TruthBvh(const TestClip& test) {
 
 constexpr double kMaxWrittenDeviationMetres = 0.001;
 
+// The confidence pairs of a reconstruction on the database's rig, frame by frame against the
+// capture's landmarks.
+void ConfidenceSamplesOf(const ReconstructionDatabase& database, const GlobalPoses& truth,
+                         const std::vector<ReconstructedFrame>& frames, std::vector<ConfidenceSample>* samples) {
+  const std::array<int, kNumBodyLandmarks> joints = BodyLandmarkJoints(database.rig().topology.landmarks);
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  std::array<Eigen::Vector3f, kNumBodyLandmarks> output, captured;
+  const int scored = std::min(truth.num_frames(), static_cast<int>(frames.size()));
+  samples->reserve(static_cast<size_t>(scored) * kNumBodyLandmarks);
+  for (int f = 0; f < scored; ++f) {
+    database.body().WorldTransforms(frames[f].pose, &rotations, &positions);
+    for (int k = 0; k < kNumBodyLandmarks; ++k) {
+      output[k] = positions[joints[k]];
+      captured[k] = truth.position(f, joints[k]);
+    }
+    AddConfidenceSamples(frames[f], 1.0f, output, captured, samples);
+  }
+}
+
 }  // namespace
 
 absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(const EvaluationDatabases& databases,
@@ -147,6 +167,7 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(const EvaluationData
     const std::shared_ptr<const ReconstructionDatabase>& database = databases.For(experiment);
     ExperimentResult result{experiment, {}, {}};
     std::vector<Metrics> per_clip(tests.size());
+    std::vector<std::vector<ConfidenceSample>> confidence(tests.size());
     MOCAP_RETURN_IF_ERROR(ParallelFor(tests.size(), config.threads, [&](size_t i) -> absl::Status {
       const TestClip& test = tests[i];
       const BodyLandmarks& l = database->rig().topology.landmarks;
@@ -164,6 +185,8 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(const EvaluationData
       if (!frames.ok()) return absl::Status(frames.status().code(), StrCat(test.name, ": ", frames.status().message()));
       per_clip[i] = Measure(*database, test.clip, test.truth, *frames);
       per_clip[i].seconds = seconds;
+      ConfidenceSamplesOf(*database, test.truth, *frames, &confidence[i]);
+      for (ConfidenceSample& sample : confidence[i]) sample.clip = static_cast<int>(i);
       if (experiment.name != "full" || config.bvh_dir.empty()) return absl::OkStatus();
       const std::filesystem::path out = config.bvh_dir / test.name;
       MOCAP_RETURN_IF_ERROR(WriteBvhFile(ReconstructionToBvh(*database, *frames), out));
@@ -175,6 +198,12 @@ absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(const EvaluationData
       }
       return WriteBvhFile(TruthBvh(test), config.bvh_dir / "truth" / test.name);
     }));
+    std::vector<ConfidenceSample> all_confidence;
+    for (const std::vector<ConfidenceSample>& clip : confidence)
+      all_confidence.insert(all_confidence.end(), clip.begin(), clip.end());
+    result.confidence = SummariseConfidence(all_confidence);
+    if (experiment.name == "full" && !config.confidence_samples.empty())
+      MOCAP_RETURN_IF_ERROR(WriteConfidenceSamples(all_confidence, config.confidence_samples));
     for (size_t i = 0; i < tests.size(); ++i) {
       result.overall.Add(per_clip[i]);
       result.by_content[tests[i].content].Add(per_clip[i]);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "eval/confidence_calibration.h"
 #include "eval/eval_metrics.h"
 #include "eval/experiments.h"
 
@@ -34,6 +35,7 @@ struct ExperimentResult {
   Metrics overall;
   std::map<std::string, Metrics> by_content;
   std::vector<ClipResult> clips;  // in test order
+  ConfidenceSummary confidence;   // the expected landmark errors against the actual
 };
 
 // Database from BVH files (all cores), built as the service builds it. The rig comes from the
@@ -68,6 +70,8 @@ struct EvaluationConfig {
   int threads = 2;
   std::filesystem::path
       bvh_dir;  // where the "full" run's reconstructions go (the captured clips in truth/); empty = nowhere
+  // Where the "full" run's confidence samples go (WriteConfidenceSamples); empty = nowhere.
+  std::filesystem::path confidence_samples;
 };
 
 absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(const EvaluationDatabases& databases,

@@ -5,11 +5,6 @@
 
 namespace mocap::eval {
 
-std::array<int, kNumScoredLandmarks> ScoredLandmarkJoints(const BodyLandmarks& l) {
-  return {l.pelvis,      l.head,     l.left_shoulder, l.right_shoulder, l.left_elbow, l.right_elbow, l.left_wrist,
-          l.right_wrist, l.left_hip, l.right_hip,     l.left_knee,      l.right_knee, l.left_ankle,  l.right_ankle};
-}
-
 LandmarkBodySize BodySizeOf(const std::array<Eigen::Vector3f, kNumScoredLandmarks>& p) {
   auto chain = [&](int a, int b, int c) { return (p[a] - p[b]).norm() + (p[b] - p[c]).norm(); };
   // Scoring order: shoulders 2-3, elbows 4-5, wrists 6-7, hips 8-9, knees 10-11, ankles 12-13.
@@ -54,7 +49,8 @@ double TruthPelvisSpeedMax(const LandmarkTruth& truth, double database_frame_tim
 }  // namespace
 
 LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const LandmarkTruth& truth,
-                                 const std::vector<ReconstructedFrame>& frames, float output_scale) {
+                                 const std::vector<ReconstructedFrame>& frames, float output_scale,
+                                 std::vector<ConfidenceSample>* confidence) {
   LandmarkMetrics m;
   const std::array<int, kNumScoredLandmarks> joints = ScoredLandmarkJoints(database.rig().topology.landmarks);
   const PlausibilityRig plausibility_rig =
@@ -90,6 +86,9 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
     for (int k = 0; k < kNumScoredLandmarks; ++k) {
       if (k == kPelvisLandmark) continue;
       pose += ((at[k] - at[kPelvisLandmark]) - (truth.positions[f][k] - truth.positions[f][kPelvisLandmark])).norm();
+    }
+    if (confidence) {
+      AddConfidenceSamples(frames[w < 0.5f ? next - 1 : next], output_scale, at, truth.positions[f], confidence);
     }
     m.pose_error_m += pose / (kNumScoredLandmarks - 1);
     m.frames += 1;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "eval/clip_plausibility.h"
+#include "eval/confidence_calibration.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/reconstruction_session.h"
 #include "motion/skeleton/body_topology.h"
@@ -17,7 +18,7 @@
 namespace mocap::eval {
 
 // The scored landmarks, in this order; the groups pair left and right.
-inline constexpr int kNumScoredLandmarks = 14;
+inline constexpr int kNumScoredLandmarks = kNumBodyLandmarks;
 inline constexpr int kNumLandmarkGroups = 8;
 inline constexpr std::array<const char*, kNumLandmarkGroups> kLandmarkGroupNames = {
     "pelvis", "head", "shoulders", "elbows", "wrists", "hips", "knees", "ankles"};
@@ -25,8 +26,10 @@ inline constexpr std::array<const char*, kNumLandmarkGroups> kLandmarkGroupNames
 inline constexpr std::array<int, kNumScoredLandmarks> kLandmarkGroup = {0, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7};
 inline constexpr int kLeftWristLandmark = 6, kRightWristLandmark = 7, kPelvisLandmark = 0;
 
-// The joints of `landmarks` in scoring order; -1 where the rig's analysis found none.
-std::array<int, kNumScoredLandmarks> ScoredLandmarkJoints(const BodyLandmarks& landmarks);
+// The joints of `landmarks` in scoring order (BodyLandmarkJoints); -1 where the rig's analysis found none.
+inline std::array<int, kNumScoredLandmarks> ScoredLandmarkJoints(const BodyLandmarks& landmarks) {
+  return BodyLandmarkJoints(landmarks);
+}
 
 // A captured clip seen through its landmarks: world metres, Y up, frames `frame_time` apart from
 // time 0.
@@ -65,7 +68,10 @@ struct LandmarkMetrics : ClipPlausibility {
 // frames around that time. Truth frames outside the output's time span are not scored.
 // `output_scale`: the output's positions are multiplied by it first (a body reconstructed at the
 // database's size and scaled to the performer's).
+// `confidence`, when given, receives each scored frame's confidence pairs (the expected errors of
+// the output frame nearer in time, scaled as its positions).
 LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const LandmarkTruth& truth,
-                                 const std::vector<ReconstructedFrame>& frames, float output_scale = 1.0f);
+                                 const std::vector<ReconstructedFrame>& frames, float output_scale = 1.0f,
+                                 std::vector<ConfidenceSample>* confidence = nullptr);
 
 }  // namespace mocap::eval

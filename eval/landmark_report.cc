@@ -1,5 +1,6 @@
 #include "eval/landmark_report.h"
 
+#include <algorithm>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -136,6 +137,8 @@ absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out
     run["overall"] = LandmarkMetricsJson(r.overall);
     for (const auto& [source, m] : r.by_source) run["by_source"][source] = LandmarkMetricsJson(m);
     for (const auto& [content, m] : r.by_content) run["by_content"][content] = LandmarkMetricsJson(m);
+    run["confidence"]["overall"] = ConfidenceJson(r.confidence);
+    for (const auto& [source, c] : r.confidence_by_source) run["confidence"]["by_source"][source] = ConfidenceJson(c);
     for (const auto& c : r.clips) {
       nlohmann::json clip = LandmarkMetricsJson(c.metrics);
       clip["name"] = c.name;
@@ -204,6 +207,22 @@ absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out
     md << "\n";
   }
   md << devices.str();
+  std::ostringstream confidence;
+  if (const auto full = std::find_if(results.begin(), results.end(),
+                                     [](const LandmarkExperimentResult& r) { return r.experiment.name == "full"; });
+      full != results.end()) {
+    std::vector<std::pair<std::string, const ConfidenceSummary*>> rows = {{"all", &full->confidence}};
+    for (const auto& [source, c] : full->confidence_by_source) rows.emplace_back(source, &c);
+    confidence << "\n## Confidence of the full method: expected landmark error against actual\n\n"
+               << ConfidenceMarkdown(rows) << "\nPlots: `plots/confidence_reliability_*.svg`.\n";
+    std::filesystem::create_directories(out_dir / "plots");
+    for (const auto& [name, summary] : rows) {
+      std::ofstream svg(out_dir / "plots" / StrCat("confidence_reliability_", name, ".svg"));
+      svg << ReliabilitySvg(StrCat("Expected against actual landmark error (full, ", name, ")"), *summary);
+      if (!svg) return absl::InternalError(StrCat("cannot write the reliability plots in ", out_dir.string()));
+    }
+  }
+  md << confidence.str();
   if (!left_out.empty()) {
     md << "\n## Not scored\n\n";
     for (const std::string& why : left_out) md << "- " << why << "\n";
@@ -211,7 +230,7 @@ absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out
   std::ofstream out(out_dir / "landmarks.md");
   out << md.str();
   if (!json || !out) return absl::InternalError(StrCat("cannot write the landmark report in ", out_dir.string()));
-  return per_source.str() + devices.str();
+  return per_source.str() + devices.str() + confidence.str();
 }
 
 }  // namespace mocap::eval

@@ -53,7 +53,8 @@ std::vector<std::filesystem::path> QuickSubset(const std::vector<std::filesystem
 // landmarks.md / landmarks.json, prints the per-source table.
 int RunLandmarkTests(const mocap::eval::EvaluationDatabases& databases, const mocap::eval::LandmarkTestSet& tests,
                      const std::vector<mocap::eval::Experiment>& experiments, nlohmann::json context,
-                     const std::string& out_dir, unsigned seed, int threads) {
+                     const std::string& out_dir, unsigned seed, int threads,
+                     const std::filesystem::path& confidence_samples) {
   if (tests.clips.empty()) {
     std::cerr << "mocap-eval: no test clip can be scored\n";
     return kExitError;
@@ -61,8 +62,9 @@ int RunLandmarkTests(const mocap::eval::EvaluationDatabases& databases, const mo
   context["test_clips"] = tests.clips.size();
   std::cerr << "reconstructing " << tests.clips.size() << " clips (scored on landmarks) with " << experiments.size()
             << " runs...\n";
-  auto results = mocap::eval::RunLandmarkEvaluation(databases, tests.clips, experiments, seed, threads,
-                                                    [](const std::string& line) { std::cerr << "  " << line << "\n"; });
+  auto results =
+      mocap::eval::RunLandmarkEvaluation(databases, tests.clips, experiments, seed, threads, confidence_samples,
+                                         [](const std::string& line) { std::cerr << "  " << line << "\n"; });
   if (!results.ok()) {
     std::cerr << "mocap-eval: " << results.status().message() << "\n";
     return kExitError;
@@ -155,6 +157,10 @@ int main(int argc, char** argv) {
   std::vector<std::string> only_runs;
   app.add_option("--runs", only_runs, "only these runs (full, nearest_neighbour, nearest_average, wrists_only, ...)");
   app.add_flag("--no-bvh", no_bvh, "do not write the reconstructions as BVH");
+  std::string confidence_samples;
+  app.add_option("--confidence-samples", confidence_samples,
+                 "write the full run's (predicted, actual) landmark errors and their cues to this CSV, one line per "
+                 "frame and landmark (fitting the confidence calibration: docs/method.md \"Confidence\")");
   app.add_option("--thresholds", thresholds_file,
                  "regression thresholds for --quick (JSON; default: the built-in ones)");
   app.add_option("--shared-data", shared_data,
@@ -276,7 +282,8 @@ int main(int argc, char** argv) {
           experiments.push_back(sized);
       }
     }
-    return RunLandmarkTests(*databases, *landmark_tests, experiments, context, out_dir, seed, threads);
+    return RunLandmarkTests(*databases, *landmark_tests, experiments, context, out_dir, seed, threads,
+                            confidence_samples);
   }
   if (!tests.ok()) {
     std::cerr << "mocap-eval: test clips: " << tests.status().message() << "\n";
@@ -317,8 +324,10 @@ int main(int argc, char** argv) {
   context["k2"] = base.pose_neighbours;
   context["quick"] = quick;
   auto experiments = make_experiments();
-  mocap::eval::EvaluationConfig config{
-      .seed = seed, .threads = threads, .bvh_dir = no_bvh ? "" : std::filesystem::path(out_dir) / "bvh"};
+  mocap::eval::EvaluationConfig config{.seed = seed,
+                                       .threads = threads,
+                                       .bvh_dir = no_bvh ? "" : std::filesystem::path(out_dir) / "bvh",
+                                       .confidence_samples = confidence_samples};
   std::cerr << "reconstructing " << tests->size() << " clips with " << experiments.size() << " runs...\n";
   auto results = mocap::eval::RunEvaluation(*databases, *tests, experiments, config,
                                             [](const std::string& line) { std::cerr << "  " << line << "\n"; });

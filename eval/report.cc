@@ -63,6 +63,7 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
                             {"overall", MetricsJson(r.overall)}};
     for (const auto& [content, metrics] : r.by_content) entry["by_content"][content] = MetricsJson(metrics);
     for (const ClipResult& c : r.clips) (entry["clips"][c.name] = MetricsJson(c.metrics))["content"] = c.content;
+    entry["confidence"] = ConfidenceJson(r.confidence);
     report["experiments"][r.experiment.name] = entry;
   }
   const ExperimentResult* full = Find(results, "full");
@@ -189,6 +190,20 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
                  Fixed(t["jitter_over_truth"]),
                  "× the capture's (≤ 2×). Joint-angle RMS reduction against the wrists-only pose model: ",
                  Fixed(100 * t["joint_angle_rms_reduction_vs_wrists_only"].get<double>(), 1), "% (patent: 32%).\n");
+  }
+  md +=
+      "\n## Confidence: expected landmark error against actual\n\nEvery frame's expected error of each of the 14 "
+      "landmarks (docs/method.md \"Confidence\") against its actual error; bins of equal size by the expected "
+      "error. Plot: `plots/confidence_reliability.svg`.\n\n";
+  std::vector<std::pair<std::string, const ConfidenceSummary*>> confidence_rows;
+  for (const ExperimentResult& r : results) confidence_rows.emplace_back(r.experiment.name, &r.confidence);
+  md += ConfidenceMarkdown(confidence_rows);
+  if (full) {
+    if (absl::Status s = WriteText(out_dir / "plots/confidence_reliability.svg",
+                                   ReliabilitySvg("Expected against actual landmark error (full)", full->confidence));
+        !s.ok()) {
+      return s;
+    }
   }
   // Per content type, main runs.
   std::set<std::string> contents;

@@ -23,6 +23,7 @@
 
 #include "absl/status/statusor.h"
 #include "motion/reconstruct/hand_rest.h"
+#include "motion/reconstruct/landmark_confidence.h"
 #include "motion/reconstruct/motion_guard.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/reconstruction_options.h"
@@ -39,6 +40,7 @@ struct FrameDiagnostics {
   std::array<float, 4> control_error{};  // metres: left/right wrist, left/right ankle before A7
   std::array<bool, 2> contact{};         // A7 planted flags (left, right)
   bool bridged = false;                  // input interpolated across a dropout
+  float session_novelty = 0;             // SessionNovelty's mean log distance (landmark_confidence.h)
 };
 
 // What the engine makes of one hand's input in a frame (the states of issue #25; "lost" is not
@@ -63,7 +65,9 @@ struct ReconstructedFrame {
   double time = 0.0;                                                    // seconds, on the input's clock
   Eigen::Quaternionf pelvis_rotation = Eigen::Quaternionf::Identity();  // world
   Eigen::Vector3f pelvis_position = Eigen::Vector3f::Zero();            // world, metres
-  BodyPose pose;                          // every joint's local rotation and the root translation
+  BodyPose pose;  // every joint's local rotation and the root translation
+  // How far each body landmark is expected to be from the truth, metres (landmark_confidence.h).
+  LandmarkErrors landmark_error{};
   std::array<Eigen::Vector3f, 2> ankles;  // A4 estimates (left, right), world metres
   std::array<Eigen::Vector3f, 2> wrists;  // A2-smoothed input
   FrameDiagnostics diagnostics;
@@ -136,6 +140,7 @@ class ReconstructionSession {
   ReconstructionOptions options_;
   WristResampler resampler_;
   std::unique_ptr<Segment> segment_;
+  SessionNovelty novelty_;
   int next_segment_id_ = 0;
   int next_output_index_ = 0;
   int joint_filter_lag_ = 0;

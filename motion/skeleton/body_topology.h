@@ -75,6 +75,18 @@ struct BodyLandmarks {
   int right_hip = -1;
 };
 
+// The body landmarks the service answers for (reconstruction confidence, landmark scoring), in
+// this order: pelvis, head, then left and right of shoulders, elbows, wrists, hips, knees, ankles.
+inline constexpr int kNumBodyLandmarks = 14;
+inline constexpr std::array<const char*, kNumBodyLandmarks> kBodyLandmarkNames = {
+    "pelvis",      "head",     "left_shoulder", "right_shoulder", "left_elbow", "right_elbow", "left_wrist",
+    "right_wrist", "left_hip", "right_hip",     "left_knee",      "right_knee", "left_ankle",  "right_ankle"};
+// The joints of `landmarks` in that order; -1 where the rig's analysis found none.
+inline std::array<int, kNumBodyLandmarks> BodyLandmarkJoints(const BodyLandmarks& l) {
+  return {l.pelvis,      l.head,     l.left_shoulder, l.right_shoulder, l.left_elbow, l.right_elbow, l.left_wrist,
+          l.right_wrist, l.left_hip, l.right_hip,     l.left_knee,      l.right_knee, l.left_ankle,  l.right_ankle};
+}
+
 struct BodyTopology {
   std::vector<BodyGroup> group_of_joint;  // one per joint
   // Per group: the group's top joint (spine: the skeleton root) and its limb-end leaf.
