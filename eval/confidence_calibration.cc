@@ -20,7 +20,9 @@ void AddConfidenceSamples(const ReconstructedFrame& frame, float scale,
                         .actual = (output[k] - truth[k]).norm(),
                         .landmark = static_cast<std::uint8_t>(k),
                         .distance = frame.diagnostics.pose_neighbour_distance,
-                        .session_log_distance = frame.diagnostics.session_novelty});
+                        .wrist_fit = 0.5f * (frame.diagnostics.control_error[0] + frame.diagnostics.control_error[1]),
+                        .solver_cost = frame.diagnostics.solver_cost,
+                        .session_log_cost = frame.diagnostics.session_log_cost});
   }
 }
 
@@ -115,10 +117,10 @@ ConfidenceSummary SummariseConfidence(const std::vector<ConfidenceSample>& sampl
 absl::Status WriteConfidenceSamples(const std::vector<ConfidenceSample>& samples, const std::filesystem::path& file) {
   std::ofstream out(file);
   if (!out) return absl::UnavailableError(absl::StrCat("cannot write ", file.string()));
-  out << "clip,landmark,predicted_m,actual_m,distance,session_log_distance\n";
+  out << "clip,landmark,predicted_m,actual_m,distance,wrist_fit_m,solver_cost,session_log_cost\n";
   for (const ConfidenceSample& s : samples) {
-    out << s.clip << ',' << kBodyLandmarkNames[s.landmark] << ',' << s.predicted << ',' << s.actual << ',' << s.distance << ','
-        << s.session_log_distance << '\n';
+    out << s.clip << ',' << kBodyLandmarkNames[s.landmark] << ',' << s.predicted << ',' << s.actual << ',' << s.distance
+        << ',' << s.wrist_fit << ',' << s.solver_cost << ',' << s.session_log_cost << '\n';
   }
   out.close();
   if (!out) return absl::DataLossError(absl::StrCat("writing ", file.string(), " failed"));

@@ -20,9 +20,8 @@ namespace mocap::eval {
 struct ConfidenceSample {
   float predicted = 0, actual = 0;  // metres
   std::uint8_t landmark = 0;        // BodyLandmarkJoints order
-  // What it was told from, for fitting the calibration (landmark_confidence.h): the frame's eq. 8
-  // distance and the session's mean log distance.
-  float distance = 0, session_log_distance = 0;
+  // What it was told from, for fitting the calibration (landmark_confidence.h ConfidenceCues).
+  float distance = 0, wrist_fit = 0, solver_cost = 0, session_log_cost = 0;
   int clip = 0;  // test clip index
 };
 
@@ -53,7 +52,7 @@ struct ConfidenceSummary {
 // Empty summary (samples = 0) for no samples.
 ConfidenceSummary SummariseConfidence(const std::vector<ConfidenceSample>& samples, int bins = 10);
 
-// One line per sample (clip, landmark name, predicted, actual, distance, session log distance) for fitting the
+// One line per sample (clip, landmark name, predicted, actual, then the cues) for fitting the
 // calibration offline (docs/method.md "Confidence").
 absl::Status WriteConfidenceSamples(const std::vector<ConfidenceSample>& samples, const std::filesystem::path& file);
 

@@ -196,7 +196,11 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
       "landmarks (docs/method.md \"Confidence\") against its actual error; bins of equal size by the expected "
       "error. Plot: `plots/confidence_reliability.svg`.\n\n";
   std::vector<std::pair<std::string, const ConfidenceSummary*>> confidence_rows;
-  for (const ExperimentResult& r : results) confidence_rows.emplace_back(r.experiment.name, &r.confidence);
+  for (const ExperimentResult& r : results) {
+    // Calibrated for the full method only (the lookups have no A6 solve to tell from).
+    if (r.experiment.options.method == ReconstructionMethod::kFull)
+      confidence_rows.emplace_back(r.experiment.name, &r.confidence);
+  }
   md += ConfidenceMarkdown(confidence_rows);
   if (full) {
     if (absl::Status s = WriteText(out_dir / "plots/confidence_reliability.svg",

@@ -6,35 +6,40 @@
 namespace mocap {
 namespace {
 
-// The calibration of docs/method.md "Confidence": log e_k = a_k + b·log d + c·D, with d the frame's
-// eq. 8 distance and D the session's mean log distance, fitted by least squares of log error on
-// the full method's landmark errors (lag 5, 0.5 cm noise) in two development regimes weighted
-// alike — the development split (the database has the performer's style) and the same takes with
-// their style left out of the database — then each a_k raised by the mean of exp(residual) so the
-// mean error, not the median, is predicted. `eval/fit_confidence.py` reproduces it.
-constexpr std::array<float, kNumBodyLandmarks> kLogBase = {-2.1286f, -2.1063f, -2.1053f, -2.1200f, -2.1551f,
-                                                           -2.1968f, -3.6827f, -3.6800f, -2.1289f, -2.1079f,
-                                                           -2.0710f, -1.9312f, -1.9619f, -1.8303f};
-constexpr float kDistanceExponent = 0.0586f;
-constexpr float kSessionExponent = 0.2384f;
-constexpr float kDistanceFloor = 1e-4f;
+// The calibration of docs/method.md "Confidence":
+//   log e_k = a_k + b_d·log(d + 1e-4) + b_w·log(w + 1e-4) + b_c·log(c + 1e-3) + b_s·S
+// (d: eq. 8 distance, w: wrist fit in metres, c: A6 energy, S: the session's mean log energy),
+// fitted by least squares of the log error on the full method's landmark errors (lag 5, 0.5 cm
+// noise) in two development regimes weighted alike — the development split (the database has the
+// performer's style) and the same takes with their style left out of the database — then each a_k
+// raised by the mean of exp(residual) so that the mean error, not the median, is predicted.
+// `eval/fit_confidence.py` reproduces it.
+constexpr std::array<float, kNumBodyLandmarks> kLogBase = {-3.2379f, -3.1716f, -3.1880f, -3.1987f, -3.2464f,
+                                                           -3.2916f, -4.6098f, -4.6116f, -3.2320f, -3.2138f,
+                                                           -3.0743f, -2.9693f, -2.9267f, -2.8450f};
+constexpr float kDistanceExponent = 0.0444f;
+constexpr float kWristFitExponent = 0.1274f;
+constexpr float kCostExponent = 0.0400f;
+constexpr float kSessionCostExponent = 0.2853f;
 
 }  // namespace
 
-SessionNovelty::SessionNovelty(double frame_time, double window_seconds)
+SessionCost::SessionCost(double frame_time, double window_seconds)
     : window_frames_(std::max(1.0, window_seconds / frame_time)) {}
 
-float SessionNovelty::Add(float distance) {
+float SessionCost::Add(float solver_cost) {
   ++frames_;
   const double weight = std::max(1.0 / static_cast<double>(frames_), 1.0 / window_frames_);
-  mean_log_ += weight * (LogNoveltyDistance(distance) - mean_log_);
+  mean_log_ += weight * (LogSolverCost(solver_cost) - mean_log_);
   return static_cast<float>(mean_log_);
 }
 
-float LogNoveltyDistance(float distance) { return std::log(std::max(0.0f, distance) + kDistanceFloor); }
+float LogSolverCost(float solver_cost) { return std::log(std::max(0.0f, solver_cost) + 1e-3f); }
 
-LandmarkErrors ExpectedLandmarkErrors(float distance, float session_log_distance) {
-  const float shared = kDistanceExponent * LogNoveltyDistance(distance) + kSessionExponent * session_log_distance;
+LandmarkErrors ExpectedLandmarkErrors(const ConfidenceCues& cues) {
+  const float shared = kDistanceExponent * std::log(std::max(0.0f, cues.distance) + 1e-4f) +
+                       kWristFitExponent * std::log(std::max(0.0f, cues.wrist_fit) + 1e-4f) +
+                       kCostExponent * LogSolverCost(cues.solver_cost) + kSessionCostExponent * cues.session_log_cost;
   LandmarkErrors errors;
   for (int k = 0; k < kNumBodyLandmarks; ++k) errors[k] = std::exp(kLogBase[k] + shared);
   return errors;

@@ -1,8 +1,9 @@
 // How sure the engine is of each body landmark it answers with (issue #25 item 1, docs/method.md
-// "Confidence"): an expected error in metres per landmark and frame, told from how unlike the
-// database the query is — the eq. 8 distance of its nearest database frame (A5), now and over the
-// session's last seconds (a body the database lacks stays unlike it) — through a calibration fitted
-// on development data (eval/fit_confidence.py).
+// "Confidence"): an expected error in metres per landmark and frame, told from what the engine
+// already knows — how unlike the database the query is (the eq. 8 distance of its nearest database
+// frame, A5), how well the solved body meets the wrists and how hard the A6 solve had to pull
+// (its energy, now and over the session's last seconds: a body the database lacks keeps costing)
+// — through a calibration fitted on development data (eval/fit_confidence.py).
 #pragma once
 
 #include <array>
@@ -13,14 +14,22 @@ namespace mocap {
 
 using LandmarkErrors = std::array<float, kNumBodyLandmarks>;  // metres, BodyLandmarkJoints order
 
-// The causal mean of the log eq. 8 distance over a session: the plain mean over its first
+// What a frame's confidence is told from.
+struct ConfidenceCues {
+  float distance = 0;          // eq. 8 distance of the nearest database frame
+  float wrist_fit = 0;         // metres: mean distance of the solved wrists from their targets (A6)
+  float solver_cost = 0;       // A6 energy at the solution
+  float session_log_cost = 0;  // SessionCost: the mean log energy over the session's last seconds
+};
+
+// The causal mean of the log A6 energy over a session: the plain mean over its first
 // `window_seconds`, then an exponential mean of that time constant. One per session (across its
 // segments: the same person).
-class SessionNovelty {
+class SessionCost {
  public:
-  explicit SessionNovelty(double frame_time, double window_seconds = 10.0);
-  // Adds a frame's distance; returns the mean log distance including it.
-  float Add(float distance);
+  explicit SessionCost(double frame_time, double window_seconds = 10.0);
+  // Adds a frame's energy; returns the mean log energy including it.
+  float Add(float solver_cost);
 
  private:
   double window_frames_;
@@ -28,11 +37,10 @@ class SessionNovelty {
   double mean_log_ = 0;
 };
 
-// log(distance) as the calibration takes it (distances of 0 stay finite).
-float LogNoveltyDistance(float distance);
+// log(cost) as the calibration takes it (an energy of 0 stays finite).
+float LogSolverCost(float solver_cost);
 
-// The expected error of each landmark, metres, from the frame's eq. 8 distance and the session's
-// mean log distance (SessionNovelty).
-LandmarkErrors ExpectedLandmarkErrors(float distance, float session_log_distance);
+// The expected error of each landmark, metres.
+LandmarkErrors ExpectedLandmarkErrors(const ConfidenceCues& cues);
 
 }  // namespace mocap

@@ -89,7 +89,7 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
     : database_(std::move(database)),
       options_(options),
       resampler_(database_->frame_time(), options.max_gap_seconds),
-      novelty_(database_->frame_time()),
+      session_cost_(database_->frame_time()),
       motion_guard_(database_->motion_limits(), database_->frame_time(), options.motion_guard),
       jump_detector_(database_->motion_limits(), database_->frame_time(), options.motion_guard) {
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
@@ -397,8 +397,11 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   d.solver_evaluations = solved.evaluations;
   for (int c = 0; c < kNumControlPoints; ++c) d.control_error[c] = solved.control_error[c];
   d.bridged = s.bridged[f];
-  d.session_novelty = novelty_.Add(d.pose_neighbour_distance);
-  frame.landmark_error = ExpectedLandmarkErrors(d.pose_neighbour_distance, d.session_novelty);
+  d.session_log_cost = session_cost_.Add(d.solver_cost);
+  frame.landmark_error = ExpectedLandmarkErrors({.distance = d.pose_neighbour_distance,
+                                                 .wrist_fit = 0.5f * (d.control_error[0] + d.control_error[1]),
+                                                 .solver_cost = d.solver_cost,
+                                                 .session_log_cost = d.session_log_cost});
   if (full) d.contact = s.cleaner.Process(ankles, &db.frames()[s.raw_rows[f]], &frame.pose, &frame.ankle_targets);
   s.post.push_back(std::move(frame));
   EmitFiltered(false, out);

@@ -40,7 +40,7 @@ struct FrameDiagnostics {
   std::array<float, 4> control_error{};  // metres: left/right wrist, left/right ankle before A7
   std::array<bool, 2> contact{};         // A7 planted flags (left, right)
   bool bridged = false;                  // input interpolated across a dropout
-  float session_novelty = 0;             // SessionNovelty's mean log distance (landmark_confidence.h)
+  float session_log_cost = 0;            // SessionCost's mean log A6 energy (landmark_confidence.h)
 };
 
 // What the engine makes of one hand's input in a frame (the states of issue #25; "lost" is not
@@ -140,7 +140,7 @@ class ReconstructionSession {
   ReconstructionOptions options_;
   WristResampler resampler_;
   std::unique_ptr<Segment> segment_;
-  SessionNovelty novelty_;
+  SessionCost session_cost_;
   int next_segment_id_ = 0;
   int next_output_index_ = 0;
   int joint_filter_lag_ = 0;
