@@ -50,6 +50,10 @@ nlohmann::json ClipJson(std::string_view name, std::string_view bvh_text) {
   clip["toYUp"] = {to_y_up.x(), to_y_up.y(), to_y_up.z(), to_y_up.w()};
   clip["pelvis"] = parsed->skeleton.joint(body->landmarks.pelvis).name;
   clip["head"] = parsed->skeleton.joint(body->landmarks.head).name;
+  nlohmann::json landmarks = nlohmann::json::array();
+  for (int joint : BodyLandmarkJoints(body->landmarks))
+    landmarks.push_back(joint >= 0 ? parsed->skeleton.joint(joint).name : std::string());
+  clip["landmarks"] = std::move(landmarks);
   return clip;
 }
 
@@ -87,6 +91,29 @@ absl::StatusOr<nlohmann::json> ReconstructionTraces(const nlohmann::json& recons
     return absl::InvalidArgumentError(std::string("a frame's point is not {x, y, z} numbers: ") + error.what());
   }
   return traces;
+}
+
+absl::StatusOr<nlohmann::json> ReconstructionConfidence(const nlohmann::json& reconstruction) {
+  const nlohmann::json* frames =
+      reconstruction.is_object() && reconstruction.contains("frames") ? &reconstruction["frames"] : nullptr;
+  if (!frames || !frames->is_array() || frames->empty())
+    return absl::InvalidArgumentError("no \"frames\" to take expected errors from");
+  nlohmann::json errors = nlohmann::json::array();
+  bool seen = false;
+  try {
+    for (const nlohmann::json& frame : *frames) {
+      const nlohmann::json* e =
+          frame.is_object() && frame.contains("expected_error") ? &frame["expected_error"] : nullptr;
+      seen = seen || (e && e->is_object());
+      // Proto JSON leaves out a landmark whose error is 0.
+      for (const char* name : kBodyLandmarkNames)
+        errors.push_back(e && e->is_object() ? Rounded(e->value(name, 0.0)) : 0.0);
+    }
+  } catch (const nlohmann::json::exception& error) {
+    return absl::InvalidArgumentError(std::string("an expected error is not a number: ") + error.what());
+  }
+  if (!seen) return absl::NotFoundError("no frame has expected errors (a server from before them)");
+  return errors;
 }
 
 }  // namespace mocap::html_view

@@ -13,7 +13,8 @@
 
 namespace mocap::html_view {
 
-// {"name", "bvh", "note", "metresPerUnit", "toYUp": [x, y, z, w], "pelvis", "head"}. A text that does
+// {"name", "bvh", "note", "metresPerUnit", "toYUp": [x, y, z, w], "pelvis", "head", "landmarks": [the
+// joint name of each body landmark, kBodyLandmarkNames order; "" where the analysis found none]}. A text that does
 // not parse gives {"name", "bvh", "error": "NAME:LINE: what was expected"}, which the page shows in
 // place of the clip; a rig the analysis does not recognise leaves the unit and up axis to the page.
 nlohmann::json ClipJson(std::string_view name, std::string_view bvh_text);
@@ -25,5 +26,10 @@ inline std::string ClipError(const nlohmann::json& clip) { return clip.value("er
 // frame) from the JSON `mocap reconstruct` writes (its "frames": left_wrist, right_wrist,
 // left_ankle, right_ankle). InvalidArgument when it holds no frames.
 absl::StatusOr<nlohmann::json> ReconstructionTraces(const nlohmann::json& reconstruction);
+
+// Every frame's expected landmark errors (metres, 14 per frame in kBodyLandmarkNames order,
+// flattened) from the JSON `mocap reconstruct` writes (its frames' "expected_error").
+// InvalidArgument when it holds no frames; NotFound when no frame has them.
+absl::StatusOr<nlohmann::json> ReconstructionConfidence(const nlohmann::json& reconstruction);
 
 }  // namespace mocap::html_view

@@ -41,6 +41,14 @@ void ToProto(const RigModel& rig, v1::Skeleton* out) {
   landmarks->set_right_wrist(l.right_wrist);
   landmarks->set_left_ankle(l.left_ankle);
   landmarks->set_right_ankle(l.right_ankle);
+  landmarks->set_left_shoulder(l.left_shoulder);
+  landmarks->set_right_shoulder(l.right_shoulder);
+  landmarks->set_left_elbow(l.left_elbow);
+  landmarks->set_right_elbow(l.right_elbow);
+  landmarks->set_left_hip(l.left_hip);
+  landmarks->set_right_hip(l.right_hip);
+  landmarks->set_left_knee(l.left_knee);
+  landmarks->set_right_knee(l.right_knee);
 }
 
 void ToProto(const ClipSummary& clip, v1::Clip* out) {

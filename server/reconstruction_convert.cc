@@ -209,6 +209,14 @@ void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale
   ToProto(rig, out);
 }
 
+void ToProto(const LandmarkErrors& errors, float scale, v1::LandmarkErrors* out) {
+  // The message's fields are the landmarks in BodyLandmarkJoints order (checked by
+  // ReconstructionConvertTest.LandmarkErrorFieldsAreTheLandmarksInOrder).
+  const google::protobuf::Descriptor* descriptor = v1::LandmarkErrors::descriptor();
+  const google::protobuf::Reflection* reflection = v1::LandmarkErrors::GetReflection();
+  for (int k = 0; k < kNumBodyLandmarks; ++k) reflection->SetFloat(out, descriptor->field(k), errors[k] * scale);
+}
+
 void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out) {
   const float s = scale.scale;
   out->set_index(frame.index);
@@ -242,6 +250,7 @@ void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool 
   out->set_left_hand_state(state(frame.hand_state[0]));
   out->set_right_hand_state(state(frame.hand_state[1]));
   out->set_motion_limited(frame.motion_limited);
+  ToProto(frame.landmark_error, s, out->mutable_expected_error());
   if (!diagnostics) return;
   const FrameDiagnostics& d = frame.diagnostics;
   v1::FrameDiagnostics* o = out->mutable_diagnostics();

@@ -47,6 +47,8 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
                       WristSample* out);
 
 void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out);
+// Expected landmark errors, metres × `scale` (the performer's size).
+void ToProto(const LandmarkErrors& errors, float scale, v1::LandmarkErrors* out);
 void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out);
 void ToProto(const SessionStatistics& statistics, v1::SessionSummary* out);
 

@@ -187,6 +187,25 @@ std::optional<Plausibility> PlausibilityOf(const v1::SessionStarted& started, co
   return result;
 }
 
+// The mean expected error of each body landmark over the frames that carry one (docs/method.md
+// "Confidence"), metres, in the message's field order; nothing from a server before them.
+std::optional<std::vector<std::pair<std::string, double>>> MeanExpectedErrors(const std::vector<v1::Frame>& frames) {
+  const google::protobuf::Descriptor* descriptor = v1::LandmarkErrors::descriptor();
+  const google::protobuf::Reflection* reflection = v1::LandmarkErrors::GetReflection();
+  std::vector<std::pair<std::string, double>> means;
+  for (int k = 0; k < descriptor->field_count(); ++k) means.emplace_back(descriptor->field(k)->name(), 0.0);
+  long counted = 0;
+  for (const v1::Frame& frame : frames) {
+    if (!frame.has_expected_error()) continue;
+    ++counted;
+    for (int k = 0; k < descriptor->field_count(); ++k)
+      means[k].second += reflection->GetFloat(frame.expected_error(), descriptor->field(k));
+  }
+  if (counted == 0) return std::nullopt;
+  for (auto& [name, mean] : means) mean /= static_cast<double>(counted);
+  return means;
+}
+
 absl::Status WriteFile(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
@@ -232,8 +251,12 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
   if (absl::Status s = WriteFile(json_path, Json(*result)); !s.ok()) return ReportError(s);
   const v1::SessionSummary& summary = result->summary();
   const std::optional<Plausibility> plausibility = PlausibilityOf(result->started(), frames);
+  const auto expected_errors = MeanExpectedErrors(frames);
   if (global.json) {
     nlohmann::json out = nlohmann::json::parse(Json(summary));
+    if (expected_errors) {
+      for (const auto& [name, metres] : *expected_errors) out["mean_expected_error_cm"][name] = 100 * metres;
+    }
     if (plausibility) {
       const PlausibilityStats& p = plausibility->stats;
       out["plausibility"] = {
@@ -287,6 +310,19 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
     if (plausibility->predicted_hand_frames || plausibility->put_down_hand_frames) {
       std::cout << "; hand-frames bridged over a dropout " << plausibility->predicted_hand_frames
                 << ", with the device put down " << plausibility->put_down_hand_frames;
+    }
+    std::cout << "\n";
+    std::cout.unsetf(std::ios::floatfield);
+  }
+  if (expected_errors) {
+    // The groups a person reads: the pelvis, the head, then each pair's mean.
+    std::cout << std::fixed << std::setprecision(1) << "  expected error (mean over frames, docs/method.md "
+              << "\"Confidence\"): pelvis " << 100 * (*expected_errors)[0].second << " cm, head "
+              << 100 * (*expected_errors)[1].second << " cm";
+    for (size_t k = 2; k + 1 < expected_errors->size(); k += 2) {
+      std::string group = (*expected_errors)[k].first.substr(std::string("left_").size()) + "s";
+      std::cout << ", " << group << " " << 50 * ((*expected_errors)[k].second + (*expected_errors)[k + 1].second)
+                << " cm";
     }
     std::cout << "\n";
     std::cout.unsetf(std::ios::floatfield);

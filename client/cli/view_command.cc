@@ -56,21 +56,30 @@ std::vector<std::string> DisplayNames(const std::vector<fs::path>& files) {
   return names;
 }
 
-absl::StatusOr<nlohmann::json> TracesFromFile(const fs::path& json_path) {
+absl::StatusOr<nlohmann::json> ReconstructionFromFile(const fs::path& json_path) {
   MOCAP_ASSIGN_OR_RETURN(std::string text, html_view::ReadTextFile(json_path));
-  const nlohmann::json reconstruction = nlohmann::json::parse(text, nullptr, false);
+  nlohmann::json reconstruction = nlohmann::json::parse(text, nullptr, false);
   if (reconstruction.is_discarded()) return absl::InvalidArgumentError("not JSON");
-  return html_view::ReconstructionTraces(reconstruction);
+  return reconstruction;
 }
 
-// Adds the traces of `json_path` to `clip`; a JSON that cannot be used is reported, not fatal.
-void AddTraces(nlohmann::json& clip, const fs::path& json_path) {
-  absl::StatusOr<nlohmann::json> traces = TracesFromFile(json_path);
+// Adds the traces and expected errors of `json_path` to `clip`; a JSON that cannot be used is
+// reported, not fatal.
+void AddReconstruction(nlohmann::json& clip, const fs::path& json_path) {
+  absl::StatusOr<nlohmann::json> reconstruction = ReconstructionFromFile(json_path);
+  absl::StatusOr<nlohmann::json> traces =
+      reconstruction.ok() ? html_view::ReconstructionTraces(*reconstruction) : reconstruction.status();
   if (!traces.ok()) {
     spdlog::warn("{}: no traces drawn: {}", json_path.string(), std::string(traces.status().message()));
     return;
   }
   clip["traces"] = std::move(*traces);
+  absl::StatusOr<nlohmann::json> confidence = html_view::ReconstructionConfidence(*reconstruction);
+  if (confidence.ok()) {
+    clip["expectedErrors"] = std::move(*confidence);
+  } else {
+    spdlog::info("{}: no expected errors drawn: {}", json_path.string(), std::string(confidence.status().message()));
+  }
 }
 
 int Run(const ViewOptions& o) {
@@ -94,7 +103,7 @@ int Run(const ViewOptions& o) {
       spdlog::error("{} (the page shows this in its place)", error);
       ++unreadable;
     } else if (auto json = json_of->find(bvh); json != json_of->end()) {
-      AddTraces(clip, json->second);
+      AddReconstruction(clip, json->second);
     }
     names += (names.empty() ? "" : ", ") + display_names[i];
     clips.push_back(std::move(clip));
@@ -115,7 +124,8 @@ void RegisterView(CLI::App& app, Registry& registry) {
   CLI::App* command =
       app.add_subcommand("view",
                          "Write one self-contained HTML page playing BVH clips in a browser (no server needed); a "
-                         "`mocap reconstruct` JSON given (or beside its BVH) adds wrist and ankle traces");
+                         "`mocap reconstruct` JSON given (or beside its BVH) adds wrist and ankle traces and a halo "
+                         "around each body landmark as wide as its expected error");
   command->add_option("inputs", o->inputs, "BVH files, and optionally NAME.json beside NAME.bvh")
       ->required()
       ->check(CLI::ExistingFile);

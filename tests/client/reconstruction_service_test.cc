@@ -110,7 +110,14 @@ TEST_F(ReconstructionServiceTest, StreamReconstructsEveryFrameAndMatchesTheUnary
     smoothed.set_y(0.5 * x.y() + 0.5 * smoothed.y());
     smoothed.set_z(0.5 * x.z() + 0.5 * smoothed.z());
     EXPECT_LT(Distance(frame.left_wrist(), smoothed), 0.002) << "frame " << i;
+    // Every frame says how sure it is of each landmark (docs/method.md "Confidence"): in metres,
+    // the wrists, which the input holds, surer than the ankles, which it does not.
+    ASSERT_TRUE(frame.has_expected_error()) << "frame " << i;
+    EXPECT_GT(frame.expected_error().left_wrist(), 0.0f);
+    EXPECT_LT(frame.expected_error().left_wrist(), frame.expected_error().left_ankle()) << "frame " << i;
+    EXPECT_LT(frame.expected_error().right_ankle(), 1.0f) << "frame " << i;
   }
+  EXPECT_GT(streamed.started.skeleton().landmarks().left_knee(), 0);
 
   auto unary = client->ReconstructTrajectory(config, samples);
   ASSERT_TRUE(unary.ok()) << unary.status();
@@ -333,6 +340,10 @@ TEST_F(ReconstructionServiceTest, PerformerHeightScalesTheWholeSession) {
   ASSERT_EQ(scaled.frames.size(), plain.frames.size());
   for (size_t i = 0; i < plain.frames.size(); ++i) {
     EXPECT_NEAR(scaled.frames[i].pelvis_position().y(), plain.frames[i].pelvis_position().y() * factor, 2e-3) << i;
+    // Expected errors are lengths: the taller body's are as much larger.
+    EXPECT_NEAR(scaled.frames[i].expected_error().pelvis(), plain.frames[i].expected_error().pelvis() * factor,
+                0.2 * plain.frames[i].expected_error().pelvis() * factor)
+        << i;
   }
 }
 

@@ -7,6 +7,7 @@
 #include "html_view/view_page.h"
 #include "motion/bvh/bvh_reader.h"
 #include "motion/bvh/bvh_writer.h"
+#include "motion/skeleton/body_topology.h"
 
 namespace mocap::html_view {
 namespace {
@@ -60,6 +61,8 @@ TEST(ClipJsonTest, GivesTheUnitUpAxisAndLandmarksFromTheBodyAnalysis) {
   EXPECT_DOUBLE_EQ(clip["metresPerUnit"].get<double>(), 0.01);
   EXPECT_EQ(clip["pelvis"], "Hips");
   EXPECT_EQ(clip["head"], "Head");
+  ASSERT_EQ(clip["landmarks"].size(), static_cast<size_t>(kNumBodyLandmarks));
+  EXPECT_EQ(clip["landmarks"][0], "Hips");
   EXPECT_EQ(clip["note"], "2 frames at 30 fps");
   // toYUp [x, y, z, w] turns +Z (the file's up) to +Y.
   const auto q = clip["toYUp"];
@@ -90,6 +93,24 @@ TEST(ReconstructionTracesTest, WristsAndAnklesPerFrameWithMissingPointsHeld) {
   EXPECT_EQ((*traces)[2]["points"], nlohmann::json({0.1, 0.08, 0.0, 0.1, 0.08, 0.0}));  // held
   EXPECT_FALSE(ReconstructionTraces(nlohmann::json::object()).ok());
   EXPECT_FALSE(ReconstructionTraces(nlohmann::json::parse(R"({"frames": [{"left_wrist": {"x": "a"}}]})")).ok());
+}
+
+TEST(ReconstructionConfidenceTest, FourteenErrorsPerFrameWithMissingOnesZero) {
+  const nlohmann::json reconstruction = nlohmann::json::parse(R"({"frames": [
+      {"expected_error": {"pelvis": 0.05, "head": 0.06, "left_wrist": 0.012345, "right_ankle": 0.2}},
+      {}]})");
+  absl::StatusOr<nlohmann::json> errors = ReconstructionConfidence(reconstruction);
+  ASSERT_TRUE(errors.ok()) << errors.status();
+  ASSERT_EQ(errors->size(), 28u);
+  EXPECT_EQ((*errors)[0], 0.05);
+  EXPECT_EQ((*errors)[1], 0.06);
+  EXPECT_EQ((*errors)[6], 0.0123);  // left wrist, rounded to 0.1 mm
+  EXPECT_EQ((*errors)[7], 0.0);     // left out: zero
+  EXPECT_EQ((*errors)[13], 0.2);
+  EXPECT_EQ((*errors)[14], 0.0);  // a frame without them
+  EXPECT_EQ(ReconstructionConfidence(nlohmann::json::parse(R"({"frames": [{}]})")).status().code(),
+            absl::StatusCode::kNotFound);
+  EXPECT_FALSE(ReconstructionConfidence(nlohmann::json::object()).ok());
 }
 
 TEST(PageHtmlTest, DataAndTitleCannotEndTheirElements) {

@@ -382,6 +382,23 @@ TEST(FrameToProtoTest, LengthsAreScaledToThePerformerAndRotationsAreNot) {
   EXPECT_TRUE(out.diagnostics().bridged());
 }
 
+TEST(FrameToProtoTest, LandmarkErrorFieldsAreTheLandmarksInOrderScaledToThePerformer) {
+  // ToProto fills the message by field position: its fields must be the landmarks in order.
+  const google::protobuf::Descriptor* descriptor = v1::LandmarkErrors::descriptor();
+  ASSERT_EQ(descriptor->field_count(), kNumBodyLandmarks);
+  for (int k = 0; k < kNumBodyLandmarks; ++k) EXPECT_EQ(descriptor->field(k)->name(), kBodyLandmarkNames[k]);
+
+  ReconstructedFrame frame;
+  frame.pose.rotations = {Eigen::Quaternionf::Identity()};
+  for (int k = 0; k < kNumBodyLandmarks; ++k) frame.landmark_error[k] = 0.01f * (k + 1);
+  v1::Frame out;
+  ToProto(frame, PerformerScale{.database_height = 1.7f, .scale = 1.5f}, /*diagnostics=*/false, &out);
+  ASSERT_TRUE(out.has_expected_error());
+  EXPECT_FLOAT_EQ(out.expected_error().pelvis(), 0.015f);
+  EXPECT_FLOAT_EQ(out.expected_error().left_wrist(), 0.105f);
+  EXPECT_FLOAT_EQ(out.expected_error().right_ankle(), 0.21f);
+}
+
 TEST(FrameToProtoTest, StatisticsArePerFrameAndZeroFramesIsNotADivisionByZero) {
   SessionStatistics statistics;
   statistics.frames = 200;

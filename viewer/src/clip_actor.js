@@ -4,6 +4,7 @@ import { Group } from 'three';
 import { BvhClip } from './bvh_clip.js';
 import { SkeletonFigure } from './skeleton_figure.js';
 import { Traces } from './traces.js';
+import { ConfidenceHalos } from './confidence_halos.js';
 
 // Without the unit from `mocap`'s analysis: a body spanning more than 5 units is in cm (or mm).
 function guessMetresPerUnit(clip, figure) {
@@ -17,7 +18,8 @@ function guessMetresPerUnit(clip, figure) {
 }
 
 export class ClipActor {
-  // spec: one clip of the page's data ({ name, bvh, metresPerUnit?, toYUp?, pelvis?, head?, traces? }).
+  // spec: one clip of the page's data ({ name, bvh, metresPerUnit?, toYUp?, pelvis?, head?, landmarks?, traces?,
+  // expectedErrors? }).
   // Throws an Error naming the problem when the BVH cannot be read.
   constructor(spec, colour, layer) {
     this.name = spec.name;
@@ -31,7 +33,8 @@ export class ClipActor {
     if (Array.isArray(spec.toYUp) && spec.toYUp.length === 4) this.container.quaternion.fromArray(spec.toYUp);
     this.traces = new Traces(spec.traces ?? [], colour);
     this.group = new Group();
-    this.group.add(this.container, this.figure.group, this.traces.group);
+    this.halos = new ConfidenceHalos(this.clip, spec.expectedErrors, spec.landmarks);
+    this.group.add(this.container, this.figure.group, this.traces.group, this.halos.group);
     this.group.traverse((o) => o.layers.set(layer));
     this.layer = layer;
   }
@@ -50,6 +53,7 @@ export class ClipActor {
     this.group.updateMatrixWorld(true);
     this.figure.update();
     this.traces.setFrame(f);
+    this.halos.setFrame(f);
   }
 
   // Calls back with the world positions of the body's joints at the current frame.

@@ -78,8 +78,8 @@ export class Player {
         errors.push(`${name} could not be read: ${error.message}`);
       }
     });
-    this.controls.showClips(this.actors.map(({ name, colour, note, traces }) => ({
-      name, colour, note: [note, traces.summary && `traces: ${traces.summary}`].filter(Boolean).join(' · '),
+    this.controls.showClips(this.actors.map(({ name, colour, note, traces, halos }) => ({
+      name, colour, note: [note, traces.summary && `traces: ${traces.summary}`, halos.summary].filter(Boolean).join(' · '),
     })));
     this.controls.showErrors(errors);
     if (this.actors.length === 0) {

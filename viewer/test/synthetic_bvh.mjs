@@ -66,6 +66,9 @@ export function reconstructionJson({ frames = 90, frameTime = 1 / 30 } = {}) {
         right_wrist: point(-0.3, 0.95, -0.2 * Math.sin(w)),
         left_ankle: point(0.09, 0.08, 0.15 * Math.sin(w)),
         right_ankle: point(-0.09, 0.08, -0.15 * Math.sin(w)),
+        // docs/method.md "Confidence": a few centimetres, the ankles least sure.
+        expected_error: { pelvis: 0.04, head: 0.05, left_wrist: 0.01, right_wrist: 0.01, left_ankle: 0.12 + 0.05 * Math.sin(w),
+          right_ankle: 0.12 },
       };
     }),
   });

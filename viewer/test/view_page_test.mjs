@@ -106,10 +106,11 @@ check('play advances the frame counter, pause stops it, the slider scrubs', asyn
   await page.close();
 });
 
-check('the reconstruct JSON beside a BVH adds wrist and ankle traces', async (browser) => {
+check('the reconstruct JSON beside a BVH adds wrist and ankle traces and expected-error halos', async (browser) => {
   const page = await openPage(browser, view('traces', [reconstruction]).url);
   const legend = await page.textContent('.mv-legend');
-  for (const label of ['traces: wrist inputs, estimated ankles']) {
+  expect(page.problems.length === 0, `page errors: ${page.problems.join('; ')}`);
+  for (const label of ['traces: wrist inputs, estimated ankles', 'halos: expected error']) {
     expect(legend.includes(label), `legend lacks "${label}": ${legend}`);
   }
   await page.screenshot({ path: join(out, 'traces.png') });

@@ -1,0 +1,71 @@
+// The expected landmark errors (motion/reconstruct/landmark_confidence.h): the session's mean log
+// energy, the calibration's direction in each cue, and every reconstructed frame carrying them.
+#include "motion/reconstruct/landmark_confidence.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "motion/reconstruct/reconstruction_session.h"
+#include "tests/support/synthetic_database.h"
+
+namespace mocap {
+namespace {
+
+TEST(SessionCostTest, MeansTheLogEnergyOverItsWindowThenForgetsAtThatRate) {
+  SessionCost cost(/*frame_time=*/0.1, /*window_seconds=*/1.0);  // a window of 10 frames
+  EXPECT_NEAR(cost.Add(1.0f), LogSolverCost(1.0f), 1e-6);
+  float mean = 0;
+  for (int i = 0; i < 9; ++i) mean = cost.Add(100.0f);
+  // The plain mean of 1 × log(1) and 9 × log(100) over the first window.
+  EXPECT_NEAR(mean, (LogSolverCost(1.0f) + 9 * LogSolverCost(100.0f)) / 10, 1e-4);
+  // Then an exponential mean of a 10-frame time constant: 30 frames of a new level leave
+  // (1 − 1/10)^30 ≈ 4% of the old difference.
+  for (int i = 0; i < 30; ++i) mean = cost.Add(1.0f);
+  const float start = (LogSolverCost(1.0f) + 9 * LogSolverCost(100.0f)) / 10;
+  EXPECT_NEAR(mean - LogSolverCost(1.0f), std::pow(0.9f, 30.0f) * (start - LogSolverCost(1.0f)), 1e-3);
+  EXPECT_TRUE(std::isfinite(cost.Add(0.0f)));
+}
+
+TEST(ExpectedLandmarkErrorsTest, GrowWithEveryCueAndTheWristsAreSurest) {
+  const ConfidenceCues base{
+      .distance = 0.05f, .wrist_fit = 0.005f, .solver_cost = 2.0f, .session_log_cost = LogSolverCost(2.0f)};
+  const LandmarkErrors at_base = ExpectedLandmarkErrors(base);
+  for (float ConfidenceCues::*cue : {&ConfidenceCues::distance, &ConfidenceCues::wrist_fit,
+                                     &ConfidenceCues::solver_cost, &ConfidenceCues::session_log_cost}) {
+    ConfidenceCues worse = base;
+    worse.*cue += cue == &ConfidenceCues::session_log_cost ? 2.0f : 10 * (base.*cue);
+    const LandmarkErrors at_worse = ExpectedLandmarkErrors(worse);
+    for (int k = 0; k < kNumBodyLandmarks; ++k) EXPECT_GT(at_worse[k], at_base[k]) << kBodyLandmarkNames[k];
+  }
+  const int left_wrist = 6, right_wrist = 7;
+  for (int k = 0; k < kNumBodyLandmarks; ++k) {
+    EXPECT_GT(at_base[k], 0.0f);
+    EXPECT_LT(at_base[k], 1.0f) << "metres, for an ordinary frame";
+    if (k != left_wrist && k != right_wrist) {
+      EXPECT_GT(at_base[k], at_base[left_wrist]) << kBodyLandmarkNames[k];
+    }
+  }
+  // Cues of zero (a lookup without a solve) stay finite.
+  for (float e : ExpectedLandmarkErrors({})) EXPECT_TRUE(std::isfinite(e));
+}
+
+TEST(ExpectedLandmarkErrorsTest, EveryReconstructedFrameCarriesThem) {
+  const testing::SyntheticReconstructionSetup setup = testing::MakeSyntheticReconstructionSetup({}, 60);
+  ReconstructionOptions options;
+  options.ankle_candidates = 60;
+  options.pose_neighbours = 40;
+  auto frames = ReconstructOffline(setup.database, options, testing::WristSamplesOf(setup));
+  ASSERT_TRUE(frames.ok()) << frames.status();
+  ASSERT_FALSE(frames->empty());
+  for (const ReconstructedFrame& frame : *frames) {
+    for (int k = 0; k < kNumBodyLandmarks; ++k) {
+      EXPECT_TRUE(std::isfinite(frame.landmark_error[k]));
+      EXPECT_GT(frame.landmark_error[k], 0.0f) << "frame " << frame.index << " " << kBodyLandmarkNames[k];
+    }
+    EXPECT_TRUE(std::isfinite(frame.diagnostics.session_log_cost));
+  }
+}
+
+}  // namespace
+}  // namespace mocap
