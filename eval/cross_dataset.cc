@@ -268,6 +268,8 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       if (!frames.ok())
         return absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
       per_clip[i] = MeasureLandmarks(*database, truth, *frames, 1.0f / scale, &confidence[i]);
+      if (experiment.device.dropout_s > 0 || experiment.device.gap_every_s > 0)
+        MeasureReentryJerk(*database, truth, *frames, wrists, 1.0f / scale, &per_clip[i]);
       for (ConfidenceSample& sample : confidence[i]) sample.clip = static_cast<int>(i);
       per_clip[i].seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return absl::OkStatus();

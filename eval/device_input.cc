@@ -16,6 +16,18 @@ std::vector<DeviceModel> StandardDevices() {
   };
 }
 
+std::vector<DeviceModel> DropoutDevices() {
+  std::vector<DeviceModel> devices;
+  for (const auto& [name, seconds] : std::vector<std::pair<const char*, double>>{{"dropout_0.2s", 0.2},
+                                                                                 {"dropout_0.5s", 0.5},
+                                                                                 {"dropout_1s", 1.0},
+                                                                                 {"dropout_2s", 2.0},
+                                                                                 {"dropout_5s", 5.0}}) {
+    devices.push_back({.name = name, .rate_hz = 60, .jitter_m = 0.005, .dropout_s = seconds});
+  }
+  return devices;
+}
+
 namespace {
 
 // The true wrists (left, right) at time t, linear between the clip's frames.
@@ -60,6 +72,7 @@ std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceM
       gap_until = t + device.gap_min_s + (device.gap_max_s - device.gap_min_s) * uniform(random);
     }
     if (t < gap_until) continue;  // the tracker lost the hands: nothing is sent
+    if (device.dropout_s > 0 && t >= 0.4 * end && t < 0.4 * end + device.dropout_s) continue;
     if (!samples.empty() && uniform(random) < device.repeat_fraction) {
       WristSample repeated = samples.back();  // the tracker did not update: same positions, new time
       repeated.time = t;

@@ -20,6 +20,7 @@ struct DeviceModel {
   double repeat_fraction = 0;               // samples where the tracker did not update: the previous one again
   double gap_every_s = 0;                   // dropouts, one on average every this many seconds (0: none)
   double gap_min_s = 0.1, gap_max_s = 2.0;  // each dropout's length, uniform
+  double dropout_s = 0;                     // one dropout of this length from 40% into the clip (0: none)
 };
 
 // The devices every report measures (named in docs/evaluation.md's table):
@@ -28,6 +29,10 @@ struct DeviceModel {
 //   phone_ar          two phones' AR tracking: 60 Hz, 2.5 cm jitter, 1 cm/√s drift
 //   dropouts          60 Hz, 5 mm jitter, a 0.1-2 s gap every 4 s on average
 std::vector<DeviceModel> StandardDevices();
+// One dropout of each length the tracking states are judged on (issue #25: 0.2-5 s), in input
+// otherwise like `dropouts`' (60 Hz, 5 mm jitter): dropout_0.2s, dropout_0.5s, dropout_1s,
+// dropout_2s, dropout_5s.
+std::vector<DeviceModel> DropoutDevices();
 
 // The samples `device` would send for `truth`'s wrists (from time 0 to the clip's end), drawn from
 // `seed`. The lab input (device.name empty) is the clip's own frames plus noise of σ `noise_cm`.

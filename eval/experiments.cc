@@ -50,7 +50,9 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
 std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base) {
   std::vector<Experiment> main = MakeExperiments(base, 0.0, false);
   std::vector<Experiment> runs;
-  for (const DeviceModel& device : StandardDevices()) {
+  std::vector<DeviceModel> devices = StandardDevices();
+  for (const DeviceModel& dropout : DropoutDevices()) devices.push_back(dropout);
+  for (const DeviceModel& device : devices) {
     for (const Experiment& e : main) {
       if (e.name != "full" && e.name != "nearest_neighbour") continue;
       runs.push_back({.name = StrCat(e.name, "@", device.name),

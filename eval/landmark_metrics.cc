@@ -29,6 +29,9 @@ void LandmarkMetrics::Add(const LandmarkMetrics& o) {
   pose_error_m += o.pose_error_m;
   for (int g = 0; g < kNumLandmarkGroups; ++g) group_error_m[g] += o.group_error_m[g];
   seconds += o.seconds;
+  reentries += o.reentries;
+  reentry_jerk += o.reentry_jerk;
+  truth_reentry_jerk += o.truth_reentry_jerk;
   AddPlausibility(o);
 }
 
@@ -99,6 +102,67 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
                                 database.motion_limits().pelvis_speed_max),
             TruthPelvisSpeedMax(truth, database.frame_time()));
   return m;
+}
+
+namespace {
+
+// The truth's landmarks at time t, linear between its frames.
+std::array<Eigen::Vector3f, kNumScoredLandmarks> TruthAt(const LandmarkTruth& truth, double t) {
+  const double at = std::clamp(t / truth.frame_time, 0.0, static_cast<double>(truth.num_frames() - 1));
+  const int f = std::min(static_cast<int>(at), truth.num_frames() - 2);
+  const float w = static_cast<float>(at - f);
+  std::array<Eigen::Vector3f, kNumScoredLandmarks> p;
+  for (int k = 0; k < kNumScoredLandmarks; ++k) p[k] = (1 - w) * truth.positions[f][k] + w * truth.positions[f + 1][k];
+  return p;
+}
+
+// Mean over the landmarks of |third difference| / dt³ at frame i of `positions` (i ≥ 3).
+double Jerk(const std::vector<std::array<Eigen::Vector3f, kNumScoredLandmarks>>& positions, size_t i, double dt) {
+  double sum = 0;
+  for (int k = 0; k < kNumScoredLandmarks; ++k) {
+    sum += (positions[i][k] - 3 * positions[i - 1][k] + 3 * positions[i - 2][k] - positions[i - 3][k]).norm();
+  }
+  return sum / kNumScoredLandmarks / (dt * dt * dt);
+}
+
+}  // namespace
+
+void MeasureReentryJerk(const ReconstructionDatabase& database, const LandmarkTruth& truth,
+                        const std::vector<ReconstructedFrame>& frames, const std::vector<WristSample>& samples,
+                        float output_scale, LandmarkMetrics* metrics) {
+  if (samples.size() < 3 || frames.size() < 4 || truth.num_frames() < 2) return;
+  std::vector<double> steps;
+  for (size_t i = 1; i < samples.size(); ++i) steps.push_back(samples[i].time - samples[i - 1].time);
+  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
+  const double period = steps[steps.size() / 2];
+  const std::array<int, kNumScoredLandmarks> joints = ScoredLandmarkJoints(database.rig().topology.landmarks);
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  std::vector<std::array<Eigen::Vector3f, kNumScoredLandmarks>> output(frames.size()), captured(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) {
+    database.body().WorldTransforms(frames[i].pose, &rotations, &positions);
+    for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = output_scale * positions[joints[k]];
+    captured[i] = TruthAt(truth, frames[i].time);
+  }
+  const double dt = database.frame_time();
+  const double truth_end = (truth.num_frames() - 1) * truth.frame_time;
+  for (size_t s = 1; s < samples.size(); ++s) {
+    if (samples[s].time - samples[s - 1].time <= 2.5 * period) continue;
+    const double back = samples[s].time;
+    double jerk = 0, truth_jerk = 0;
+    int counted = 0;
+    for (size_t i = 3; i < frames.size(); ++i) {
+      if (frames[i].time < back - 0.2 || frames[i].time > back + 0.5 || frames[i].time > truth_end) continue;
+      if (frames[i - 3].segment != frames[i].segment) continue;  // a new segment's first frames
+      jerk += Jerk(output, i, dt);
+      truth_jerk += Jerk(captured, i, dt);
+      ++counted;
+    }
+    if (counted == 0) continue;
+    metrics->reentries += 1;
+    metrics->reentry_jerk += jerk / counted;
+    metrics->truth_reentry_jerk += truth_jerk / counted;
+  }
 }
 
 }  // namespace mocap::eval

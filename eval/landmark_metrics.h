@@ -57,6 +57,9 @@ struct LandmarkMetrics : ClipPlausibility {
   // taken relative to its body's pelvis (where the body is does not count, how it stands does).
   double pose_error_m = 0;
   double seconds = 0;  // engine wall time
+  // Issue #25: after each input dropout, the mean jerk (m/s³, the 14 landmarks' mean) of the output
+  // from 0.2 s before the input came back to 0.5 s after, and the capture's over the same times.
+  double reentries = 0, reentry_jerk = 0, truth_reentry_jerk = 0;
 
   void Add(const LandmarkMetrics& other);
   double Mean(double sum) const { return frames > 0 ? sum / frames : 0.0; }
@@ -73,5 +76,11 @@ struct LandmarkMetrics : ClipPlausibility {
 LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const LandmarkTruth& truth,
                                  const std::vector<ReconstructedFrame>& frames, float output_scale = 1.0f,
                                  std::vector<ConfidenceSample>* confidence = nullptr);
+
+// Adds to `metrics` the re-entry jerk of `frames` after each dropout of the input `samples` (a
+// step of more than 2.5 of its typical sample periods), against the truth's at the same times.
+void MeasureReentryJerk(const ReconstructionDatabase& database, const LandmarkTruth& truth,
+                        const std::vector<ReconstructedFrame>& frames, const std::vector<WristSample>& samples,
+                        float output_scale, LandmarkMetrics* metrics);
 
 }  // namespace mocap::eval

@@ -23,6 +23,11 @@ nlohmann::json LandmarkMetricsJson(const LandmarkMetrics& m) {
   j["wrist_error_cm"] = 100 * m.Mean(m.wrist_error_m());
   j["frames_per_second"] = m.frames / std::max(1e-9, m.seconds);
   j["plausibility"] = PlausibilityJson(m);
+  if (m.reentries > 0) {
+    j["reentries"] = m.reentries;
+    j["reentry_jerk_m_per_s3"] = m.reentry_jerk / m.reentries;
+    j["truth_reentry_jerk_m_per_s3"] = m.truth_reentry_jerk / m.reentries;
+  }
   return j;
 }
 
@@ -97,10 +102,14 @@ void DeviceTable(
   md << "\n## Device-like input\n\n"
         "controllers_72hz: 72 Hz, 1 cm quantisation, half the samples repeated; tracker_90hz: 3 mm jitter, 1 mm "
         "quantisation; phone_ar: 60 Hz, 2.5 cm jitter, 1 cm/√s drift per hand; dropouts: 60 Hz, 5 mm jitter, a "
-        "0.1-2 s gap every 4 s on average. Hands: distance to the smoothed input where it is within reach.\n\n"
+        "0.1-2 s gap every 4 s on average; dropout_Ls: the same without those gaps but one of L seconds from 40% "
+        "into the clip. Hands: distance to the smoothed input where it is within reach. Re-entry jerk: the "
+        "output's mean jerk over the 14 landmarks from 0.2 s before the input comes back to 0.5 s after, against "
+        "the capture's over the same times (dropouts that end before the clip does).\n\n"
         "| input | source | full cm | NN cm | full / NN | wrists (full) cm | pelvis max m/s | clips over allowed | "
-        "hands p99 cm | hands ≤ 5 cm | flagged frames | motion-limited frames |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "hands p99 cm | hands ≤ 5 cm | flagged frames | motion-limited frames | re-entry jerk / capture's "
+        "(re-entries) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   devices.insert(devices.begin(), "");
   for (const std::string& device : devices) {
     const LandmarkExperimentResult* full = Find(results, device.empty() ? "full" : "full@" + device);
@@ -118,7 +127,11 @@ void DeviceTable(
          << Fixed(100 * f->Mean(f->wrist_error_m())) << " | " << Fixed(p.pelvis_speed.max(), 1) << " | "
          << f->clips_over_allowed_speed << " | " << Fixed(100 * p.hand_distance.Quantile(0.99), 1) << " | "
          << Fixed(100 * p.hand_distance.FractionBelow(0.05f), 1) << "% | " << p.flagged_frames << " | "
-         << p.motion_limited_frames << " |\n";
+         << p.motion_limited_frames << " | "
+         << (f->reentries > 0 ? StrCat(Fixed(f->reentry_jerk / std::max(1e-12, f->truth_reentry_jerk)), " (",
+                                       static_cast<long>(f->reentries), ")")
+                              : std::string("–"))
+         << " |\n";
     }
   }
 }

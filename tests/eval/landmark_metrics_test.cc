@@ -127,5 +127,37 @@ TEST(LandmarkTestClipTest, StillAndOneFrameClipsAreLeftOut) {
   EXPECT_NE(set->left_out[0].find("does not move"), std::string::npos) << set->left_out[0];
 }
 
+// Issue #25: the output's jerk after each input dropout against the capture's at the same times.
+TEST(ReentryJerkTest, AfterEachDropoutTheOutputsJerkAgainstTheCapturesAtTheSameTimes) {
+  const auto setup = MakeSyntheticReconstructionSetup();
+  Output out = PosedAsTestClip(setup);
+  LandmarkTruth truth{.frame_time = setup.database->frame_time(), .positions = out.landmarks};
+  const double dt = setup.database->frame_time();
+  const int frames = static_cast<int>(out.frames.size());
+  ASSERT_GT(frames, 40);
+  // Input every frame but frames 20-29: one dropout, back at frame 30.
+  std::vector<WristSample> samples;
+  for (int f = 0; f < frames; ++f) {
+    if (f < 20 || f >= 30) samples.push_back({.time = f * dt});
+  }
+  LandmarkMetrics same;
+  MeasureReentryJerk(*setup.database, truth, out.frames, samples, 1.0f, &same);
+  EXPECT_EQ(same.reentries, 1);
+  EXPECT_GT(same.truth_reentry_jerk, 0.0);
+  EXPECT_NEAR(same.reentry_jerk, same.truth_reentry_jerk, 1e-3 * same.truth_reentry_jerk);
+  // The body jumps 10 cm where the input comes back: the output jerks, the capture does not.
+  for (int f = 30; f < frames; ++f) out.frames[f].pose.root_position.x() += 0.1f;
+  LandmarkMetrics jumped;
+  MeasureReentryJerk(*setup.database, truth, out.frames, samples, 1.0f, &jumped);
+  EXPECT_EQ(jumped.reentries, 1);
+  EXPECT_GT(jumped.reentry_jerk, 3 * jumped.truth_reentry_jerk);
+  // No dropout, no re-entry.
+  std::vector<WristSample> steady;
+  for (int f = 0; f < frames; ++f) steady.push_back({.time = f * dt});
+  LandmarkMetrics none;
+  MeasureReentryJerk(*setup.database, truth, out.frames, steady, 1.0f, &none);
+  EXPECT_EQ(none.reentries, 0);
+}
+
 }  // namespace
 }  // namespace mocap::eval
