@@ -42,6 +42,15 @@ void ToCallerFrame(const FrameTransform& transform, v1::Frame* frame) {
                       frame->mutable_right_wrist()}) {
     PositionToCaller(transform, v);
   }
+  if (frame->has_expected_error()) {  // lengths: every field, whatever the landmarks are
+    const google::protobuf::Descriptor* descriptor = v1::LandmarkErrors::descriptor();
+    const google::protobuf::Reflection* reflection = v1::LandmarkErrors::GetReflection();
+    v1::LandmarkErrors* errors = frame->mutable_expected_error();
+    for (int k = 0; k < descriptor->field_count(); ++k) {
+      const google::protobuf::FieldDescriptor* field = descriptor->field(k);
+      reflection->SetFloat(errors, field, transform.LengthFromNative(reflection->GetFloat(*errors, field)));
+    }
+  }
   if (!frame->has_diagnostics()) return;
   v1::FrameDiagnostics* d = frame->mutable_diagnostics();
   d->set_left_wrist_error(transform.LengthFromNative(d->left_wrist_error()));

@@ -211,7 +211,7 @@ void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale
 
 void ToProto(const LandmarkErrors& errors, float scale, v1::LandmarkErrors* out) {
   // The message's fields are the landmarks in BodyLandmarkJoints order (checked by
-  // ReconstructionConvertTest.LandmarkErrorFieldsAreTheLandmarksInOrder).
+  // FrameToProtoTest.LandmarkErrorFieldsAreTheLandmarksInOrderScaledToThePerformer).
   const google::protobuf::Descriptor* descriptor = v1::LandmarkErrors::descriptor();
   const google::protobuf::Reflection* reflection = v1::LandmarkErrors::GetReflection();
   for (int k = 0; k < kNumBodyLandmarks; ++k) reflection->SetFloat(out, descriptor->field(k), errors[k] * scale);

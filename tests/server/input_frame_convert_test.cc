@@ -50,6 +50,8 @@ TEST(InputFrameConvertTest, AnyRigAndFrameConvertAsOnePose) {
   Set({0, 0, 0.12f}, skeleton.mutable_joints(4)->mutable_end_site());
   Set({1, 2, 3}, frame.mutable_left_wrist());
   frame.mutable_diagnostics()->set_left_wrist_error(0.05f);
+  frame.mutable_expected_error()->set_pelvis(0.04f);
+  frame.mutable_expected_error()->set_right_ankle(0.12f);
   const std::vector<Eigen::Vector3f> native = Positions(skeleton, frame);
 
   // Unreal with its floor 30 cm below z = 0.
@@ -63,6 +65,8 @@ TEST(InputFrameConvertTest, AnyRigAndFrameConvertAsOnePose) {
   EXPECT_TRUE(V(frame.root_position()).isApprox(Eigen::Vector3f(40, -200, 70), 1e-5f));  // (x, z, y)·100, floor at −30
   EXPECT_TRUE(V(frame.left_wrist()).isApprox(Eigen::Vector3f(100, 300, 170), 1e-5f));
   EXPECT_FLOAT_EQ(frame.diagnostics().left_wrist_error(), 5.0f);  // cm
+  EXPECT_FLOAT_EQ(frame.expected_error().pelvis(), 4.0f);
+  EXPECT_FLOAT_EQ(frame.expected_error().right_ankle(), 12.0f);
   EXPECT_TRUE(V(skeleton.joints(4).end_site()).isApprox(Eigen::Vector3f(0, 12, 0), 1e-5f));
 }
 
