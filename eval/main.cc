@@ -267,7 +267,10 @@ int main(int argc, char** argv) {
     add_limits();
     std::vector<mocap::eval::Experiment> experiments = make_experiments();
     if (devices) {
-      for (auto& e : mocap::eval::MakeDeviceExperiments(base)) experiments.push_back(std::move(e));
+      for (auto& e : mocap::eval::MakeDeviceExperiments(base)) {
+        if (only_runs.empty() || std::find(only_runs.begin(), only_runs.end(), e.name) != only_runs.end())
+          experiments.push_back(std::move(e));
+      }
     }
     if (size_oracle) {
       mocap::eval::Experiment sized = mocap::eval::MakeExperiments(base, noise_cm, false).front();  // full
