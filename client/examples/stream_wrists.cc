@@ -54,7 +54,11 @@ int main(int argc, char** argv) {
       if ((*reply)->has_rejected()) std::cerr << "sample refused: " << (*reply)->rejected().reason() << "\n";
       for (const mocap::v1::Frame& f : (*reply)->frames().frames()) {
         std::cout << f.time() << "  pelvis " << f.pelvis_position().x() << ' ' << f.pelvis_position().y() << ' '
-                  << f.pelvis_position().z() << "  ankles " << f.left_ankle().y() << ' ' << f.right_ankle().y() << "\n";
+                  << f.pelvis_position().z() << "  ankles " << f.left_ankle().y() << ' '
+                  << f.right_ankle().y()
+                  // How far the pelvis and an ankle are expected to be off (docs/method.md "Confidence").
+                  << "  expected error pelvis " << f.expected_error().pelvis() << " ankle "
+                  << f.expected_error().left_ankle() << "\n";
       }
     }
   });
