@@ -28,19 +28,6 @@ std::vector<DeviceModel> DropoutDevices() {
   return devices;
 }
 
-namespace {
-
-// The true wrists (left, right) at time t, linear between the clip's frames.
-std::array<Eigen::Vector3f, 2> WristsAt(const LandmarkTruth& truth, double t) {
-  const double at = std::clamp(t / truth.frame_time, 0.0, static_cast<double>(truth.num_frames() - 1));
-  const int f = std::min(static_cast<int>(at), truth.num_frames() - 2);
-  const float w = static_cast<float>(at - f);
-  auto lerp = [&](int k) { return Eigen::Vector3f((1 - w) * truth.positions[f][k] + w * truth.positions[f + 1][k]); };
-  return {lerp(kLeftWristLandmark), lerp(kRightWristLandmark)};
-}
-
-}  // namespace
-
 std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceModel& device, double noise_cm,
                                        unsigned seed) {
   if (device.name.empty() || truth.num_frames() < 2) {
@@ -79,7 +66,8 @@ std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceM
       samples.push_back(repeated);
       continue;
     }
-    std::array<Eigen::Vector3f, 2> at = WristsAt(truth, t);
+    const std::array<Eigen::Vector3f, kNumScoredLandmarks> landmarks = LandmarksAt(truth, t);
+    std::array<Eigen::Vector3f, 2> at = {landmarks[kLeftWristLandmark], landmarks[kRightWristLandmark]};
     for (int hand = 0; hand < 2; ++hand) {
       at[hand] += drift[hand] + noise_vector(device.jitter_m);
       if (device.quantisation_m > 0) {

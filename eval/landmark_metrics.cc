@@ -104,10 +104,7 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
   return m;
 }
 
-namespace {
-
-// The truth's landmarks at time t, linear between its frames.
-std::array<Eigen::Vector3f, kNumScoredLandmarks> TruthAt(const LandmarkTruth& truth, double t) {
+std::array<Eigen::Vector3f, kNumScoredLandmarks> LandmarksAt(const LandmarkTruth& truth, double t) {
   const double at = std::clamp(t / truth.frame_time, 0.0, static_cast<double>(truth.num_frames() - 1));
   const int f = std::min(static_cast<int>(at), truth.num_frames() - 2);
   const float w = static_cast<float>(at - f);
@@ -115,6 +112,8 @@ std::array<Eigen::Vector3f, kNumScoredLandmarks> TruthAt(const LandmarkTruth& tr
   for (int k = 0; k < kNumScoredLandmarks; ++k) p[k] = (1 - w) * truth.positions[f][k] + w * truth.positions[f + 1][k];
   return p;
 }
+
+namespace {
 
 // Mean over the landmarks of |third difference| / dt³ at frame i of `positions` (i ≥ 3).
 double Jerk(const std::vector<std::array<Eigen::Vector3f, kNumScoredLandmarks>>& positions, size_t i, double dt) {
@@ -142,7 +141,7 @@ void MeasureReentryJerk(const ReconstructionDatabase& database, const LandmarkTr
   for (size_t i = 0; i < frames.size(); ++i) {
     database.body().WorldTransforms(frames[i].pose, &rotations, &positions);
     for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = output_scale * positions[joints[k]];
-    captured[i] = TruthAt(truth, frames[i].time);
+    captured[i] = LandmarksAt(truth, frames[i].time);
   }
   const double dt = database.frame_time();
   const double truth_end = (truth.num_frames() - 1) * truth.frame_time;

@@ -39,6 +39,10 @@ struct LandmarkTruth {
   int num_frames() const { return static_cast<int>(positions.size()); }
 };
 
+// The truth's landmarks at time t (seconds from its first frame), linear between its frames and
+// held beyond its ends. At least two frames.
+std::array<Eigen::Vector3f, kNumScoredLandmarks> LandmarksAt(const LandmarkTruth& truth, double t);
+
 // A body's size seen through its landmarks: hip to knee to ankle and shoulder to elbow to wrist,
 // metres, the mean of both sides (rigid bones: any frame gives it).
 struct LandmarkBodySize {
