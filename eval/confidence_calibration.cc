@@ -19,10 +19,7 @@ void AddConfidenceSamples(const ReconstructedFrame& frame, float scale,
     samples->push_back({.predicted = scale * frame.landmark_error[k],
                         .actual = (output[k] - truth[k]).norm(),
                         .landmark = static_cast<std::uint8_t>(k),
-                        .distance = frame.diagnostics.pose_neighbour_distance,
-                        .wrist_fit = 0.5f * (frame.diagnostics.control_error[0] + frame.diagnostics.control_error[1]),
-                        .solver_cost = frame.diagnostics.solver_cost,
-                        .session_log_cost = frame.diagnostics.session_log_cost});
+                        .cues = ConfidenceCuesOf(frame.diagnostics)});
   }
 }
 
@@ -114,13 +111,22 @@ ConfidenceSummary SummariseConfidence(const std::vector<ConfidenceSample>& sampl
   return summary;
 }
 
+std::filesystem::path ConfidenceSamplesFile(const std::filesystem::path& file, const std::string& run) {
+  if (run == "full") return file;
+  std::filesystem::path named = file;
+  named.replace_filename(absl::StrCat(file.stem().string(), ".", run, file.extension().string()));
+  return named;
+}
+
 absl::Status WriteConfidenceSamples(const std::vector<ConfidenceSample>& samples, const std::filesystem::path& file) {
   std::ofstream out(file);
   if (!out) return absl::UnavailableError(absl::StrCat("cannot write ", file.string()));
-  out << "clip,landmark,predicted_m,actual_m,distance,wrist_fit_m,solver_cost,session_log_cost\n";
+  out << "clip,landmark,predicted_m,actual_m,distance,wrist_fit_m,solver_cost,session_log_cost,untracked_s\n";
   for (const ConfidenceSample& s : samples) {
-    out << s.clip << ',' << kBodyLandmarkNames[s.landmark] << ',' << s.predicted << ',' << s.actual << ',' << s.distance
-        << ',' << s.wrist_fit << ',' << s.solver_cost << ',' << s.session_log_cost << '\n';
+    const ConfidenceCues& c = s.cues;
+    out << s.clip << ',' << kBodyLandmarkNames[s.landmark] << ',' << s.predicted << ',' << s.actual << ',' << c.distance
+        << ',' << c.wrist_fit << ',' << c.solver_cost << ',' << c.session_log_cost << ','
+        << UntrackedSecondsFor(c, s.landmark) << '\n';
   }
   out.close();
   if (!out) return absl::DataLossError(absl::StrCat("writing ", file.string(), " failed"));

@@ -21,7 +21,7 @@ struct ConfidenceSample {
   float predicted = 0, actual = 0;  // metres
   std::uint8_t landmark = 0;        // BodyLandmarkJoints order
   // What it was told from, for fitting the calibration (landmark_confidence.h ConfidenceCues).
-  float distance = 0, wrist_fit = 0, solver_cost = 0, session_log_cost = 0;
+  ConfidenceCues cues;
   int clip = 0;  // test clip index
 };
 
@@ -51,6 +51,10 @@ struct ConfidenceSummary {
 
 // Empty summary (samples = 0) for no samples.
 ConfidenceSummary SummariseConfidence(const std::vector<ConfidenceSample>& samples, int bins = 10);
+
+// Where `--confidence-samples FILE` puts a run's samples: FILE for the full run, FILE's stem + "." +
+// the run's name + its extension for the others (the device runs: dropout_2s → FILE.dropout_2s.csv).
+std::filesystem::path ConfidenceSamplesFile(const std::filesystem::path& file, const std::string& run);
 
 // One line per sample (clip, landmark name, predicted, actual, then the cues) for fitting the
 // calibration offline (docs/method.md "Confidence").

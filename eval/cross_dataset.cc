@@ -268,7 +268,8 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       if (!frames.ok())
         return absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
       per_clip[i] = MeasureLandmarks(*database, truth, *frames, 1.0f / scale, &confidence[i]);
-      if (experiment.device.dropout_s > 0 || experiment.device.gap_every_s > 0)
+      if (experiment.device.dropout_s > 0 || experiment.device.gap_every_s > 0 ||
+          experiment.device.left_hand_lost_s > 0)
         MeasureReentryJerk(*database, truth, *frames, wrists, 1.0f / scale, &per_clip[i]);
       for (ConfidenceSample& sample : confidence[i]) sample.clip = static_cast<int>(i);
       per_clip[i].seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -286,8 +287,10 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     result.confidence = SummariseConfidence(all_confidence);
     for (const auto& [source, samples] : confidence_by_source)
       result.confidence_by_source[source] = SummariseConfidence(samples);
-    if (experiment.name == "full" && !confidence_samples.empty())
-      MOCAP_RETURN_IF_ERROR(WriteConfidenceSamples(all_confidence, confidence_samples));
+    if (!confidence_samples.empty() && (experiment.name == "full" || !experiment.device.name.empty())) {
+      MOCAP_RETURN_IF_ERROR(
+          WriteConfidenceSamples(all_confidence, ConfidenceSamplesFile(confidence_samples, experiment.name)));
+    }
     for (size_t i = 0; i < tests.size(); ++i) {
       result.overall.Add(per_clip[i]);
       result.by_source[tests[i].source].Add(per_clip[i]);

@@ -1,6 +1,7 @@
 #include "eval/device_input.h"
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "eval/evaluation.h"
@@ -24,6 +25,11 @@ std::vector<DeviceModel> DropoutDevices() {
                                                                                  {"dropout_2s", 2.0},
                                                                                  {"dropout_5s", 5.0}}) {
     devices.push_back({.name = name, .rate_hz = 60, .jitter_m = 0.005, .dropout_s = seconds});
+  }
+  // One hand lost, the other tracked (issue #25 item 2): the same lengths as the dropouts above.
+  for (const auto& [name, seconds] : std::vector<std::pair<const char*, double>>{
+           {"left_hand_lost_1s", 1.0}, {"left_hand_lost_2s", 2.0}, {"left_hand_lost_5s", 5.0}}) {
+    devices.push_back({.name = name, .rate_hz = 60, .jitter_m = 0.005, .left_hand_lost_s = seconds});
   }
   return devices;
 }
@@ -75,7 +81,12 @@ std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceM
         at[hand] = (at[hand] / q).array().round().matrix() * q;
       }
     }
-    samples.push_back({.time = t, .left = at[0], .right = at[1]});
+    WristSample sample{.time = t, .left = at[0], .right = at[1]};
+    if (device.left_hand_lost_s > 0 && t >= 0.4 * end && t < 0.4 * end + device.left_hand_lost_s) {
+      sample.tracked[0] = false;  // what a lost tracker sends is not to be read
+      sample.left = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+    }
+    samples.push_back(sample);
   }
   return samples;
 }

@@ -21,6 +21,7 @@ struct DeviceModel {
   double gap_every_s = 0;                   // dropouts, one on average every this many seconds (0: none)
   double gap_min_s = 0.1, gap_max_s = 2.0;  // each dropout's length, uniform
   double dropout_s = 0;                     // one dropout of this length from 40% into the clip (0: none)
+  double left_hand_lost_s = 0;              // the left hand alone lost this long from 40% into the clip (0: none)
 };
 
 // The devices every report measures (named in docs/evaluation.md's table):
@@ -31,7 +32,8 @@ struct DeviceModel {
 std::vector<DeviceModel> StandardDevices();
 // One dropout of each length the tracking states are judged on (issue #25: 0.2-5 s), in input
 // otherwise like `dropouts`' (60 Hz, 5 mm jitter): dropout_0.2s, dropout_0.5s, dropout_1s,
-// dropout_2s, dropout_5s.
+// dropout_2s, dropout_5s; and the left hand alone lost for 1, 2 and 5 s while the right is tracked
+// (left_hand_lost_1s, _2s, _5s; the lost hand's samples are NaN, tracked = false).
 std::vector<DeviceModel> DropoutDevices();
 
 // The samples `device` would send for `truth`'s wrists (from time 0 to the clip's end), drawn from

@@ -1,15 +1,23 @@
 #!/usr/bin/env python3
 """Fits the landmark confidence calibration (docs/method.md "Confidence",
-motion/reconstruct/landmark_confidence.cc) on development data only:
+motion/reconstruct/landmark_confidence.cc) on development data only, in two stages.
 
+Tracked landmarks, on two regimes weighted alike:
   - the development split (mocap-eval --dev-split: the database holds the test performers' styles);
   - the same test takes with their style left out of the database (leave one style out, seven
     databases), the regime of a body the database lacks.
+  Model, per landmark k:
+    log e_k = a_k + b_d log(d + 1e-4) + b_w log(w + 1e-4) + b_c log(c + 1e-3) + b_s S
+  by least squares on log(error + 1e-3); then a_k += log mean exp(residual) (the mean, not the
+  median, is predicted).
 
-Each regime's (frame, landmark) pairs weigh alike. Model, per landmark k:
-  log e_k = a_k + b_d log(d + 1e-4) + b_w log(w + 1e-4) + b_c log(c + 1e-3) + b_s S
-by least squares on log(error + 1e-3); then a_k += log mean exp(residual) (the mean, not the
-median, is predicted). Prints the constants to paste and how well they do in each regime.
+Landmarks whose input is not real (untracked seconds u > 0: a dropout bridged by interpolation,
+or a hand lost while the other is tracked), on the development split's takes streamed with
+dropouts (mocap-eval --devices: one dropout of 0.5, 1, 2 or 5 s, dropouts of 0.1-2 s every 4 s,
+the left hand alone lost for 1, 2 or 5 s). There the cues of the solve say little (the body meets
+an input that is a guess), so they have a model of their own:
+    log e_k = a'_k + b_u log(1 + u / 0.1 s)
+fitted the same way. Prints the constants to paste and how well they do in each regime.
 
 Usage: eval/fit_confidence.py [--mocap-eval build/eval/mocap-eval] [--work DIR]
 Needs python3-numpy and the shared data (bandai-namco-2 unpacked where mocap-eval finds it).
@@ -25,8 +33,13 @@ import numpy as np
 
 LANDMARKS = ["pelvis", "head", "left_shoulder", "right_shoulder", "left_elbow", "right_elbow", "left_wrist",
              "right_wrist", "left_hip", "right_hip", "left_knee", "right_knee", "left_ankle", "right_ankle"]
+SIDELESS_NAMES = ["pelvis", "head", "shoulder", "elbow", "wrist", "hip", "knee", "ankle"]
+SIDELESS = np.array([0, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7])  # LANDMARKS → SIDELESS_NAMES
 STYLES = ["active", "elderly", "exhausted", "feminine", "masculine", "normal", "youthful"]
-CUES = ["distance", "wrist_fit_m", "solver_cost", "session_log_cost"]
+CUES = ["distance", "wrist_fit_m", "solver_cost", "session_log_cost", "untracked_s"]
+DROPOUT_RUNS = ["full@dropout_0.5s", "full@dropout_1s", "full@dropout_2s", "full@dropout_5s", "full@dropouts",
+                "full@left_hand_lost_1s", "full@left_hand_lost_2s", "full@left_hand_lost_5s"]
+UNTRACKED_SCALE_S = 0.1
 
 
 def run(cmd):
@@ -81,15 +94,20 @@ def main():
     parser.add_argument("--work", default="/tmp/mocap-confidence-fit")
     parser.add_argument("--data", default=os.path.expanduser("~/.cache/mocap/data/bandai-namco-2"),
                         help="the unpacked bandai-namco-2 folder")
+    parser.add_argument("--no-run", action="store_true", help="refit the samples an earlier run left in --work")
     args = parser.parse_args()
     work = pathlib.Path(args.work)
     work.mkdir(parents=True, exist_ok=True)
     common = [args.mocap_eval, "--runs", "full", "--no-bvh"]
-    run(common + ["--dev-split", "--out", work / "dev", "--confidence-samples", work / "dev.csv"])
-    regimes = {"development split": [work / "dev.csv"], "style left out": []}
+    execute = (lambda cmd: None) if args.no_run else run
+    execute(common + ["--dev-split", "--out", work / "dev", "--confidence-samples", work / "dev.csv"])
+    execute(common[:1] + ["--dev-split", "--landmarks", "--devices", "--no-bvh", "--runs", "full"] + DROPOUT_RUNS +
+        ["--out", work / "dropouts", "--confidence-samples", work / "dropouts.csv"])
+    regimes = {"development split": [work / "dev.csv"], "style left out": [],
+               "dropouts": [work / f"dropouts.{name}.csv" for name in DROPOUT_RUNS]}
     for style, db, test in leave_style_out_sets(pathlib.Path(args.data), work):
         out = work / f"{style}.csv"
-        run(common + ["--database-dir", db, "--test", test, "--out", work / f"out-{style}", "--confidence-samples", out])
+        execute(common + ["--database-dir", db, "--test", test, "--out", work / f"out-{style}", "--confidence-samples", out])
         regimes["style left out"].append(out)
 
     data = {}
@@ -97,26 +115,67 @@ def main():
         parts = [load(f) for f in files]
         data[name] = (np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
                       {c: np.concatenate([p[2][c] for p in parts]) for c in CUES})
-    x = np.concatenate([design(l, c) for l, _, c in data.values()])
-    y = np.log(np.concatenate([a for _, a, _ in data.values()]) + 1e-3)
-    weight = np.concatenate([np.full(len(a), 1.0 / len(a)) for _, a, _ in data.values()])
-    root = np.sqrt(weight)
-    beta = np.linalg.lstsq(x * root[:, None], y * root, rcond=None)[0]
-    residual = np.exp(y - x @ beta)
-    landmark = np.concatenate([l for l, _, _ in data.values()])
-    for k in range(len(LANDMARKS)):
-        beta[k] += np.log(np.average(residual[landmark == k], weights=weight[landmark == k]))
+    tracked_regimes = [data["development split"], data["style left out"]]
+    beta = fit([design(l, c) for l, _, c in tracked_regimes], [a for _, a, _ in tracked_regimes],
+               [l for l, _, _ in tracked_regimes])
+    l, a, c = data["dropouts"]
+    untracked = c["untracked_s"] > 0
+    guessed = fit([untracked_design(l[untracked], c["untracked_s"][untracked])], [a[untracked]],
+                  [SIDELESS[l[untracked]]], len(SIDELESS_NAMES))
+    guessed = np.concatenate([guessed[SIDELESS], guessed[len(SIDELESS_NAMES):]])  # per landmark again
     print("kLogBase =", ", ".join(f"{b:.4f}f" for b in beta[:len(LANDMARKS)]))
     for name, b in zip(["kDistanceExponent", "kWristFitExponent", "kCostExponent", "kSessionCostExponent"],
                        beta[len(LANDMARKS):]):
         print(f"{name} = {b:.4f}f")
+    print("kUntrackedLogBase =", ", ".join(f"{b:.4f}f" for b in guessed[:len(LANDMARKS)]))
+    print(f"kUntrackedExponent = {guessed[len(LANDMARKS)]:.4f}f")
     for name, (l, actual, cues) in data.items():
-        predicted = np.exp(design(l, cues) @ beta)
-        order = np.argsort(predicted)
-        bins = [actual[b].mean() / predicted[b].mean() for b in np.array_split(order, 10)]
-        print(f"{name}: Spearman {spearman(predicted, actual):.3f}; actual / predicted per bin "
-              + " ".join(f"{r:.2f}" for r in bins))
+        predicted = predict(beta, guessed, l, cues)
+        report(name, predicted, actual)
+        untracked = cues["untracked_s"] > 0
+        if untracked.any():
+            report(f"  of which untracked ({untracked.sum()} pairs)", predicted[untracked], actual[untracked])
+            report(f"  of which tracked ({(~untracked).sum()} pairs)", predicted[~untracked], actual[~untracked])
 
+
+def untracked_design(landmark, untracked_s, per_landmark=False):
+    """Intercepts per landmark without its side (the dropouts lose the left hand alone; either may be
+    lost), or per landmark (the expanded constants)."""
+    group = landmark if per_landmark else SIDELESS[landmark]
+    count = len(LANDMARKS) if per_landmark else len(SIDELESS_NAMES)
+    columns = [(group == k).astype(float) for k in range(count)]
+    columns.append(np.log1p(untracked_s / UNTRACKED_SCALE_S))
+    return np.stack(columns, 1)
+
+
+def fit(designs, actuals, landmarks, intercepts=len(LANDMARKS)):
+    """Least squares of log(actual + 1e-3), each regime weighted alike, then the mean correction of
+    each intercept (the first `intercepts` columns; `landmarks` says each sample's)."""
+    x = np.concatenate(designs)
+    y = np.log(np.concatenate(actuals) + 1e-3)
+    weight = np.concatenate([np.full(len(a), 1.0 / len(a)) for a in actuals])
+    root = np.sqrt(weight)
+    beta = np.linalg.lstsq(x * root[:, None], y * root, rcond=None)[0]
+    residual = np.exp(y - x @ beta)
+    landmark = np.concatenate(landmarks)
+    for k in range(intercepts):
+        beta[k] += np.log(np.average(residual[landmark == k], weights=weight[landmark == k]))
+    return beta
+
+
+def predict(beta, guessed, landmark, cues):
+    """As ExpectedLandmarkErrors: the untracked model where the landmark's input is not real."""
+    untracked = cues["untracked_s"] > 0
+    return np.where(untracked, np.exp(untracked_design(landmark, cues["untracked_s"], True) @ guessed),
+                    np.exp(design(landmark, cues) @ beta))
+
+
+def report(name, predicted, actual):
+    order = np.argsort(predicted)
+    bins = [actual[b].mean() / predicted[b].mean() for b in np.array_split(order, 10)]
+    worst = max(max(r, 1 / r) for r in bins)
+    print(f"{name}: Spearman {spearman(predicted, actual):.3f}; worst bin {worst:.2f}; actual / predicted per bin "
+          + " ".join(f"{r:.2f}" for r in bins))
 
 if __name__ == "__main__":
     main()

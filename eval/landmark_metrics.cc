@@ -146,7 +146,9 @@ void MeasureReentryJerk(const ReconstructionDatabase& database, const LandmarkTr
   const double dt = database.frame_time();
   const double truth_end = (truth.num_frames() - 1) * truth.frame_time;
   for (size_t s = 1; s < samples.size(); ++s) {
-    if (samples[s].time - samples[s - 1].time <= 2.5 * period) continue;
+    const bool hand_back =
+        (samples[s].tracked[0] && !samples[s - 1].tracked[0]) || (samples[s].tracked[1] && !samples[s - 1].tracked[1]);
+    if (samples[s].time - samples[s - 1].time <= 2.5 * period && !hand_back) continue;
     const double back = samples[s].time;
     double jerk = 0, truth_jerk = 0;
     int counted = 0;

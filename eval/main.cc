@@ -160,7 +160,8 @@ int main(int argc, char** argv) {
   std::string confidence_samples;
   app.add_option("--confidence-samples", confidence_samples,
                  "write the full run's (predicted, actual) landmark errors and their cues to this CSV, one line per "
-                 "frame and landmark (fitting the confidence calibration: docs/method.md \"Confidence\")");
+                 "frame and landmark (fitting the confidence calibration: docs/method.md \"Confidence\"); with "
+                 "--devices each device run's to FILE's stem.RUN.csv beside it");
   app.add_option("--thresholds", thresholds_file,
                  "regression thresholds for --quick (JSON; default: the built-in ones)");
   app.add_option("--shared-data", shared_data,

@@ -1,5 +1,6 @@
 #include "server/reconstruction_convert.h"
 
+#include <array>
 #include <cmath>
 
 #include "motion/core/str_cat.h"
@@ -157,9 +158,14 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
   for (float c : confidences) {
     if (!(c >= 0.0f && c <= 1.0f)) return refused(StrCat("confidence ", c, " is outside [0, 1]"));
   }
+  const std::array<bool, 2> tracked = {confidences[0] >= min_confidence, confidences[1] >= min_confidence};
+  if (!tracked[0] && !tracked[1])
+    return {SampleCheck::kDropout, "confidence below min_confidence (treated as a dropout)"};
   const LengthUnit unit = input.frame.convention.unit;
   const double metres_per_unit = MetresPerUnit(unit);
-  for (const v1::Vec3* v : {&sample.left(), &sample.right()}) {
+  for (int side = 0; side < 2; ++side) {
+    if (!tracked[side]) continue;  // a lost hand's position is not read
+    const v1::Vec3* v = side == 0 ? &sample.left() : &sample.right();
     for (double x : {v->x(), v->y(), v->z()}) {
       if (!std::isfinite(x)) return refused("a wrist position is not a finite number");
       if (std::abs(x * metres_per_unit) > kMaxWristCoordinateMetres) {
@@ -168,13 +174,13 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
       }
     }
   }
-  if (confidences[0] < min_confidence || confidences[1] < min_confidence) {
-    return {SampleCheck::kDropout, "confidence below min_confidence (treated as a dropout)"};
-  }
   Eigen::Vector3f left = FromProto(sample.left(), 1.0f), right = FromProto(sample.right(), 1.0f);
+  if (!tracked[0]) left = right;  // placeholders, finite: the session holds a lost hand by the other
+  if (!tracked[1]) right = left;
   if (input.frame.tracked_device) {
-    Eigen::Quaternionf orientations[2];
+    Eigen::Quaternionf orientations[2] = {Eigen::Quaternionf::Identity(), Eigen::Quaternionf::Identity()};
     for (int side = 0; side < 2; ++side) {
+      if (!tracked[side]) continue;
       const v1::Quaternion& q = side == 0 ? sample.left_orientation() : sample.right_orientation();
       orientations[side] = Eigen::Quaternionf(q.w(), q.x(), q.y(), q.z());
       const float norm = orientations[side].norm();
@@ -190,8 +196,11 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
   out->time = sample.time();
   out->left = input.transform.PositionToNative(left);
   out->right = input.transform.PositionToNative(right);
-  if (std::optional<std::string> problem = WristSeparationProblem((out->left - out->right).norm(), unit)) {
-    return refused(*std::move(problem));
+  out->tracked = tracked;
+  if (tracked[0] && tracked[1]) {
+    if (std::optional<std::string> problem = WristSeparationProblem((out->left - out->right).norm(), unit)) {
+      return refused(*std::move(problem));
+    }
   }
   return {};
 }
@@ -242,6 +251,8 @@ void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool 
         return v1::TRACKING_STATE_OUT_OF_REACH;
       case TrackingState::kPutDown:
         return v1::TRACKING_STATE_PUT_DOWN;
+      case TrackingState::kLost:
+        return v1::TRACKING_STATE_LOST;
       case TrackingState::kTracked:
         break;
     }
@@ -266,6 +277,8 @@ void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool 
   o->set_left_foot_planted(d.contact[0]);
   o->set_right_foot_planted(d.contact[1]);
   o->set_bridged(d.bridged);
+  o->set_left_untracked_seconds(d.untracked_seconds[0]);
+  o->set_right_untracked_seconds(d.untracked_seconds[1]);
 }
 
 void ToProto(const SessionStatistics& statistics, v1::SessionSummary* out) {

@@ -121,7 +121,8 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
 struct Plausibility {
   PlausibilityStats stats;
   float input_speed_max = 0;  // m/s, the input wrists' midpoint (the smoothed wrists the frames were given)
-  long predicted_hand_frames = 0, put_down_hand_frames = 0;  // the server's tracking states, per hand and frame
+  // The server's tracking states, per hand and frame.
+  long predicted_hand_frames = 0, lost_hand_frames = 0, put_down_hand_frames = 0;
 };
 
 std::optional<Plausibility> PlausibilityOf(const v1::SessionStarted& started, const std::vector<v1::Frame>& frames) {
@@ -169,6 +170,7 @@ std::optional<Plausibility> PlausibilityOf(const v1::SessionStarted& started, co
     for (v1::TrackingState state : {frame.left_hand_state(), frame.right_hand_state()}) {
       result.predicted_hand_frames += state == v1::TRACKING_STATE_PREDICTED;
       result.put_down_hand_frames += state == v1::TRACKING_STATE_PUT_DOWN;
+      result.lost_hand_frames += state == v1::TRACKING_STATE_LOST;
     }
     measured.push_back(MakePlausibilityFrame(plausibility_rig, positions,
                                              {vec(frame.left_wrist()), vec(frame.right_wrist())}, frame.time(),
@@ -273,6 +275,7 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
           {"implausible_input_frames", p.flagged_frames},
           {"predicted_hand_frames", plausibility->predicted_hand_frames},
           {"put_down_hand_frames", plausibility->put_down_hand_frames},
+          {"lost_hand_frames", plausibility->lost_hand_frames},
           {"motion_limited_frames", p.motion_limited_frames},
       };
     }
@@ -307,9 +310,10 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
               << 100 * p.lower_foot_height.max() << "); under the floor ≤ " << 100 * p.penetration_max << " cm; "
               << p.flagged_frames << " frames with implausible input, " << p.motion_limited_frames
               << " frames where the body was held to a body's speed";
-    if (plausibility->predicted_hand_frames || plausibility->put_down_hand_frames) {
+    if (plausibility->predicted_hand_frames || plausibility->put_down_hand_frames || plausibility->lost_hand_frames) {
       std::cout << "; hand-frames bridged over a dropout " << plausibility->predicted_hand_frames
-                << ", with the device put down " << plausibility->put_down_hand_frames;
+                << ", with the device put down " << plausibility->put_down_hand_frames << ", lost "
+                << plausibility->lost_hand_frames;
     }
     std::cout << "\n";
     std::cout.unsetf(std::ios::floatfield);

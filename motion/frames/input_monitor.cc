@@ -60,6 +60,8 @@ std::string Rounded(double value) {
   return StrCat(std::round(value / step) * step);
 }
 
+bool BothTracked(const WristSample& sample) { return sample.tracked[0] && sample.tracked[1]; }
+
 float Median(std::vector<float> values) {
   if (values.empty()) return 0.0f;
   const size_t middle = values.size() / 2;
@@ -91,8 +93,7 @@ void InputMonitor::Add(const WristSample& sample, long index, std::vector<Monito
       window_.push_back({sample, index});
       if (!calibrate_floor_) {
         ready->push_back(window_.back());
-        TrackSides(sample, warnings);
-        TrackHeight(sample, warnings);
+        Track(sample, warnings);
       }
       return;
     }
@@ -102,8 +103,13 @@ void InputMonitor::Add(const WristSample& sample, long index, std::vector<Monito
   shifted.left.y() -= calibrated_floor_;
   shifted.right.y() -= calibrated_floor_;
   ready->push_back({shifted, index});
-  TrackSides(shifted, warnings);
-  TrackHeight(shifted, warnings);
+  Track(shifted, warnings);
+}
+
+void InputMonitor::Track(const WristSample& sample, std::vector<InputWarning>* warnings) {
+  if (!BothTracked(sample)) return;  // a lost hand's position says nothing about the input
+  TrackSides(sample, warnings);
+  TrackHeight(sample, warnings);
 }
 
 void InputMonitor::Finish(std::vector<MonitoredSample>* ready, std::vector<InputWarning>* warnings) {
@@ -115,18 +121,24 @@ void InputMonitor::CloseWindow(std::vector<MonitoredSample>* ready, std::vector<
   const float height = options_.body_height;
   std::vector<float> separations, lower_heights;
   for (const MonitoredSample& s : window_) {
+    if (!BothTracked(s.sample)) continue;
     separations.push_back((s.sample.left - s.sample.right).norm());
     lower_heights.push_back(std::min(s.sample.left.y(), s.sample.right.y()));
   }
   if (calibrate_floor_) {
-    calibrated_floor_ = Median(lower_heights) - kWristHangFraction * height;
+    // A window where a hand was lost throughout tells nothing: the floor stays as declared.
+    if (!lower_heights.empty()) calibrated_floor_ = Median(lower_heights) - kWristHangFraction * height;
     for (MonitoredSample& s : window_) {
       s.sample.left.y() -= calibrated_floor_;
       s.sample.right.y() -= calibrated_floor_;
       ready->push_back(s);
-      TrackSides(s.sample, warnings);
-      TrackHeight(s.sample, warnings);
+      Track(s.sample, warnings);
     }
+  }
+  if (separations.empty()) {
+    window_.clear();
+    window_.shrink_to_fit();
+    return;
   }
   const std::string seconds = StrCat(Rounded(options_.window_seconds), " s");
   const float separation = Median(separations);
@@ -192,8 +204,9 @@ std::optional<std::string> InputMonitor::UpAxisHoldingHangingWrists() const {
   for (int index : {0, 2}) {
     for (float sign : {1.0f, -1.0f}) {
       std::vector<float> lower;
-      for (const MonitoredSample& s : window_)
-        lower.push_back(std::min(sign * s.sample.left[index], sign * s.sample.right[index]));
+      for (const MonitoredSample& s : window_) {
+        if (BothTracked(s.sample)) lower.push_back(std::min(sign * s.sample.left[index], sign * s.sample.right[index]));
+      }
       const float median = Median(std::move(lower));
       if (!(median >= kHangBand[0] * height && median <= kHangBand[1] * height)) continue;
       const float distance = std::abs(median - kWristHangFraction * height);

@@ -107,6 +107,8 @@ class InputMonitor {
 
  private:
   void CloseWindow(std::vector<MonitoredSample>* ready, std::vector<InputWarning>* warnings);
+  // Both trackers below, on a sample whose hands are both tracked.
+  void Track(const WristSample& sample, std::vector<InputWarning>* warnings);
   void TrackSides(const WristSample& sample, std::vector<InputWarning>* warnings);
   void TrackHeight(const WristSample& sample, std::vector<InputWarning>* warnings);
   // The caller's name ("+Z") of the native axis `index` (0 X, 2 Z) with `sign`.

@@ -6,14 +6,14 @@
 namespace mocap {
 namespace {
 
-// The calibration of docs/method.md "Confidence":
+// The calibration of docs/method.md "Confidence", fitted on development data only
+// (`eval/fit_confidence.py` reproduces every constant). A landmark whose input is real:
 //   log e_k = a_k + b_d·log(d + 1e-4) + b_w·log(w + 1e-4) + b_c·log(c + 1e-3) + b_s·S
 // (d: eq. 8 distance, w: wrist fit in metres, c: A6 energy, S: the session's mean log energy),
 // fitted by least squares of the log error on the full method's landmark errors (lag 5, 0.5 cm
-// noise) in two development regimes weighted alike — the development split (the database has the
-// performer's style) and the same takes with their style left out of the database — then each a_k
-// raised by the mean of exp(residual) so that the mean error, not the median, is predicted.
-// `eval/fit_confidence.py` reproduces it.
+// noise) in two regimes weighted alike — the development split (the database has the performer's
+// style) and the same takes with their style left out of the database — then each a_k raised by
+// the mean of exp(residual) so that the mean error, not the median, is predicted.
 constexpr std::array<float, kNumBodyLandmarks> kLogBase = {-3.2379f, -3.1716f, -3.1880f, -3.1987f, -3.2464f,
                                                            -3.2916f, -4.6098f, -4.6116f, -3.2320f, -3.2138f,
                                                            -3.0743f, -2.9693f, -2.9267f, -2.8450f};
@@ -21,6 +21,16 @@ constexpr float kDistanceExponent = 0.0444f;
 constexpr float kWristFitExponent = 0.1274f;
 constexpr float kCostExponent = 0.0400f;
 constexpr float kSessionCostExponent = 0.2853f;
+// A landmark whose input is not real (u = UntrackedSecondsFor > 0): the solve's cues say little
+// there (the body meets a guess well), so a model of its own,
+//   log e_k = a'_k + b_u·log(1 + u / 0.1 s),
+// fitted the same way on the development split's takes streamed with dropouts of 0.1–5 s and with
+// the left hand alone lost for 1–5 s (eval/device_input.h); a'_k shared by a left and right pair.
+constexpr std::array<float, kNumBodyLandmarks> kUntrackedLogBase = {-3.2388f, -3.1693f, -3.1398f, -3.1398f, -2.6775f,
+                                                                    -2.6775f, -2.3855f, -2.3855f, -3.2264f, -3.2264f,
+                                                                    -3.0400f, -3.0400f, -2.8405f, -2.8405f};
+constexpr float kUntrackedExponent = 0.3748f;
+constexpr float kUntrackedScaleSeconds = 0.1f;
 
 }  // namespace
 
@@ -36,12 +46,24 @@ float SessionCost::Add(float solver_cost) {
 
 float LogSolverCost(float solver_cost) { return std::log(std::max(0.0f, solver_cost) + 1e-3f); }
 
+float UntrackedSecondsFor(const ConfidenceCues& cues, int landmark) {
+  // kBodyLandmarkNames: 2..7 are the left and right shoulder, elbow and wrist, alternating.
+  if (landmark >= 2 && landmark <= 7) return cues.untracked_seconds[landmark % 2];
+  return std::max(cues.untracked_seconds[0], cues.untracked_seconds[1]);
+}
+
 LandmarkErrors ExpectedLandmarkErrors(const ConfidenceCues& cues) {
   const float shared = kDistanceExponent * std::log(std::max(0.0f, cues.distance) + 1e-4f) +
                        kWristFitExponent * std::log(std::max(0.0f, cues.wrist_fit) + 1e-4f) +
                        kCostExponent * LogSolverCost(cues.solver_cost) + kSessionCostExponent * cues.session_log_cost;
   LandmarkErrors errors;
-  for (int k = 0; k < kNumBodyLandmarks; ++k) errors[k] = std::exp(kLogBase[k] + shared);
+  for (int k = 0; k < kNumBodyLandmarks; ++k) {
+    const float untracked = UntrackedSecondsFor(cues, k);
+    errors[k] =
+        untracked > 0
+            ? std::exp(kUntrackedLogBase[k] + kUntrackedExponent * std::log1p(untracked / kUntrackedScaleSeconds))
+            : std::exp(kLogBase[k] + shared);
+  }
   return errors;
 }
 

@@ -20,7 +20,15 @@ struct ConfidenceCues {
   float wrist_fit = 0;         // metres: mean distance of the solved wrists from their targets (A6)
   float solver_cost = 0;       // A6 energy at the solution
   float session_log_cost = 0;  // SessionCost: the mean log energy over the session's last seconds
+  // Per hand (left, right), seconds its input has not been real: across a dropout bridged by
+  // interpolation the seconds to the nearer real sample, for a hand held by the other one
+  // (one_hand_bridge.h) the seconds since it was lost; 0 when tracked.
+  std::array<float, 2> untracked_seconds{};
 };
+
+// The untracked seconds that bear on `landmark`: its own hand's for an arm's shoulder, elbow and
+// wrist, the longer of the two for the rest of the body.
+float UntrackedSecondsFor(const ConfidenceCues& cues, int landmark);
 
 // The causal mean of the log A6 energy over a session: the plain mean over its first
 // `window_seconds`, then an exponential mean of that time constant. One per session (across its

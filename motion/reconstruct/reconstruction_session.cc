@@ -66,6 +66,7 @@ struct ReconstructionSession::Segment {
   FrameHistory<SmoothedWrists> wrists;
   FrameHistory<std::array<Eigen::Vector3f, 2>> input;  // resampled, unsmoothed wrists
   FrameHistory<double> times;
+  FrameHistory<std::array<float, 2>> untracked;  // GridSample::untracked_seconds
   FrameHistory<char> bridged;
   FrameHistory<float> wrist_distance;
   // A4 state.
@@ -150,17 +151,24 @@ int ReconstructionSession::frames_held() const {
   if (!segment_) return 0;
   const Segment& s = *segment_;
   auto held = [](const auto& history) { return history.stored(); };
-  return std::max({held(s.input), held(s.wrists), held(s.times), held(s.bridged), held(s.wrist_distance), held(s.raw),
-                   held(s.raw_rows), held(s.ankles), static_cast<int>(s.window.size()), static_cast<int>(s.dp.size()),
-                   static_cast<int>(s.post.size())});
+  return std::max({held(s.input), held(s.wrists), held(s.times), held(s.untracked), held(s.bridged),
+                   held(s.wrist_distance), held(s.raw), held(s.raw_rows), held(s.ankles),
+                   static_cast<int>(s.window.size()), static_cast<int>(s.dp.size()), static_cast<int>(s.post.size())});
 }
 
 absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<ReconstructedFrame>* out) {
+  // A lost hand is held by the other (one_hand_bridge.h); the bridge's state is kept only when the
+  // resampler takes the sample, so a refused sample leaves the session as it was.
+  OneHandBridge bridge = one_hand_bridge_;
+  WristSample filled = sample;
+  std::array<float, 2> untracked{};
+  if (!bridge.Fill(&filled, &untracked)) return absl::OkStatus();  // no hand to go on from yet: a dropout
   std::vector<GridSample> grid;
-  if (absl::Status status = resampler_.Push(sample, &grid); !status.ok()) {
+  if (absl::Status status = resampler_.Push(filled, &grid, untracked); !status.ok()) {
     ++statistics_.refused_samples;
     return status;
   }
+  one_hand_bridge_ = bridge;
   ++statistics_.samples;
   for (const GridSample& g : grid) MOCAP_RETURN_IF_ERROR(AcceptGridSample(g, out));
   return absl::OkStatus();
@@ -169,6 +177,7 @@ absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<
 absl::Status ReconstructionSession::Finish(std::vector<ReconstructedFrame>* out) {
   MOCAP_RETURN_IF_ERROR(EndSegment(out));
   resampler_.Reset();
+  one_hand_bridge_.Reset();
   return absl::OkStatus();
 }
 
@@ -188,6 +197,7 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
   Segment& s = *segment_;
   s.input.push_back({sample.left, sample.right});
   s.times.push_back(sample.time);
+  s.untracked.push_back(sample.untracked_seconds);
   s.bridged.push_back(sample.bridged);
   // A2 looks `lookahead_` frames ahead: frame t is processed once t + lookahead_ has arrived.
   while (static_cast<int>(s.wrists.size()) + lookahead_ < static_cast<int>(s.input.size())) {
@@ -396,12 +406,10 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   d.solver_cost = solved.cost;
   d.solver_evaluations = solved.evaluations;
   for (int c = 0; c < kNumControlPoints; ++c) d.control_error[c] = solved.control_error[c];
+  d.untracked_seconds = s.untracked[f];
   d.bridged = s.bridged[f];
   d.session_log_cost = session_cost_.Add(d.solver_cost);
-  frame.landmark_error = ExpectedLandmarkErrors({.distance = d.pose_neighbour_distance,
-                                                 .wrist_fit = 0.5f * (d.control_error[0] + d.control_error[1]),
-                                                 .solver_cost = d.solver_cost,
-                                                 .session_log_cost = d.session_log_cost});
+  frame.landmark_error = ExpectedLandmarkErrors(ConfidenceCuesOf(d));
   if (full) d.contact = s.cleaner.Process(ankles, &db.frames()[s.raw_rows[f]], &frame.pose, &frame.ankle_targets);
   s.post.push_back(std::move(frame));
   EmitFiltered(false, out);
@@ -449,10 +457,13 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     for (int side = 0; side < 2; ++side) {  // the step into this frame's input
       auto input_at = [&](int f) { return f >= s.input.first() && f >= 0 ? &s.input[f][side] : nullptr; };
       const bool put_down = hand_rest_[side].Update(frame.time, s.input[e][side], s.input[e][1 - side]);
-      if (jump_detector_.Implausible(input_at(e - 2), input_at(e - 1), s.input[e][side])) {
-        frame.hand_state[side] = TrackingState::kImplausible;
-      } else if (s.bridged[e]) {
+      const float untracked = s.untracked[e][side];
+      if (untracked > options_.max_gap_seconds) {
+        frame.hand_state[side] = TrackingState::kLost;  // held by the other hand for long
+      } else if (untracked > 0) {
         frame.hand_state[side] = TrackingState::kPredicted;
+      } else if (jump_detector_.Implausible(input_at(e - 2), input_at(e - 1), s.input[e][side])) {
+        frame.hand_state[side] = TrackingState::kImplausible;
       } else if (put_down) {
         frame.hand_state[side] = TrackingState::kPutDown;
       }
@@ -535,6 +546,7 @@ void ReconstructionSession::ForgetSettledFrames() {
   s.input.ForgetBefore(keep_from);
   s.wrists.ForgetBefore(keep_from);
   s.times.ForgetBefore(keep_from);
+  s.untracked.ForgetBefore(keep_from);
   s.bridged.ForgetBefore(keep_from);
   s.wrist_distance.ForgetBefore(keep_from);
   s.raw.ForgetBefore(keep_from);

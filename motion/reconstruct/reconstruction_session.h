@@ -25,6 +25,7 @@
 #include "motion/reconstruct/hand_rest.h"
 #include "motion/reconstruct/landmark_confidence.h"
 #include "motion/reconstruct/motion_guard.h"
+#include "motion/reconstruct/one_hand_bridge.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/reconstruction_options.h"
 #include "motion/reconstruct/wrist_resampler.h"
@@ -40,17 +41,31 @@ struct FrameDiagnostics {
   std::array<float, 4> control_error{};  // metres: left/right wrist, left/right ankle before A7
   std::array<bool, 2> contact{};         // A7 planted flags (left, right)
   bool bridged = false;                  // input interpolated across a dropout
-  float session_log_cost = 0;            // SessionCost's mean log A6 energy (landmark_confidence.h)
+  // Per hand (left, right): seconds its input has not been real (GridSample::untracked_seconds).
+  std::array<float, 2> untracked_seconds{};
+  float session_log_cost = 0;  // SessionCost's mean log A6 energy (landmark_confidence.h)
 };
 
-// What the engine makes of one hand's input in a frame (the states of issue #25; "lost" is not
-// told apart yet: a gap longer than max_gap_seconds starts a new segment).
+// What a frame's expected errors are told from (landmark_confidence.h).
+inline ConfidenceCues ConfidenceCuesOf(const FrameDiagnostics& d) {
+  return {.distance = d.pose_neighbour_distance,
+          .wrist_fit = 0.5f * (d.control_error[0] + d.control_error[1]),
+          .solver_cost = d.solver_cost,
+          .session_log_cost = d.session_log_cost,
+          .untracked_seconds = d.untracked_seconds};
+}
+
+// What the engine makes of one hand's input in a frame (the states of issue #25). Both hands gone
+// for longer than max_gap_seconds end the segment: no frame is made for that time.
 enum class TrackingState {
   kTracked,      // the input moves as a hand can
   kImplausible,  // the input stepped faster than any hand in the database (a controller's jump,
                  // a tracker that repeated samples and caught up): the body does not follow it
   kPredicted,    // no input at this time: a dropout (up to max_gap_seconds) bridged by the input
-                 // interpolated across it
+                 // interpolated across it, or a hand the tracker lost held by the other one
+                 // (one_hand_bridge.h) for up to max_gap_seconds
+  kLost,         // the tracker has lost this hand for longer than max_gap_seconds while the other
+                 // is tracked: the body goes on from the other hand, this one held by it
   kOutOfReach,   // the input is further from the body's shoulder than its arm reaches
                  // (kOutOfReachFactor × upper arm + forearm): the hand stops short of it
   kPutDown,      // the device lies still while the person moves (hand_rest.h)
@@ -151,6 +166,7 @@ class ReconstructionSession {
   MotionGuard motion_guard_;
   InputJumpDetector jump_detector_;
   std::array<HandRestDetector, 2> hand_rest_;  // left, right
+  OneHandBridge one_hand_bridge_;
   SessionStatistics statistics_;
   const std::atomic<bool>* cancel_ = nullptr;
 };

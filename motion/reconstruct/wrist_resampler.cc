@@ -10,7 +10,8 @@ namespace mocap {
 WristResampler::WristResampler(double frame_time, double max_gap_seconds)
     : frame_time_(frame_time), max_gap_(max_gap_seconds) {}
 
-absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSample>* out) {
+absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSample>* out,
+                                  std::array<float, 2> untracked_seconds) {
   if (!std::isfinite(sample.time)) return absl::InvalidArgumentError("wrist sample time is not finite");
   if (!sample.left.allFinite() || !sample.right.allFinite()) {
     return absl::InvalidArgumentError(StrCat("wrist sample at t = ", sample.time, " s is not finite (NaN or inf)"));
@@ -24,8 +25,12 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
     grid_origin_ = sample.time;
     next_index_ = 0;
     typical_period_ = 0.0;
-    GridSample first{
-        .starts_segment = true, .bridged = false, .time = sample.time, .left = sample.left, .right = sample.right};
+    GridSample first{.starts_segment = true,
+                     .bridged = false,
+                     .untracked_seconds = untracked_seconds,
+                     .time = sample.time,
+                     .left = sample.left,
+                     .right = sample.right};
     out->push_back(first);
     next_index_ = 1;
   } else {
@@ -41,8 +46,14 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
       if (t > sample.time + 0.01 * frame_time_) break;
       const float a = static_cast<float>(std::clamp((t - previous_.time) / span, 0.0, 1.0));
       // The grid time that meets the new sample is input again, not a guess across the dropout.
+      const bool guessed = bridged && t < sample.time - 0.01 * frame_time_;
+      const float bridge = guessed ? static_cast<float>(std::min(t - previous_.time, sample.time - t)) : 0.0f;
+      std::array<float, 2> untracked;
+      for (int side = 0; side < 2; ++side)
+        untracked[side] = std::max(bridge, (1 - a) * previous_untracked_[side] + a * untracked_seconds[side]);
       out->push_back(GridSample{.starts_segment = false,
-                                .bridged = bridged && t < sample.time - 0.01 * frame_time_,
+                                .bridged = guessed,
+                                .untracked_seconds = untracked,
                                 .time = t,
                                 .left = (1 - a) * previous_.left + a * sample.left,
                                 .right = (1 - a) * previous_.right + a * sample.right});
@@ -50,6 +61,7 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
     }
   }
   previous_ = sample;
+  previous_untracked_ = untracked_seconds;
   has_previous_ = true;
   return absl::OkStatus();
 }

@@ -5,6 +5,7 @@
 // unchanged, so the caller may continue with the next good sample).
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -17,11 +18,18 @@ struct WristSample {
   double time = 0.0;                               // seconds, any origin; strictly increasing
   Eigen::Vector3f left = Eigen::Vector3f::Zero();  // metres, world Y up
   Eigen::Vector3f right = Eigen::Vector3f::Zero();
+  // False: the tracker lost that hand (its position is ignored; the session holds it by the other
+  // hand, one_hand_bridge.h). A sample needs at least one tracked hand.
+  std::array<bool, 2> tracked{true, true};  // left, right
 };
 
 struct GridSample {
   bool starts_segment = false;  // the previous segment (if any) ended before this sample
   bool bridged = false;         // interpolated across a dropout longer than two sample periods
+  // Per hand (left, right), how long its input has not been real: across a bridged dropout the
+  // seconds to the nearer real sample; for a hand held by the other (OneHandBridge) the seconds
+  // since it was last tracked; 0 when tracked.
+  std::array<float, 2> untracked_seconds{};
   double time = 0.0;
   Eigen::Vector3f left, right;
 };
@@ -29,14 +37,17 @@ struct GridSample {
 class WristResampler {
  public:
   WristResampler(double frame_time, double max_gap_seconds);
-  // Appends the grid samples this input sample completes.
-  absl::Status Push(const WristSample& sample, std::vector<GridSample>* out);
+  // Appends the grid samples this input sample completes. `untracked_seconds`: the sample's own
+  // (OneHandBridge), interpolated onto the grid like its positions.
+  absl::Status Push(const WristSample& sample, std::vector<GridSample>* out,
+                    std::array<float, 2> untracked_seconds = {});
   void Reset() { has_previous_ = false; }
 
  private:
   double frame_time_, max_gap_;
   bool has_previous_ = false;
   WristSample previous_;
+  std::array<float, 2> previous_untracked_{};
   double typical_period_ = 0.0;
   long next_index_ = 0;  // next grid frame, counted from grid_origin_
   double grid_origin_ = 0.0;

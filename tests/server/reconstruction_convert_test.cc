@@ -306,10 +306,21 @@ TEST(SampleFromProtoTest, GarbageIsRefusedWithAReasonAndLowConfidenceIsADropout)
   EXPECT_EQ(FromProto(Sample(0, 2e7, 1000, 0, 2e7 - 400, 1000, 0), 0.0f, millimetres, &out).kind,
             SampleCheck::kRefused);
 
+  // One hand below min_confidence: the sample goes on with that hand lost (its position, even
+  // NaN, is not read); both below: a dropout.
   v1::WristSample unsure = good;
   unsure.set_left_confidence(0.3f);
+  unsure.mutable_left()->set_x(NAN);
+  ASSERT_EQ(FromProto(unsure, 0.5f, native, &out).kind, SampleCheck::kAccepted);
+  EXPECT_FALSE(out.tracked[0]);
+  EXPECT_TRUE(out.tracked[1]);
+  EXPECT_TRUE(out.left.allFinite());
+  unsure.set_right_confidence(0.1f);
   EXPECT_EQ(FromProto(unsure, 0.5f, native, &out).kind, SampleCheck::kDropout);
-  EXPECT_EQ(FromProto(unsure, 0.2f, native, &out).kind, SampleCheck::kAccepted);
+  unsure.set_right_confidence(0.9f);
+  unsure.mutable_left()->set_x(0.2);
+  ASSERT_EQ(FromProto(unsure, 0.2f, native, &out).kind, SampleCheck::kAccepted);
+  EXPECT_TRUE(out.tracked[0] && out.tracked[1]);
 }
 
 TEST(SampleFromProtoTest, TrackedDevicesNeedAUnitOrientationAndAreOffsetToTheWrist) {

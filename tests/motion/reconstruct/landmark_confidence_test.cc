@@ -50,6 +50,33 @@ TEST(ExpectedLandmarkErrorsTest, GrowWithEveryCueAndTheWristsAreSurest) {
   for (float e : ExpectedLandmarkErrors({})) EXPECT_TRUE(std::isfinite(e));
 }
 
+TEST(ExpectedLandmarkErrorsTest, InputThatIsNotRealWidensThemTheLongerItLasts) {
+  const ConfidenceCues tracked{
+      .distance = 0.05f, .wrist_fit = 0.005f, .solver_cost = 2.0f, .session_log_cost = LogSolverCost(2.0f)};
+  const LandmarkErrors at_tracked = ExpectedLandmarkErrors(tracked);
+  const int left_elbow = 4, right_elbow = 5, left_wrist = 6, right_wrist = 7;
+  ConfidenceCues left_lost = tracked;
+  LandmarkErrors previous = at_tracked;
+  for (float seconds : {0.1f, 0.5f, 2.0f, 5.0f}) {
+    left_lost.untracked_seconds = {seconds, 0.0f};
+    const LandmarkErrors at_lost = ExpectedLandmarkErrors(left_lost);
+    EXPECT_GT(at_lost[left_wrist], 3 * at_tracked[left_wrist]) << seconds << " s: the hand is a guess";
+    EXPECT_GT(at_lost[left_elbow], previous[left_elbow]) << seconds << " s";
+    EXPECT_GT(at_lost[0], previous[0]) << seconds << " s: the pelvis too";
+    // The tracked side keeps its own.
+    EXPECT_EQ(at_lost[right_wrist], at_tracked[right_wrist]);
+    EXPECT_EQ(at_lost[right_elbow], at_tracked[right_elbow]);
+    previous = at_lost;
+  }
+  EXPECT_EQ(UntrackedSecondsFor(left_lost, left_wrist), 5.0f);
+  EXPECT_EQ(UntrackedSecondsFor(left_lost, right_wrist), 0.0f);
+  EXPECT_EQ(UntrackedSecondsFor(left_lost, 0), 5.0f);  // the body: the longer of the two
+  // Either hand lost for as long: mirrored errors.
+  ConfidenceCues right_lost = tracked;
+  right_lost.untracked_seconds = {0.0f, 5.0f};
+  EXPECT_FLOAT_EQ(ExpectedLandmarkErrors(right_lost)[right_wrist], previous[left_wrist]);
+}
+
 TEST(ExpectedLandmarkErrorsTest, EveryReconstructedFrameCarriesThem) {
   const testing::SyntheticReconstructionSetup setup = testing::MakeSyntheticReconstructionSetup({}, 60);
   ReconstructionOptions options;

@@ -189,6 +189,40 @@ TEST_F(ReconstructionSessionTest, ADropoutIsBridgedAndPredictedUpToMaxGap) {
   EXPECT_EQ(split->back().segment, 1);
 }
 
+TEST_F(ReconstructionSessionTest, ABodyGoesOnFromTheOtherHandWhileOneIsLost) {
+  // The left hand lost for 1.2 s from frame 20 (its samples NaN): no frame is missing, the segment
+  // goes on, the left hand is predicted and then lost (after max_gap_seconds), the right tracked
+  // throughout.
+  options_.max_gap_seconds = 0.51;
+  auto samples = testing::WristSamplesOf(setup_);
+  for (int i = 20; i < 56; ++i) {
+    samples[i].tracked[0] = false;
+    samples[i].left = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+  }
+  auto frames = ReconstructOffline(setup_.database, options_, samples);
+  ASSERT_TRUE(frames.ok()) << frames.status();
+  ASSERT_EQ(frames->size(), 75u);
+  int predicted = 0, lost = 0;
+  for (const ReconstructedFrame& frame : *frames) {
+    EXPECT_EQ(frame.segment, 0);
+    EXPECT_EQ(frame.hand_state[1], TrackingState::kTracked) << "t = " << frame.time;
+    const double since = frame.time - samples[19].time;
+    const bool missing = frame.frame_in_segment >= 20 && frame.frame_in_segment < 56;
+    if (!missing) {
+      EXPECT_NE(frame.hand_state[0], TrackingState::kPredicted) << "t = " << frame.time;
+      EXPECT_NE(frame.hand_state[0], TrackingState::kLost) << "t = " << frame.time;
+      continue;
+    }
+    EXPECT_NEAR(frame.diagnostics.untracked_seconds[0], since, 1e-4);
+    EXPECT_EQ(frame.diagnostics.untracked_seconds[1], 0.0f);
+    const TrackingState expected = since > 0.51 ? TrackingState::kLost : TrackingState::kPredicted;
+    EXPECT_EQ(frame.hand_state[0], expected) << "t = " << frame.time;
+    (expected == TrackingState::kLost ? lost : predicted)++;
+  }
+  EXPECT_EQ(predicted, 15);
+  EXPECT_EQ(lost, 21);
+}
+
 TEST_F(ReconstructionSessionTest, ALongGapEndsTheSegmentAndInputAtAnyRateIsResampled) {
   auto samples = testing::WristSamplesOf(setup_);
   // Second half 3 s later (beyond max_gap_seconds): two segments. Then thin the input to 20 Hz-ish

@@ -55,6 +55,25 @@ TEST(WristResamplerTest, ShortDropoutsAreBridgedLongOnesStartANewSegment) {
   EXPECT_DOUBLE_EQ(out.back().time, 2.0);
 }
 
+TEST(WristResamplerTest, SaysHowLongEachHandsInputHasNotBeenReal) {
+  WristResampler resampler(1.0 / 30.0, 1.0);
+  std::vector<GridSample> out;
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(resampler.Push(At(i / 30.0), &out).ok());
+  ASSERT_TRUE(resampler.Push(At(19 / 30.0), &out).ok());  // 9 frames missing: bridged
+  ASSERT_EQ(out.size(), 20u);
+  for (int k = 10; k < 19; ++k) {  // the seconds to the nearer real sample, both hands
+    const float expected = static_cast<float>(std::min(k - 9, 19 - k) / 30.0);
+    EXPECT_NEAR(out[k].untracked_seconds[0], expected, 1e-6) << k;
+    EXPECT_NEAR(out[k].untracked_seconds[1], expected, 1e-6) << k;
+  }
+  EXPECT_EQ(out[19].untracked_seconds[0], 0.0f);
+  // A hand held by the other (OneHandBridge) brings its own seconds, interpolated onto the grid.
+  ASSERT_TRUE(resampler.Push(At(20.5 / 30.0), &out, {0.0f, 0.5f}).ok());
+  ASSERT_EQ(out.size(), 21u);
+  EXPECT_NEAR(out[20].untracked_seconds[1], 0.5f * (1.0f / 1.5f), 1e-5);
+  EXPECT_EQ(out[20].untracked_seconds[0], 0.0f);
+}
+
 TEST(WristResamplerTest, RefusesNonFiniteSamplesAndTimeGoingBackwardsAndCarriesOn) {
   WristResampler resampler(1.0 / 30.0, 0.25);
   std::vector<GridSample> out;

@@ -1,0 +1,65 @@
+#include "motion/reconstruct/one_hand_bridge.h"
+
+namespace mocap {
+
+Eigen::Vector3f OneHandBridge::TravelVelocity(int side) const {
+  const auto& recent = recent_[side];
+  if (recent.size() < 2 || recent.back().first <= recent.front().first) return Eigen::Vector3f::Zero();
+  return (recent.back().second - recent.front().second) /
+         static_cast<float>(recent.back().first - recent.front().first);
+}
+
+bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_seconds) {
+  const std::array<bool, 2> tracked = sample->tracked;
+  if (!tracked[0] && !tracked[1]) return false;
+  for (int side = 0; side < 2; ++side) {
+    if (!tracked[side] && !last_tracked_time_[side]) return false;
+  }
+  const double t = sample->time;
+  const std::array<Eigen::Vector3f, 2> input = {sample->left, sample->right};
+  std::array<Eigen::Vector3f, 2> position = input;
+  for (int side = 0; side < 2; ++side) {
+    (*untracked_seconds)[side] = 0.0f;
+    if (!tracked[side]) {
+      // Carried along at the tracked hand's pace (velocities measured up to the previous sample).
+      const float step = static_cast<float>(t - previous_time_.value_or(t));
+      position[side] = previous_position_[side] + step * TravelVelocity(1 - side);
+      (*untracked_seconds)[side] = static_cast<float>(t - *last_tracked_time_[side]);
+      lost_[side] = true;
+      continue;
+    }
+    if (lost_[side]) {  // back: from where it was guessed
+      const float step = static_cast<float>(t - previous_time_.value_or(t));
+      const Eigen::Vector3f guess = previous_position_[side] + step * TravelVelocity(1 - side);
+      reentry_step_[side] = guess - input[side];
+      reentry_time_[side] = t;
+      lost_[side] = false;
+    }
+    if (reentry_time_[side]) {
+      const double u = (t - *reentry_time_[side]) / reentry_seconds_;
+      if (u >= 1.0) {
+        reentry_time_[side].reset();
+      } else {
+        const double ease = 1.0 - u * u * (3.0 - 2.0 * u);  // 1 → 0, flat at both ends
+        position[side] += static_cast<float>(ease) * reentry_step_[side];
+      }
+    }
+    last_tracked_time_[side] = t;
+  }
+  for (int side = 0; side < 2; ++side) {
+    auto& recent = recent_[side];
+    if (!tracked[side]) {
+      recent.clear();  // its velocity resumes from its own samples once it is back
+      continue;
+    }
+    recent.emplace_back(t, input[side]);
+    while (recent.size() > 2 && t - recent[1].first >= travel_seconds_) recent.pop_front();
+  }
+  sample->left = position[0];
+  sample->right = position[1];
+  previous_time_ = t;
+  previous_position_ = position;
+  return true;
+}
+
+}  // namespace mocap

@@ -1,0 +1,50 @@
+// While one hand's tracker has lost it, the body goes on from the other hand (issue #25 item 2):
+// the lost hand travels with the body — at the tracked hand's mean velocity over the last
+// `travel_seconds` (a walking body's pace; a hand moving about a standing body averages to little),
+// from where it was last tracked — so its own swing is not invented and the tracked hand's is not
+// copied. When it comes back, the step from that guess to where it really is is spread over
+// `reentry_seconds` (a smoothstep: position and velocity stay continuous) instead of being taken
+// in one frame. Samples whose hands are both tracked pass through unchanged once any re-entry has
+// settled.
+#pragma once
+
+#include <array>
+#include <deque>
+#include <optional>
+#include <utility>
+
+#include <Eigen/Core>
+
+#include "motion/reconstruct/wrist_resampler.h"
+
+namespace mocap {
+
+class OneHandBridge {
+ public:
+  explicit OneHandBridge(double reentry_seconds = 0.5, double travel_seconds = 1.0)
+      : reentry_seconds_(reentry_seconds), travel_seconds_(travel_seconds) {}
+
+  // Fills in the position of a hand `sample` does not track and eases a returning one; sets
+  // `untracked_seconds` per hand (left, right) to the seconds since that hand was last tracked
+  // (0: tracked). False, leaving the sample as it was, when no hand is tracked or when one is
+  // not and no earlier sample tracked it (nothing to go on from): the caller drops the sample.
+  bool Fill(WristSample* sample, std::array<float, 2>* untracked_seconds);
+  // A new session: nothing is remembered.
+  void Reset() { *this = OneHandBridge(reentry_seconds_, travel_seconds_); }
+
+ private:
+  // The mean velocity of `side`'s input over the last travel_seconds_ (zero before two samples).
+  Eigen::Vector3f TravelVelocity(int side) const;
+
+  double reentry_seconds_, travel_seconds_;
+  std::array<std::optional<double>, 2> last_tracked_time_;
+  std::array<bool, 2> lost_{false, false};
+  std::optional<double> previous_time_;
+  std::array<Eigen::Vector3f, 2> previous_position_{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  std::array<std::deque<std::pair<double, Eigen::Vector3f>>, 2> recent_;  // each hand's tracked input
+  // A returning hand: where the guess was against where the input is, when it came back.
+  std::array<Eigen::Vector3f, 2> reentry_step_{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  std::array<std::optional<double>, 2> reentry_time_;
+};
+
+}  // namespace mocap

@@ -1,0 +1,116 @@
+#include "motion/reconstruct/one_hand_bridge.h"
+
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace mocap {
+namespace {
+
+constexpr double kSamplePeriod = 1.0 / 60.0;
+const Eigen::Vector3f kWalkingVelocity(1.2f, 0.0f, 0.0f);  // m/s along x
+
+// Both hands carried along x at walking pace, the left swinging back and forth in z.
+WristSample Walking(int i) {
+  const float t = static_cast<float>(i * kSamplePeriod);
+  return {.time = i * kSamplePeriod,
+          .left = Eigen::Vector3f(0.0f, 1.0f, 0.2f) + t * kWalkingVelocity + Eigen::Vector3f(0, 0, 0.1f * std::sin(6.0f * t)),
+          .right = Eigen::Vector3f(0.0f, 1.0f, -0.2f) + t * kWalkingVelocity};
+}
+
+WristSample LeftLost(int i) {
+  WristSample s = Walking(i);
+  s.tracked[0] = false;
+  s.left = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());  // not to be read
+  return s;
+}
+
+TEST(OneHandBridgeTest, HandsBothTrackedPassThrough) {
+  OneHandBridge bridge;
+  for (int i = 0; i < 120; ++i) {
+    WristSample s = Walking(i);
+    std::array<float, 2> untracked{-1, -1};
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+    EXPECT_EQ(s.left, Walking(i).left);
+    EXPECT_EQ(s.right, Walking(i).right);
+    EXPECT_EQ(untracked[0], 0.0f);
+    EXPECT_EQ(untracked[1], 0.0f);
+  }
+}
+
+TEST(OneHandBridgeTest, NothingToGoOnFromIsADropout) {
+  OneHandBridge bridge;
+  std::array<float, 2> untracked;
+  WristSample lost = LeftLost(0);
+  EXPECT_FALSE(bridge.Fill(&lost, &untracked));  // the left hand was never seen
+  WristSample none = Walking(1);
+  none.tracked = {false, false};
+  EXPECT_FALSE(bridge.Fill(&none, &untracked));
+  WristSample both = Walking(2);
+  EXPECT_TRUE(bridge.Fill(&both, &untracked));
+  none.time = 3 * kSamplePeriod;
+  EXPECT_FALSE(bridge.Fill(&none, &untracked));  // both lost: the resampler's dropout, not this
+}
+
+TEST(OneHandBridgeTest, ALostHandTravelsWithTheBodyAndReturnsSmoothly) {
+  OneHandBridge bridge(/*reentry_seconds=*/0.5, /*travel_seconds=*/1.0);
+  std::array<float, 2> untracked;
+  for (int i = 0; i < 120; ++i) {  // 2 s both tracked
+    WristSample s = Walking(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+  }
+  const Eigen::Vector3f last_seen = Walking(119).left;
+  Eigen::Vector3f previous = last_seen;
+  for (int i = 120; i < 180; ++i) {  // 1 s with the left hand lost
+    WristSample s = LeftLost(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+    ASSERT_TRUE(s.left.allFinite());
+    EXPECT_EQ(s.right, Walking(i).right);  // the tracked hand is the input
+    EXPECT_NEAR(untracked[0], (i - 119) * kSamplePeriod, 1e-6);
+    EXPECT_EQ(untracked[1], 0.0f);
+    // Carried at the walking pace (the right hand's mean velocity), not swinging.
+    EXPECT_NEAR((s.left - previous).x(), kWalkingVelocity.x() * kSamplePeriod, 1e-4) << i;
+    EXPECT_NEAR((s.left - previous).z(), 0.0f, 1e-5) << i;
+    previous = s.left;
+  }
+  EXPECT_NEAR((previous - last_seen).x(), kWalkingVelocity.x() * 60 * kSamplePeriod, 1e-3);
+  // Back: the first sample is where the guess was going, then it eases onto the input.
+  float largest_step = 0.0f;
+  for (int i = 180; i < 240; ++i) {
+    WristSample s = Walking(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+    EXPECT_EQ(untracked[0], 0.0f);
+    largest_step = std::max(largest_step, (s.left - previous).norm());
+    previous = s.left;
+    if (i >= 180 + 30) {
+      EXPECT_EQ(s.left, Walking(i).left) << "eased in within 0.5 s";
+    }
+  }
+  // No jump at re-entry: steps no larger than the walk's plus the swing's plus the eased share of
+  // the (up to 10 cm) difference.
+  EXPECT_LT(largest_step, (kWalkingVelocity.x() + 0.6f) * kSamplePeriod + 1.5f * 0.1f / 30.0f);
+}
+
+TEST(OneHandBridgeTest, AStandingBodyKeepsTheLostHandInPlace) {
+  OneHandBridge bridge;
+  std::array<float, 2> untracked;
+  auto standing = [](int i) {
+    const float t = static_cast<float>(i * kSamplePeriod);
+    return WristSample{.time = i * kSamplePeriod,
+                       .left = Eigen::Vector3f(0.2f, 1.0f, 0.0f),
+                       .right = Eigen::Vector3f(-0.2f, 1.2f + 0.15f * std::sin(4.0f * t), 0.2f)};  // waving
+  };
+  for (int i = 0; i < 120; ++i) {
+    WristSample s = standing(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+  }
+  for (int i = 120; i < 300; ++i) {
+    WristSample s = standing(i);
+    s.tracked[0] = false;
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+    EXPECT_LT((s.left - standing(119).left).norm(), 0.15f) << "it does not wave along";
+  }
+}
+
+}  // namespace
+}  // namespace mocap
