@@ -32,6 +32,7 @@ struct ReconstructOptions {
   int window = -1, lag = -1;
   int k1 = 0, k2 = 0;
   float performer_height = 0.0f;
+  float min_confidence = 0.0f;
   bool diagnostics = false, strict = false, unary = false, realtime = false, quiet = false, recenter = false;
   int samples_per_message = 30;
   std::string output = "reconstruction";
@@ -60,6 +61,7 @@ absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
   config.set_performer_height(o.performer_height);
   config.set_include_diagnostics(o.diagnostics);
   config.set_strict(o.strict);
+  config.set_min_confidence(o.min_confidence);
   config.set_client_label("mocap reconstruct");
   if (!o.target_rig_text.empty()) config.mutable_target_rig()->set_bvh(o.target_rig_text);
   return config;
@@ -381,6 +383,12 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
                    "Answer on this avatar's rig (a BVH file: any joint names, count, proportions, unit, up axis); "
                    "OUTPUT.bvh is then written on that rig, in its own unit, axes and channels")
       ->check(CLI::ExistingFile);
+  command
+      ->add_option("--min-confidence", o->min_confidence,
+                   "A hand whose CSV confidence is below this is lost: the body goes on from the other hand "
+                   "(both below: a dropout)")
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
   command->add_flag("--diagnostics", o->diagnostics, "Per-frame diagnostics in the JSON");
   command->add_flag("--strict", o->strict, "Fail at the first refused sample instead of skipping it");
   command->add_flag("--unary", o->unary, "One ReconstructTrajectory call instead of a stream");

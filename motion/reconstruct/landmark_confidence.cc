@@ -26,10 +26,10 @@ constexpr float kSessionCostExponent = 0.2853f;
 //   log e_k = a'_k + b_u·log(1 + u / 0.1 s),
 // fitted the same way on the development split's takes streamed with dropouts of 0.1–5 s and with
 // the left hand alone lost for 1–5 s (eval/device_input.h); a'_k shared by a left and right pair.
-constexpr std::array<float, kNumBodyLandmarks> kUntrackedLogBase = {-3.2388f, -3.1693f, -3.1398f, -3.1398f, -2.6775f,
-                                                                    -2.6775f, -2.3855f, -2.3855f, -3.2264f, -3.2264f,
-                                                                    -3.0400f, -3.0400f, -2.8405f, -2.8405f};
-constexpr float kUntrackedExponent = 0.3748f;
+constexpr std::array<float, kNumBodyLandmarks> kUntrackedLogBase = {-3.2393f, -3.1684f, -3.1393f, -3.1393f, -2.6771f,
+                                                                    -2.6771f, -2.3851f, -2.3851f, -3.2269f, -3.2269f,
+                                                                    -3.0404f, -3.0404f, -2.8407f, -2.8407f};
+constexpr float kUntrackedExponent = 0.3746f;
 constexpr float kUntrackedScaleSeconds = 0.1f;
 
 }  // namespace

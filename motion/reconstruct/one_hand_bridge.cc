@@ -24,14 +24,12 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
       // Carried along at the tracked hand's pace (velocities measured up to the previous sample).
       const float step = static_cast<float>(t - previous_time_.value_or(t));
       position[side] = previous_position_[side] + step * TravelVelocity(1 - side);
+      guess_[side] = position[side];
       (*untracked_seconds)[side] = static_cast<float>(t - *last_tracked_time_[side]);
       lost_[side] = true;
       continue;
     }
-    if (lost_[side]) {  // back: from where it was guessed
-      const float step = static_cast<float>(t - previous_time_.value_or(t));
-      const Eigen::Vector3f guess = previous_position_[side] + step * TravelVelocity(1 - side);
-      reentry_step_[side] = guess - input[side];
+    if (lost_[side]) {  // back: cross-fade from the guess, which goes on as if the hand were still lost
       reentry_time_[side] = t;
       lost_[side] = false;
     }
@@ -40,8 +38,12 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
       if (u >= 1.0) {
         reentry_time_[side].reset();
       } else {
-        const double ease = 1.0 - u * u * (3.0 - 2.0 * u);  // 1 → 0, flat at both ends
-        position[side] += static_cast<float>(ease) * reentry_step_[side];
+        const float step = static_cast<float>(t - previous_time_.value_or(t));
+        guess_[side] += step * TravelVelocity(1 - side);
+        // Smoothstep weights, flat at both ends: position and velocity continuous with the guess
+        // when the hand comes back and with the input when the fade ends.
+        const float w = static_cast<float>(u * u * (3.0 - 2.0 * u));
+        position[side] = (1.0f - w) * guess_[side] + w * input[side];
       }
     }
     last_tracked_time_[side] = t;

@@ -2,9 +2,9 @@
 // the lost hand travels with the body — at the tracked hand's mean velocity over the last
 // `travel_seconds` (a walking body's pace; a hand moving about a standing body averages to little),
 // from where it was last tracked — so its own swing is not invented and the tracked hand's is not
-// copied. When it comes back, the step from that guess to where it really is is spread over
-// `reentry_seconds` (a smoothstep: position and velocity stay continuous) instead of being taken
-// in one frame. Samples whose hands are both tracked pass through unchanged once any re-entry has
+// copied. When it comes back, the guess goes on for `reentry_seconds` and the hand cross-fades
+// from it to the input (smoothstep weights: position and velocity stay continuous) instead of
+// stepping there in one frame. Samples whose hands are both tracked pass through unchanged once any re-entry has
 // settled.
 #pragma once
 
@@ -42,9 +42,9 @@ class OneHandBridge {
   std::optional<double> previous_time_;
   std::array<Eigen::Vector3f, 2> previous_position_{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
   std::array<std::deque<std::pair<double, Eigen::Vector3f>>, 2> recent_;  // each hand's tracked input
-  // A returning hand: where the guess was against where the input is, when it came back.
-  std::array<Eigen::Vector3f, 2> reentry_step_{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
-  std::array<std::optional<double>, 2> reentry_time_;
+  // Where a lost hand is guessed to be; after it is back, the guess goes on for the cross-fade.
+  std::array<Eigen::Vector3f, 2> guess_{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
+  std::array<std::optional<double>, 2> reentry_time_;  // when a hand in its cross-fade came back
 };
 
 }  // namespace mocap

@@ -268,6 +268,48 @@ TEST_F(SessionDriverTest, NonFiniteSamplesAreRefusedOneByOneAndTheSessionGoesOn)
   EXPECT_EQ(Metric(metrics_, "mocap_samples_rejected_total"), 3);
 }
 
+TEST_F(SessionDriverTest, AHandBelowMinConfidenceIsLostAndTheBodyGoesOnFromTheOther) {
+  v1::SessionConfig config = Config(0);
+  config.set_min_confidence(0.5f);
+  config.set_include_diagnostics(true);
+  auto driver = Create(config);
+  ASSERT_TRUE(driver.ok()) << driver.status();
+  v1::WristSamples samples = WireSamples(60);
+  for (int i = 10; i < 40; ++i) {  // the right tracker lost for 1 s: what it sends is not read
+    samples.mutable_samples(i)->set_right_confidence(0.1f);
+    samples.mutable_samples(i)->mutable_right()->set_x(std::numeric_limits<double>::quiet_NaN());
+  }
+  for (int i : {50, 51}) {  // both below: a dropout, bridged
+    samples.mutable_samples(i)->set_left_confidence(0.2f);
+    samples.mutable_samples(i)->set_right_confidence(0.2f);
+  }
+  std::vector<v1::ReconstructResponse> replies;
+  ASSERT_TRUE((*driver)->Push(samples, &replies).ok());
+  ASSERT_TRUE((*driver)->Finish(&replies).ok());
+  const Replies sorted = Sort(replies);
+  ASSERT_EQ(sorted.frames.size(), 60u);  // no frame missing, one segment
+  int predicted = 0;
+  for (const v1::Frame& frame : sorted.frames) {
+    EXPECT_EQ(frame.segment(), 0);
+    EXPECT_TRUE(std::isfinite(frame.root_position().x()) && std::isfinite(frame.right_wrist().x())) << frame.index();
+    const bool lost = frame.index() >= 10 && frame.index() < 40;
+    const bool dropout = frame.index() == 50 || frame.index() == 51;
+    EXPECT_EQ(frame.left_hand_state() == v1::TRACKING_STATE_PREDICTED, dropout) << frame.index();
+    if (lost) {
+      EXPECT_EQ(frame.right_hand_state(), v1::TRACKING_STATE_PREDICTED) << frame.index();  // under max_gap (2 s)
+      EXPECT_GT(frame.diagnostics().right_untracked_seconds(), 0.0f);
+      EXPECT_GT(frame.expected_error().right_wrist(), 2 * frame.expected_error().left_wrist()) << frame.index();
+      ++predicted;
+    } else if (!dropout) {
+      EXPECT_EQ(frame.right_hand_state(), v1::TRACKING_STATE_TRACKED) << frame.index();  // its return is no jump
+    }
+  }
+  EXPECT_EQ(predicted, 30);
+  ASSERT_EQ(sorted.rejected.size(), 2u);  // the dropout's samples are answered as such
+  EXPECT_EQ(sorted.rejected[0].sample_index(), 50);
+  EXPECT_NE(sorted.rejected[0].reason().find("dropout"), std::string::npos) << sorted.rejected[0].reason();
+}
+
 TEST_F(SessionDriverTest, StrictSessionsEndAtTheFirstRefusedSample) {
   v1::SessionConfig config = Config(0);
   config.set_strict(true);

@@ -14,7 +14,8 @@ const Eigen::Vector3f kWalkingVelocity(1.2f, 0.0f, 0.0f);  // m/s along x
 WristSample Walking(int i) {
   const float t = static_cast<float>(i * kSamplePeriod);
   return {.time = i * kSamplePeriod,
-          .left = Eigen::Vector3f(0.0f, 1.0f, 0.2f) + t * kWalkingVelocity + Eigen::Vector3f(0, 0, 0.1f * std::sin(6.0f * t)),
+          .left = Eigen::Vector3f(0.0f, 1.0f, 0.2f) + t * kWalkingVelocity +
+                  Eigen::Vector3f(0, 0, 0.1f * std::sin(6.0f * t)),
           .right = Eigen::Vector3f(0.0f, 1.0f, -0.2f) + t * kWalkingVelocity};
 }
 

@@ -205,7 +205,8 @@ TEST_F(ReconstructionSessionTest, ABodyGoesOnFromTheOtherHandWhileOneIsLost) {
   int predicted = 0, lost = 0;
   for (const ReconstructedFrame& frame : *frames) {
     EXPECT_EQ(frame.segment, 0);
-    EXPECT_EQ(frame.hand_state[1], TrackingState::kTracked) << "t = " << frame.time;
+    EXPECT_NE(frame.hand_state[1], TrackingState::kPredicted) << "t = " << frame.time;
+    EXPECT_NE(frame.hand_state[1], TrackingState::kLost) << "t = " << frame.time;
     const double since = frame.time - samples[19].time;
     const bool missing = frame.frame_in_segment >= 20 && frame.frame_in_segment < 56;
     if (!missing) {
