@@ -157,18 +157,17 @@ int ReconstructionSession::frames_held() const {
 }
 
 absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<ReconstructedFrame>* out) {
-  // A lost hand is held by the other (one_hand_bridge.h); the bridge's state is kept only when the
-  // resampler takes the sample, so a refused sample leaves the session as it was.
-  OneHandBridge bridge = one_hand_bridge_;
-  WristSample filled = sample;
-  std::array<float, 2> untracked{};
-  if (!bridge.Fill(&filled, &untracked)) return absl::OkStatus();  // no hand to go on from yet: a dropout
-  std::vector<GridSample> grid;
-  if (absl::Status status = resampler_.Push(filled, &grid, untracked); !status.ok()) {
+  // Checked before the bridge sees it (one_hand_bridge.h holds a lost hand by the other), so a
+  // refused sample leaves the session as it was without copying the bridge's state per sample.
+  if (absl::Status status = resampler_.Check(sample); !status.ok()) {
     ++statistics_.refused_samples;
     return status;
   }
-  one_hand_bridge_ = bridge;
+  WristSample filled = sample;
+  std::array<float, 2> untracked{};
+  if (!one_hand_bridge_.Fill(&filled, &untracked)) return absl::OkStatus();  // no hand to go on from yet: a dropout
+  std::vector<GridSample> grid;
+  MOCAP_RETURN_IF_ERROR(resampler_.Push(filled, &grid, untracked));
   ++statistics_.samples;
   for (const GridSample& g : grid) MOCAP_RETURN_IF_ERROR(AcceptGridSample(g, out));
   return absl::OkStatus();

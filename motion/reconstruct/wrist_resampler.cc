@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 
 namespace mocap {
@@ -10,15 +11,23 @@ namespace mocap {
 WristResampler::WristResampler(double frame_time, double max_gap_seconds)
     : frame_time_(frame_time), max_gap_(max_gap_seconds) {}
 
-absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSample>* out,
-                                  std::array<float, 2> untracked_seconds) {
+absl::Status WristResampler::Check(const WristSample& sample) const {
   if (!std::isfinite(sample.time)) return absl::InvalidArgumentError("wrist sample time is not finite");
-  if (!sample.left.allFinite() || !sample.right.allFinite()) {
+  if ((sample.tracked[0] && !sample.left.allFinite()) || (sample.tracked[1] && !sample.right.allFinite())) {
     return absl::InvalidArgumentError(StrCat("wrist sample at t = ", sample.time, " s is not finite (NaN or inf)"));
   }
   if (has_previous_ && sample.time <= previous_.time) {
     return absl::InvalidArgumentError(
         StrCat("wrist sample times must increase: ", sample.time, " s after ", previous_.time, " s"));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSample>* out,
+                                  std::array<float, 2> untracked_seconds) {
+  MOCAP_RETURN_IF_ERROR(Check(sample));
+  if (!sample.left.allFinite() || !sample.right.allFinite()) {  // a lost hand must be filled in first
+    return absl::InvalidArgumentError(StrCat("wrist sample at t = ", sample.time, " s is not finite (NaN or inf)"));
   }
   const bool new_segment = !has_previous_ || sample.time - previous_.time > max_gap_;
   if (new_segment) {

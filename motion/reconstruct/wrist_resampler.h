@@ -37,6 +37,9 @@ struct GridSample {
 class WristResampler {
  public:
   WristResampler(double frame_time, double max_gap_seconds);
+  // InvalidArgument for a sample Push would refuse: a time not finite or not after the previous
+  // sample's, a tracked hand's position not finite (a lost hand's is not read).
+  absl::Status Check(const WristSample& sample) const;
   // Appends the grid samples this input sample completes. `untracked_seconds`: the sample's own
   // (OneHandBridge), interpolated onto the grid like its positions.
   absl::Status Push(const WristSample& sample, std::vector<GridSample>* out,
