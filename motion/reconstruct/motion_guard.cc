@@ -24,11 +24,19 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
     : frame_time_(frame_time),
       speed_limit_(OrUnbounded(limits.pelvis_speed_max, options.speed_margin)),
       acceleration_limit_(OrUnbounded(limits.pelvis_acceleration_max, options.acceleration_margin)),
-      beyond_hands_limit_(OrUnbounded(limits.pelvis_speed_beyond_hands_max, options.beyond_hands_margin)),
+      hands_limits_(limits),
       standing_smoothing_seconds_(options.standing_smoothing_seconds),
       standing_hands_speed_(options.standing_hands_speed),
       moving_hands_speed_(options.moving_hands_speed),
-      hands_(HandsWindowFrames(frame_time) + 1) {}
+      hands_(HandsWindowFrames(frame_time) + 1) {
+  // The bounds by the hands' speed, with their margin (none known: unbounded).
+  if (!(limits.pelvis_speed_beyond_hands_max > 0)) {
+    hands_limits_.pelvis_speed_beyond_hands_max = std::numeric_limits<float>::infinity();
+    hands_limits_.pelvis_speed_by_hands_speed.clear();
+  }
+  hands_limits_.pelvis_speed_beyond_hands_max *= options.beyond_hands_margin;
+  for (float& bound : hands_limits_.pelvis_speed_by_hands_speed) bound *= options.beyond_hands_margin;
+}
 
 Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, const Eigen::Vector3f& hands,
                                   bool* limited) {
@@ -81,11 +89,12 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
     const float closing = std::min(gap_length / dt, std::sqrt(acceleration_limit_ * gap_length));
     wanted += gap * (closing / gap_length);
   }
-  // A body's bounds: speed (no faster than the database's bodies, nor faster than its hands
-  // allow), then acceleration. The second always holds, and so does the first: the step from the
-  // previous velocity towards one within the speed bound stays within it, unless the bound itself
-  // shrank (the hands stopped), when the body brakes as hard as a body can.
-  Eigen::Vector3f velocity = Clamped(wanted, std::min(speed_limit_, hands_speed + beyond_hands_limit_));
+  // A body's bounds: speed (no faster than the database's bodies, nor faster than their pelvis
+  // moved while their hands moved as these do), then acceleration. The second always holds, and so does the first: the
+  // step from the previous velocity towards one within the speed bound stays within it, unless the bound itself shrank
+  // (the hands stopped), when the body brakes as hard as a body can.
+  Eigen::Vector3f velocity =
+      Clamped(wanted, std::min(speed_limit_, hands_limits_.PelvisSpeedBoundForHands(hands_speed)));
   if (velocity_known) velocity = previous_velocity_ + Clamped(velocity - previous_velocity_, acceleration_limit_ * dt);
   Eigen::Vector3f output = previous_output_ + velocity * dt;
   // Within a millimetre: on the target (unless that step would break the acceleration bound).

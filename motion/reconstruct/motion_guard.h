@@ -21,9 +21,10 @@ namespace mocap {
 
 struct MotionGuardOptions {
   bool enabled = true;
-  // Pelvis bounds: the database's fastest pelvis speed and acceleration, and the most its pelvis
-  // outran its hands (MotionLimits::pelvis_speed_beyond_hands_max), times these margins (room for
-  // performers a little faster than the database's and for the solve's own jitter).
+  // Pelvis bounds: the database's fastest pelvis speed and acceleration, and the fastest its
+  // pelvis moved while its hands moved as slowly as the input's (MotionLimits::
+  // PelvisSpeedBoundForHands), times these margins (room for performers a little faster than the
+  // database's and for the solve's own jitter).
   float speed_margin = 1.25f;
   float acceleration_margin = 1.5f;
   float beyond_hands_margin = 1.0f;
@@ -56,7 +57,8 @@ class MotionGuard {
 
  private:
   double frame_time_;
-  float speed_limit_, acceleration_limit_, beyond_hands_limit_;
+  float speed_limit_, acceleration_limit_;
+  MotionLimits hands_limits_;  // only the bounds by the hands' speed are read, margins applied
   float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_;
   bool has_previous_ = false, has_velocity_ = false;
   double previous_time_ = 0;

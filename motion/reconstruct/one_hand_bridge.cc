@@ -5,8 +5,10 @@ namespace mocap {
 Eigen::Vector3f OneHandBridge::TravelVelocity(int side) const {
   const auto& recent = recent_[side];
   if (recent.size() < 2 || recent.back().first <= recent.front().first) return Eigen::Vector3f::Zero();
-  return (recent.back().second - recent.front().second) /
-         static_cast<float>(recent.back().first - recent.front().first);
+  Eigen::Vector3f velocity =
+      (recent.back().second - recent.front().second) / static_cast<float>(recent.back().first - recent.front().first);
+  velocity.y() = 0.0f;  // a body travels over the ground; a hand that rises or falls gestures
+  return velocity;
 }
 
 bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_seconds) {

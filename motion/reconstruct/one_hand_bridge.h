@@ -1,6 +1,7 @@
 // While one hand's tracker has lost it, the body goes on from the other hand (issue #25 item 2):
-// the lost hand travels with the body — at the tracked hand's mean velocity over the last
-// `travel_seconds` (a walking body's pace; a hand moving about a standing body averages to little),
+// the lost hand travels with the body — at the tracked hand's mean velocity over the ground over
+// the last `travel_seconds` (a walking body's pace; a hand moving about a standing body averages to
+// little, and one raised or lowered does not lift its partner),
 // from where it was last tracked — so its own swing is not invented and the tracked hand's is not
 // copied. When it comes back, the guess goes on for `reentry_seconds` and the hand cross-fades
 // from it to the input (smoothstep weights: position and velocity stay continuous) instead of
@@ -33,7 +34,8 @@ class OneHandBridge {
   void Reset() { *this = OneHandBridge(reentry_seconds_, travel_seconds_); }
 
  private:
-  // The mean velocity of `side`'s input over the last travel_seconds_ (zero before two samples).
+  // The mean velocity of `side`'s input over the ground (y = 0) over the last travel_seconds_
+  // (zero before two samples).
   Eigen::Vector3f TravelVelocity(int side) const;
 
   double reentry_seconds_, travel_seconds_;

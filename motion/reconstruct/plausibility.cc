@@ -53,6 +53,10 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
         const float hands_speed = (midpoints[f] - midpoints[f - back]).norm() * rate / static_cast<float>(back);
         limits.pelvis_speed_beyond_hands_max =
             std::max(limits.pelvis_speed_beyond_hands_max, velocity.norm() - hands_speed);
+        auto& by_hands = limits.pelvis_speed_by_hands_speed;
+        const size_t bin = static_cast<size_t>(hands_speed / MotionLimits::kHandsSpeedBin);
+        if (bin >= by_hands.size()) by_hands.resize(bin + 1, 0.0f);
+        by_hands[bin] = std::max(by_hands[bin], velocity.norm());
         for (int side = 0; side < 2; ++side)
           limits.wrist_speed_max = std::max(limits.wrist_speed_max, wrist_velocity[side].norm());
         if (f >= 2) {
@@ -67,6 +71,8 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
     }
   }
   if (pelvis_speed.empty()) limits.pelvis_speed_beyond_hands_max = 0;
+  auto& by_hands = limits.pelvis_speed_by_hands_speed;
+  for (size_t bin = 1; bin < by_hands.size(); ++bin) by_hands[bin] = std::max(by_hands[bin], by_hands[bin - 1]);
   limits.pelvis_speed_p99 = Percentile(pelvis_speed, 0.99);
   limits.pelvis_speed_max = Max(pelvis_speed);
   limits.pelvis_acceleration_p99 = Percentile(pelvis_acceleration, 0.99);
@@ -74,6 +80,12 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
   limits.wrist_acceleration_p99 = Percentile(wrist_acceleration, 0.99);
   limits.wrist_acceleration_max = Max(wrist_acceleration);
   return limits;
+}
+
+float MotionLimits::PelvisSpeedBoundForHands(float hands_speed) const {
+  const float sum = hands_speed + pelvis_speed_beyond_hands_max;
+  const size_t bin = static_cast<size_t>(std::max(0.0f, hands_speed) / kHandsSpeedBin);
+  return bin < pelvis_speed_by_hands_speed.size() ? std::min(sum, pelvis_speed_by_hands_speed[bin]) : sum;
 }
 
 PlausibilityRig MakePlausibilityRig(const Skeleton& skeleton, const BodyLandmarks& landmarks) {

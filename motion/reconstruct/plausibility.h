@@ -36,6 +36,15 @@ struct MotionLimits {
   // kHandsWindowSeconds (a body does not run off while both hands stay put): the largest
   // |pelvis velocity| − |midpoint displacement over the window| / window, m/s.
   float pelvis_speed_beyond_hands_max = 0;
+  // The fastest the pelvis moved while the hands' midpoint moved (over the same window) at most
+  // as fast as bin i's top, bins kHandsSpeedBin wide (a running maximum: never decreasing).
+  // Tighter than hands + pelvis_speed_beyond_hands_max where the hands move a little: that sum
+  // lets every gesture of a standing body move it as fast as the database's fastest start does.
+  static constexpr float kHandsSpeedBin = 0.1f;  // m/s
+  std::vector<float> pelvis_speed_by_hands_speed;
+  // The fastest the pelvis may move while the hands move at `hands_speed` (mean over the
+  // window, m/s): the smaller of the two bounds above (the sum alone past the last bin).
+  float PelvisSpeedBoundForHands(float hands_speed) const;
   float wrist_speed_max = 0;                                     // either wrist, m/s
   float wrist_acceleration_p99 = 0, wrist_acceleration_max = 0;  // either wrist, m/s²
   bool valid() const { return pelvis_speed_max > 0; }

@@ -8,7 +8,9 @@
 #include <cmath>
 #include <functional>
 #include <random>
+#include <span>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -116,6 +118,54 @@ TEST(MotionGuardTest, ABodyDoesNotRunOffWhileItsHandsStayPut) {
     const Eigen::Vector3f out = guard.Next(f * kDt, target, Eigen::Vector3f(0, 1.0f, 0.3f), &limited);
     if (f > 0) {
       EXPECT_LE((out - previous).norm() / kDt, limits.pelvis_speed_beyond_hands_max + 1e-3f) << f;
+    }
+    previous = out;
+  }
+}
+
+// A database of a standing body that shifts its weight (pelvis 0.5 m/s, hands still) and a walk
+// (pelvis and hands at 1.52 m/s): while the hands move at 0.35 m/s the pelvis may move as fast as
+// the database's did with hands that slow (0.5 m/s), not hands + the most it ever outran them.
+TEST(MotionLimitsTest, BoundsThePelvisByWhatTheDatabaseDidWithHandsThatSlow) {
+  constexpr double kStep = 0.1;  // the hands' window is 5 frames
+  auto clip = [](float pelvis_speed, float hands_speed) {
+    std::vector<FrameFeatures> frames(20);
+    for (int f = 0; f < 20; ++f) {
+      FrameFeatures& x = frames[f];
+      x = {};
+      x.ref_origin_x = hands_speed * static_cast<float>(f * kStep);
+      x.pelvis_position[0] = (pelvis_speed - hands_speed) * static_cast<float>(f * kStep);
+      x.pelvis_position[1] = 0.9f;
+      x.wrist_position[0][1] = x.wrist_position[1][1] = 1.0f;
+      x.wrist_position[0][2] = 0.2f;
+      x.wrist_position[1][2] = -0.2f;
+    }
+    return frames;
+  };
+  const std::vector<FrameFeatures> standing = clip(0.5f, 0.0f), walking = clip(1.52f, 1.52f);
+  const std::vector<std::span<const FrameFeatures>> clips = {standing, walking};
+  const MotionLimits limits = MeasureMotionLimits(clips, kStep);
+  EXPECT_NEAR(limits.pelvis_speed_beyond_hands_max, 0.5f, 1e-3f);
+  EXPECT_NEAR(limits.PelvisSpeedBoundForHands(0.0f), 0.5f, 1e-3f);
+  EXPECT_NEAR(limits.PelvisSpeedBoundForHands(0.35f), 0.5f, 1e-3f) << "the sum would allow 0.85";
+  EXPECT_NEAR(limits.PelvisSpeedBoundForHands(1.55f), 1.52f, 1e-3f);
+  EXPECT_NEAR(limits.PelvisSpeedBoundForHands(5.0f), 5.5f, 1e-3f) << "past the database's hands: the sum";
+}
+
+// The guard keeps to that bound: hands rising at 0.35 m/s do not let a solve that runs at
+// 1.8 m/s take the body faster than the database's bodies went with such hands.
+TEST(MotionGuardTest, GesturingHandsLetTheBodyGoOnlyAsFastAsTheDatabasesDidWithSuchHands) {
+  MotionLimits limits = Limits();
+  limits.pelvis_speed_by_hands_speed = {0.2f, 0.4f, 0.5f, 0.7f, 0.9f};
+  MotionGuard guard(limits, kDt, Exact());
+  Eigen::Vector3f previous = Eigen::Vector3f::Zero();
+  for (int f = 0; f < 60; ++f) {
+    const float t = static_cast<float>(f * kDt);
+    bool limited = false;
+    const Eigen::Vector3f out = guard.Next(f * kDt, Eigen::Vector3f(1.8f * t, 0.9f, 0.0f),
+                                           Eigen::Vector3f(0, 1.0f + 0.35f * t, 0.3f), &limited);
+    if (f > 0) {
+      EXPECT_LE((out - previous).norm() / kDt, 0.7f + 1e-3f) << f << ": hands + beyond would allow 1.35";
     }
     previous = out;
   }

@@ -113,5 +113,27 @@ TEST(OneHandBridgeTest, AStandingBodyKeepsTheLostHandInPlace) {
   }
 }
 
+// Raising the tracked hand does not lift the lost one: a body travels over the ground, a hand
+// that rises gestures (a lost hand that copied it left the body reaching up for it).
+TEST(OneHandBridgeTest, ALostHandDoesNotRiseWithTheTrackedOne) {
+  OneHandBridge bridge;
+  std::array<float, 2> untracked;
+  auto standing = [](int i) {
+    return WristSample{.time = i * kSamplePeriod,
+                       .left = Eigen::Vector3f(0.0f, 1.0f, 0.2f),
+                       .right = Eigen::Vector3f(0.0f, 1.0f + 0.8f * static_cast<float>(i * kSamplePeriod), -0.2f)};
+  };
+  for (int i = 0; i < 60; ++i) {
+    WristSample s = standing(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+  }
+  for (int i = 60; i < 120; ++i) {  // the right hand goes on rising at 0.8 m/s, the left is lost
+    WristSample s = standing(i);
+    s.tracked[0] = false;
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+    EXPECT_LT((s.left - Eigen::Vector3f(0.0f, 1.0f, 0.2f)).norm(), 1e-4f) << i;
+  }
+}
+
 }  // namespace
 }  // namespace mocap
