@@ -28,7 +28,10 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
       standing_smoothing_seconds_(options.standing_smoothing_seconds),
       standing_hands_speed_(options.standing_hands_speed),
       moving_hands_speed_(options.moving_hands_speed),
-      hands_(HandsWindowFrames(frame_time) + 1) {
+      bound_window_frames_(HandsWindowFrames(frame_time)),
+      hands_(
+          std::max(bound_window_frames_, static_cast<int>(std::lround(options.standing_window_seconds / frame_time))) +
+          1) {
   // The bounds by the hands' speed, with their margin (none known: unbounded).
   if (!(limits.pelvis_speed_beyond_hands_max > 0)) {
     hands_limits_.pelvis_speed_beyond_hands_max = std::numeric_limits<float>::infinity();
@@ -50,11 +53,16 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   hands_[hands_next_] = {time, hands};
   hands_next_ = (hands_next_ + 1) % window;
   hands_count_ = std::min(hands_count_ + 1, window);
-  const HandsSample& oldest = hands_[(hands_next_ - hands_count_ + window) % window];
-  const Eigen::Vector3f moved = hands - oldest.midpoint;
-  const float per_second = hands_count_ > 1 ? static_cast<float>(1.0 / (time - oldest.time)) : 0.0f;
-  const float hands_speed = moved.norm() * per_second;
-  const float ground_speed = std::hypot(moved.x(), moved.z()) * per_second;  // over the ground
+  // Mean velocity of the midpoint over the last `frames` frames (fewer at a stretch's start).
+  auto mean_velocity = [&](int frames) -> Eigen::Vector3f {
+    const int back = std::min(frames + 1, hands_count_);
+    const HandsSample& oldest = hands_[(hands_next_ - back + window) % window];
+    return back > 1 ? Eigen::Vector3f((hands - oldest.midpoint) / static_cast<float>(time - oldest.time))
+                    : Eigen::Vector3f::Zero();
+  };
+  const float hands_speed = mean_velocity(bound_window_frames_).norm();
+  const Eigen::Vector3f standing_velocity = mean_velocity(window - 1);
+  const float ground_speed = std::hypot(standing_velocity.x(), standing_velocity.z());  // over the ground
   Eigen::Vector3f target = solved;
   if (has_previous_ && continuous && standing_smoothing_seconds_ > 0) {
     // Standing: the ground position eases towards the solve (exponential filter, time constant

@@ -40,6 +40,8 @@ struct MotionGuardOptions {
   // stands does not do; a walking body's pelvis is left as solved. 0 = off.
   float standing_smoothing_seconds = 0.1f;
   float standing_hands_speed = 0.25f, moving_hands_speed = 0.6f;
+  // The window of that mean ground speed (≥ the hands' window, kHandsWindowSeconds).
+  float standing_window_seconds = 1.0f;
 };
 
 class MotionGuard {
@@ -60,12 +62,13 @@ class MotionGuard {
   float speed_limit_, acceleration_limit_;
   MotionLimits hands_limits_;  // only the bounds by the hands' speed are read, margins applied
   float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_;
+  int bound_window_frames_;  // the hands' window of the speed bound (HandsWindowFrames)
   bool has_previous_ = false, has_velocity_ = false;
   double previous_time_ = 0;
   Eigen::Vector3f previous_output_ = Eigen::Vector3f::Zero(), previous_target_ = Eigen::Vector3f::Zero(),
                   previous_velocity_ = Eigen::Vector3f::Zero();
-  // The hands' midpoint over the last HandsWindowFrames() frames of the current stretch without a
-  // gap (a ring, sized once).
+  // The hands' midpoint over the last frames of the current stretch without a gap, as many as the
+  // longer of the two windows (a ring, sized once).
   struct HandsSample {
     double time;
     Eigen::Vector3f midpoint;
