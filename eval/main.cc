@@ -246,7 +246,8 @@ int main(int argc, char** argv) {
     context["database_frames"] = database->num_frames();
     context["database_pelvis_speed_max_m_per_s"] = limits.pelvis_speed_max;
     context["database_pelvis_speed_beyond_hands_max_m_per_s"] = limits.pelvis_speed_beyond_hands_max;
-    context["database_pelvis_speed_by_hands_speed_m_per_s"] = limits.pelvis_speed_by_hands_speed;
+    context["database_pelvis_speed_by_hands_speed_m_per_s"] = limits.pelvis_speed_by_hands_speed[0];
+    context["database_pelvis_speed_by_long_hands_speed_m_per_s"] = limits.pelvis_speed_by_hands_speed[1];
     context["seed"] = seed;
     context["noise_cm"] = noise_cm;
     const mocap::eval::LandmarkBodySize size = mocap::eval::BodySizeOf(*database);
@@ -321,7 +322,8 @@ int main(int argc, char** argv) {
   context["database_pelvis_speed_p99_m_per_s"] = motion_limits.pelvis_speed_p99;
   context["database_pelvis_acceleration_max_m_per_s2"] = motion_limits.pelvis_acceleration_max;
   context["database_pelvis_speed_beyond_hands_max_m_per_s"] = motion_limits.pelvis_speed_beyond_hands_max;
-  context["database_pelvis_speed_by_hands_speed_m_per_s"] = motion_limits.pelvis_speed_by_hands_speed;
+  context["database_pelvis_speed_by_hands_speed_m_per_s"] = motion_limits.pelvis_speed_by_hands_speed[0];
+  context["database_pelvis_speed_by_long_hands_speed_m_per_s"] = motion_limits.pelvis_speed_by_hands_speed[1];
   context["database_wrist_speed_max_m_per_s"] = motion_limits.wrist_speed_max;
   context["database_wrist_acceleration_max_m_per_s2"] = motion_limits.wrist_acceleration_max;
   context["test_clips"] = tests->size();

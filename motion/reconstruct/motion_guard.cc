@@ -28,17 +28,20 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
       standing_smoothing_seconds_(options.standing_smoothing_seconds),
       standing_hands_speed_(options.standing_hands_speed),
       moving_hands_speed_(options.moving_hands_speed),
-      bound_window_frames_(HandsWindowFrames(frame_time)),
-      hands_(
-          std::max(bound_window_frames_, static_cast<int>(std::lround(options.standing_window_seconds / frame_time))) +
-          1) {
+      standing_window_seconds_(options.standing_window_seconds),
+      bound_window_frames_{HandsWindowFrames(frame_time, 0), HandsWindowFrames(frame_time, 1)},
+      hands_(std::max(bound_window_frames_.back(),
+                      static_cast<int>(std::lround(options.standing_window_seconds / frame_time))) +
+             1) {
   // The bounds by the hands' speed, with their margin (none known: unbounded).
   if (!(limits.pelvis_speed_beyond_hands_max > 0)) {
     hands_limits_.pelvis_speed_beyond_hands_max = std::numeric_limits<float>::infinity();
-    hands_limits_.pelvis_speed_by_hands_speed.clear();
+    for (auto& by_hands : hands_limits_.pelvis_speed_by_hands_speed) by_hands.clear();
   }
   hands_limits_.pelvis_speed_beyond_hands_max *= options.beyond_hands_margin;
-  for (float& bound : hands_limits_.pelvis_speed_by_hands_speed) bound *= options.beyond_hands_margin;
+  for (auto& by_hands : hands_limits_.pelvis_speed_by_hands_speed) {
+    for (float& bound : by_hands) bound *= options.beyond_hands_margin;
+  }
 }
 
 Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, const Eigen::Vector3f& hands,
@@ -60,8 +63,10 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
     return back > 1 ? Eigen::Vector3f((hands - oldest.midpoint) / static_cast<float>(time - oldest.time))
                     : Eigen::Vector3f::Zero();
   };
-  const float hands_speed = mean_velocity(bound_window_frames_).norm();
-  const Eigen::Vector3f standing_velocity = mean_velocity(window - 1);
+  std::array<float, kHandsWindowsSeconds.size()> hands_speed;
+  for (size_t w = 0; w < hands_speed.size(); ++w) hands_speed[w] = mean_velocity(bound_window_frames_[w]).norm();
+  const Eigen::Vector3f standing_velocity =
+      mean_velocity(std::min(window - 1, static_cast<int>(std::lround(standing_window_seconds_ / frame_time_))));
   const float ground_speed = std::hypot(standing_velocity.x(), standing_velocity.z());  // over the ground
   Eigen::Vector3f target = solved;
   if (has_previous_ && continuous && standing_smoothing_seconds_ > 0) {

@@ -40,7 +40,7 @@ struct MotionGuardOptions {
   // stands does not do; a walking body's pelvis is left as solved. 0 = off.
   float standing_smoothing_seconds = 0.1f;
   float standing_hands_speed = 0.25f, moving_hands_speed = 0.6f;
-  // The window of that mean ground speed (≥ the hands' window, kHandsWindowSeconds).
+  // The window of that mean ground speed.
   float standing_window_seconds = 1.0f;
 };
 
@@ -61,8 +61,8 @@ class MotionGuard {
   double frame_time_;
   float speed_limit_, acceleration_limit_;
   MotionLimits hands_limits_;  // only the bounds by the hands' speed are read, margins applied
-  float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_;
-  int bound_window_frames_;  // the hands' window of the speed bound (HandsWindowFrames)
+  float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_, standing_window_seconds_;
+  std::array<int, kHandsWindowsSeconds.size()> bound_window_frames_;  // the windows of the speed bound
   bool has_previous_ = false, has_velocity_ = false;
   double previous_time_ = 0;
   Eigen::Vector3f previous_output_ = Eigen::Vector3f::Zero(), previous_target_ = Eigen::Vector3f::Zero(),

@@ -23,8 +23,8 @@ float Max(const std::vector<float>& values) {
 
 }  // namespace
 
-int HandsWindowFrames(double frame_time) {
-  return std::max(1, static_cast<int>(std::lround(kHandsWindowSeconds / frame_time)));
+int HandsWindowFrames(double frame_time, int w) {
+  return std::max(1, static_cast<int>(std::lround(kHandsWindowsSeconds[w] / frame_time)));
 }
 
 MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>> clips, double frame_time) {
@@ -53,10 +53,14 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
         const float hands_speed = (midpoints[f] - midpoints[f - back]).norm() * rate / static_cast<float>(back);
         limits.pelvis_speed_beyond_hands_max =
             std::max(limits.pelvis_speed_beyond_hands_max, velocity.norm() - hands_speed);
-        auto& by_hands = limits.pelvis_speed_by_hands_speed;
-        const size_t bin = static_cast<size_t>(hands_speed / MotionLimits::kHandsSpeedBin);
-        if (bin >= by_hands.size()) by_hands.resize(bin + 1, 0.0f);
-        by_hands[bin] = std::max(by_hands[bin], velocity.norm());
+        for (size_t w = 0; w < kHandsWindowsSeconds.size(); ++w) {
+          const int frames = std::min<int>(HandsWindowFrames(frame_time, static_cast<int>(w)), static_cast<int>(f));
+          const float speed = (midpoints[f] - midpoints[f - frames]).norm() * rate / static_cast<float>(frames);
+          auto& by_hands = limits.pelvis_speed_by_hands_speed[w];
+          const size_t bin = static_cast<size_t>(speed / MotionLimits::kHandsSpeedBin);
+          if (bin >= by_hands.size()) by_hands.resize(bin + 1, 0.0f);
+          by_hands[bin] = std::max(by_hands[bin], velocity.norm());
+        }
         for (int side = 0; side < 2; ++side)
           limits.wrist_speed_max = std::max(limits.wrist_speed_max, wrist_velocity[side].norm());
         if (f >= 2) {
@@ -71,8 +75,9 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
     }
   }
   if (pelvis_speed.empty()) limits.pelvis_speed_beyond_hands_max = 0;
-  auto& by_hands = limits.pelvis_speed_by_hands_speed;
-  for (size_t bin = 1; bin < by_hands.size(); ++bin) by_hands[bin] = std::max(by_hands[bin], by_hands[bin - 1]);
+  for (auto& by_hands : limits.pelvis_speed_by_hands_speed) {
+    for (size_t bin = 1; bin < by_hands.size(); ++bin) by_hands[bin] = std::max(by_hands[bin], by_hands[bin - 1]);
+  }
   limits.pelvis_speed_p99 = Percentile(pelvis_speed, 0.99);
   limits.pelvis_speed_max = Max(pelvis_speed);
   limits.pelvis_acceleration_p99 = Percentile(pelvis_acceleration, 0.99);
@@ -82,10 +87,14 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
   return limits;
 }
 
-float MotionLimits::PelvisSpeedBoundForHands(float hands_speed) const {
-  const float sum = hands_speed + pelvis_speed_beyond_hands_max;
-  const size_t bin = static_cast<size_t>(std::max(0.0f, hands_speed) / kHandsSpeedBin);
-  return bin < pelvis_speed_by_hands_speed.size() ? std::min(sum, pelvis_speed_by_hands_speed[bin]) : sum;
+float MotionLimits::PelvisSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const {
+  float bound = hands_speed[0] + pelvis_speed_beyond_hands_max;
+  for (size_t w = 0; w < hands_speed.size(); ++w) {
+    const auto& by_hands = pelvis_speed_by_hands_speed[w];
+    const size_t bin = static_cast<size_t>(std::max(0.0f, hands_speed[w]) / kHandsSpeedBin);
+    if (bin < by_hands.size()) bound = std::min(bound, by_hands[bin]);
+  }
+  return bound;
 }
 
 PlausibilityRig MakePlausibilityRig(const Skeleton& skeleton, const BodyLandmarks& landmarks) {

@@ -22,10 +22,13 @@
 
 namespace mocap {
 
-// The window over which the hands' motion bounds the body's (MotionLimits::pelvis_speed_beyond_hands_max):
-// long enough that an arm's swing or wave averages out, short enough to follow a start or a stop.
-inline constexpr double kHandsWindowSeconds = 0.5;
-int HandsWindowFrames(double frame_time);
+// The windows over which the hands' motion bounds the body's (MotionLimits): the first long
+// enough that an arm's swing or wave averages out, short enough to follow a start or a stop; the
+// second long enough that a standing body's gestures (within an arm's reach) average to little.
+inline constexpr std::array<double, 2> kHandsWindowsSeconds = {0.5, 2.0};
+inline constexpr double kHandsWindowSeconds = kHandsWindowsSeconds[0];
+// Frames of window `w` of kHandsWindowsSeconds (at least 1).
+int HandsWindowFrames(double frame_time, int w = 0);
 
 // How fast the database's bodies move (its captured clips, consecutive frames of one clip only).
 // Speeds are finite differences of world positions, accelerations second differences.
@@ -36,15 +39,17 @@ struct MotionLimits {
   // kHandsWindowSeconds (a body does not run off while both hands stay put): the largest
   // |pelvis velocity| − |midpoint displacement over the window| / window, m/s.
   float pelvis_speed_beyond_hands_max = 0;
-  // The fastest the pelvis moved while the hands' midpoint moved (over the same window) at most
-  // as fast as bin i's top, bins kHandsSpeedBin wide (a running maximum: never decreasing).
-  // Tighter than hands + pelvis_speed_beyond_hands_max where the hands move a little: that sum
-  // lets every gesture of a standing body move it as fast as the database's fastest start does.
+  // Per window of kHandsWindowsSeconds: the fastest the pelvis moved while the hands' midpoint
+  // moved (its mean speed over that window) at most as fast as bin i's top, bins kHandsSpeedBin
+  // wide (a running maximum: never decreasing). Tighter than hands + pelvis_speed_beyond_hands_max
+  // where the hands move a little: that sum lets every gesture of a standing body move it as fast
+  // as the database's fastest start does.
   static constexpr float kHandsSpeedBin = 0.1f;  // m/s
-  std::vector<float> pelvis_speed_by_hands_speed;
-  // The fastest the pelvis may move while the hands move at `hands_speed` (mean over the
-  // window, m/s): the smaller of the two bounds above (the sum alone past the last bin).
-  float PelvisSpeedBoundForHands(float hands_speed) const;
+  std::array<std::vector<float>, kHandsWindowsSeconds.size()> pelvis_speed_by_hands_speed;
+  // The fastest the pelvis may move while the hands' mean speeds over the windows are
+  // `hands_speed` (m/s): the smallest of the bounds above, each of which every database frame
+  // keeps (past a window's last bin, that window's bound is the sum, or none).
+  float PelvisSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const;
   float wrist_speed_max = 0;                                     // either wrist, m/s
   float wrist_acceleration_p99 = 0, wrist_acceleration_max = 0;  // either wrist, m/s²
   bool valid() const { return pelvis_speed_max > 0; }

@@ -146,17 +146,17 @@ TEST(MotionLimitsTest, BoundsThePelvisByWhatTheDatabaseDidWithHandsThatSlow) {
   const std::vector<std::span<const FrameFeatures>> clips = {standing, walking};
   const MotionLimits limits = MeasureMotionLimits(clips, kStep);
   EXPECT_NEAR(limits.pelvis_speed_beyond_hands_max, 0.5f, 1e-3f);
-  EXPECT_NEAR(limits.PelvisSpeedBoundForHands(0.0f), 0.5f, 1e-3f);
-  EXPECT_NEAR(limits.PelvisSpeedBoundForHands(0.35f), 0.5f, 1e-3f) << "the sum would allow 0.85";
-  EXPECT_NEAR(limits.PelvisSpeedBoundForHands(1.55f), 1.52f, 1e-3f);
-  EXPECT_NEAR(limits.PelvisSpeedBoundForHands(5.0f), 5.5f, 1e-3f) << "past the database's hands: the sum";
+  EXPECT_NEAR(limits.PelvisSpeedBoundForHands({0.0f, 0.0f}), 0.5f, 1e-3f);
+  EXPECT_NEAR(limits.PelvisSpeedBoundForHands({0.35f, 0.35f}), 0.5f, 1e-3f) << "the sum would allow 0.85";
+  EXPECT_NEAR(limits.PelvisSpeedBoundForHands({1.55f, 1.55f}), 1.52f, 1e-3f);
+  EXPECT_NEAR(limits.PelvisSpeedBoundForHands({5.0f, 5.0f}), 5.5f, 1e-3f) << "past the database's hands: the sum";
 }
 
 // The guard keeps to that bound: hands rising at 0.35 m/s do not let a solve that runs at
 // 1.8 m/s take the body faster than the database's bodies went with such hands.
 TEST(MotionGuardTest, GesturingHandsLetTheBodyGoOnlyAsFastAsTheDatabasesDidWithSuchHands) {
   MotionLimits limits = Limits();
-  limits.pelvis_speed_by_hands_speed = {0.2f, 0.4f, 0.5f, 0.7f, 0.9f};
+  limits.pelvis_speed_by_hands_speed[0] = {0.2f, 0.4f, 0.5f, 0.7f, 0.9f};
   MotionGuard guard(limits, kDt, Exact());
   Eigen::Vector3f previous = Eigen::Vector3f::Zero();
   for (int f = 0; f < 60; ++f) {
