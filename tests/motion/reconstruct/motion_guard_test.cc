@@ -150,6 +150,8 @@ TEST(MotionLimitsTest, BoundsThePelvisByWhatTheDatabaseDidWithHandsThatSlow) {
   EXPECT_NEAR(limits.PelvisSpeedBoundForHands({0.35f, 0.35f}), 0.5f, 1e-3f) << "the sum would allow 0.85";
   EXPECT_NEAR(limits.PelvisSpeedBoundForHands({1.55f, 1.55f}), 1.52f, 1e-3f);
   EXPECT_NEAR(limits.PelvisSpeedBoundForHands({5.0f, 5.0f}), 5.5f, 1e-3f) << "past the database's hands: the sum";
+  EXPECT_NEAR(limits.PelvisSpeedBoundForHands({1.55f, 0.0f}), 0.5f, 1e-3f)
+      << "hands fast over the last 0.5 s that went nowhere over 2 s: the body stood";
 }
 
 // The guard keeps to that bound: hands rising at 0.35 m/s do not let a solve that runs at
