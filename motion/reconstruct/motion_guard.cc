@@ -50,16 +50,21 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   if (has_previous_ && !(time > previous_time_)) has_previous_ = false;  // a new clock (a reused session)
   const bool continuous = has_previous_ && time - previous_time_ <= 1.5 * frame_time_;
   // The hands' mean speed over the window (as MeasureMotionLimits measures it); none yet at the
-  // start of a stretch.
-  if (!continuous) hands_count_ = 0;
+  // start of a stream. Across a gap, their mean speed over it: where the hands went while the input
+  // was missing is where the body may have gone (reset at the gap, a walk's first frame after
+  // it had only a standing body's speed to catch up with).
+  if (!has_previous_) hands_count_ = 0;
   const int window = static_cast<int>(hands_.size());
   hands_[hands_next_] = {time, hands};
   hands_next_ = (hands_next_ + 1) % window;
   hands_count_ = std::min(hands_count_ + 1, window);
-  // Mean velocity of the midpoint over the last `frames` frames (fewer at a stretch's start).
+  // Mean velocity of the midpoint over the last `frames` frames (fewer at a stream's start), and
+  // over no more time than they span, but for the sample before a gap.
   auto mean_velocity = [&](int frames) -> Eigen::Vector3f {
-    const int back = std::min(frames + 1, hands_count_);
-    const HandsSample& oldest = hands_[(hands_next_ - back + window) % window];
+    int back = std::min(frames + 1, hands_count_);
+    auto sample = [&](int b) -> const HandsSample& { return hands_[(hands_next_ - b + window) % window]; };
+    while (back > 2 && time - sample(back).time > (frames + 0.5) * frame_time_) --back;
+    const HandsSample& oldest = sample(back);
     return back > 1 ? Eigen::Vector3f((hands - oldest.midpoint) / static_cast<float>(time - oldest.time))
                     : Eigen::Vector3f::Zero();
   };

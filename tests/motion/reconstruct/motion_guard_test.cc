@@ -183,6 +183,24 @@ TEST(MotionGuardTest, AGapAllowsWhatItsLengthAllows) {
   EXPECT_LT((out - Eigen::Vector3f(0.8f, 0, 0)).norm(), 1e-6f);
 }
 
+// A walk through a 2 s gap: where the hands went while the input was missing is where the body
+// may have gone. (Measured from after the gap alone, the hands had not moved: the body crawled
+// after the walk at a standing body's speed, metres behind.)
+TEST(MotionGuardTest, AfterAGapTheBodyMayGoWhereTheHandsWent) {
+  MotionLimits limits = Limits();
+  for (auto& by_hands : limits.pelvis_speed_by_hands_speed) {
+    for (int bin = 0; bin <= 20; ++bin) by_hands.push_back(0.4f + 0.1f * static_cast<float>(bin));
+  }
+  MotionGuard guard(limits, kDt, Exact());
+  auto walked = [](double t) { return Eigen::Vector3f(1.3f * static_cast<float>(t), 0.9f, 0.0f); };
+  bool limited = false;
+  for (int f = 0; f < 30; ++f)
+    guard.Next(f * kDt, walked(f * kDt), walked(f * kDt) + Eigen::Vector3f(0, 0.2f, 0), &limited);
+  const double back = 29 * kDt + 2.0;
+  const Eigen::Vector3f out = guard.Next(back, walked(back), walked(back) + Eigen::Vector3f(0, 0.2f, 0), &limited);
+  EXPECT_LT((out - walked(back)).norm(), 0.01f) << "m behind the walk";
+}
+
 TEST(InputJumpDetectorTest, FlagsStepsNoHandMakes) {
   const InputJumpDetector detector(Limits(), kDt, Exact());
   const Eigen::Vector3f a(0, 1, 0), b(0.02f, 1, 0), c(0.04f, 1, 0);  // 0.6 m/s, steady
