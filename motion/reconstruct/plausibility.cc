@@ -31,7 +31,6 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
   const float rate = static_cast<float>(1.0 / frame_time);
   std::vector<float> pelvis_speed, pelvis_acceleration, wrist_acceleration;
   MotionLimits limits;
-  const int window = HandsWindowFrames(frame_time);
   limits.pelvis_speed_beyond_hands_max = -std::numeric_limits<float>::infinity();
   for (std::span<const FrameFeatures> clip : clips) {
     std::vector<Eigen::Vector3f> midpoints;
@@ -49,13 +48,13 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
       if (f >= 1) {
         const Eigen::Vector3f velocity = (pelvis - previous_pelvis) * rate;
         pelvis_speed.push_back(velocity.norm());
-        const int back = std::min<int>(window, static_cast<int>(f));
-        const float hands_speed = (midpoints[f] - midpoints[f - back]).norm() * rate / static_cast<float>(back);
-        limits.pelvis_speed_beyond_hands_max =
-            std::max(limits.pelvis_speed_beyond_hands_max, velocity.norm() - hands_speed);
         for (size_t w = 0; w < kHandsWindowsSeconds.size(); ++w) {
           const int frames = std::min<int>(HandsWindowFrames(frame_time, static_cast<int>(w)), static_cast<int>(f));
           const float speed = (midpoints[f] - midpoints[f - frames]).norm() * rate / static_cast<float>(frames);
+          if (w == 0) {
+            limits.pelvis_speed_beyond_hands_max =
+                std::max(limits.pelvis_speed_beyond_hands_max, velocity.norm() - speed);
+          }
           auto& by_hands = limits.pelvis_speed_by_hands_speed[w];
           const size_t bin = static_cast<size_t>(speed / MotionLimits::kHandsSpeedBin);
           if (bin >= by_hands.size()) by_hands.resize(bin + 1, 0.0f);
