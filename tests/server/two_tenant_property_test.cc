@@ -206,6 +206,13 @@ class TwoTenantPropertyTest : public ::testing::Test {
   void Delete(int t, const std::string& name);
   void Import(int t, const std::string& name, const std::vector<int>& contents);
   void Describe(int t, const std::string& name);
+  // Every clip tenant `t`'s model holds: (database name, clip id).
+  std::vector<std::pair<std::string, std::int64_t>> ClipsOf(int t) const {
+    std::vector<std::pair<std::string, std::int64_t>> clips;
+    for (const auto& [name, database] : model_[t])
+      for (const auto& [id, clip] : database.clips) clips.emplace_back(name, id);
+    return clips;
+  }
   void ExportOwn(int t);
   void DeleteOwnClip(int t);
   void ProbeOthersClip(int t);
@@ -466,9 +473,7 @@ void TwoTenantPropertyTest::Describe(int t, const std::string& name) {
 }
 
 void TwoTenantPropertyTest::ExportOwn(int t) {
-  std::vector<std::pair<std::string, std::int64_t>> clips;
-  for (const auto& [name, database] : model_[t])
-    for (const auto& [id, clip] : database.clips) clips.emplace_back(name, id);
+  std::vector<std::pair<std::string, std::int64_t>> clips = ClipsOf(t);
   if (clips.empty()) return Describe(t, DrawName());
   const auto& [name, id] = clips[Draw(clips.size())];
   auto text = clients_[t]->ExportClip(name, id);
@@ -488,9 +493,7 @@ void TwoTenantPropertyTest::ExportOwn(int t) {
 }
 
 void TwoTenantPropertyTest::DeleteOwnClip(int t) {
-  std::vector<std::pair<std::string, std::int64_t>> clips;
-  for (const auto& [name, database] : model_[t])
-    for (const auto& [id, clip] : database.clips) clips.emplace_back(name, id);
+  std::vector<std::pair<std::string, std::int64_t>> clips = ClipsOf(t);
   if (clips.empty()) return Create(t, DrawName());
   const auto [name, id] = clips[Draw(clips.size())];
   const absl::Status deleted = clients_[t]->DeleteClip(name, id);
@@ -505,9 +508,7 @@ void TwoTenantPropertyTest::DeleteOwnClip(int t) {
 // another name), or a deleted clip's id (either tenant's): NOT_FOUND, by export and by deletion;
 // the after-step check sees the other's clip is still there.
 void TwoTenantPropertyTest::ProbeOthersClip(int t) {
-  std::vector<std::pair<std::string, std::int64_t>> clips;
-  for (const auto& [name, database] : model_[1 - t])
-    for (const auto& [id, clip] : database.clips) clips.emplace_back(name, id);
+  std::vector<std::pair<std::string, std::int64_t>> clips = ClipsOf(1 - t);
   const bool deleted_clip = !retired_.empty() && (clips.empty() || Draw(3) == 0);
   if (deleted_clip) clips = {{DrawName(), retired_[Draw(retired_.size())]}};
   const std::string whose = deleted_clip ? " (a deleted clip)" : " (" + Other(t) + "'s clip)";
