@@ -45,6 +45,14 @@ struct ReconstructionOptions {
   PoseSolverOptions solver;            // A6: energy weights, LM
   FootskateOptions footskate;          // A7: contacts, leg IK
   float joint_smoothing_sigma = 1.0f;  // A7: Gaussian in joint space, frames (0 = none)
+  // Where the input is weak — a hand the tracker has lost (held by the other, one_hand_bridge.h),
+  // both hands bridged across a dropout — and for `weak_input_hold_seconds` after (the returning
+  // hand's cross-fade), the joint filter leans on the motion around the frame: its σ widens to
+  // this, moving between the two over `weak_input_ramp_seconds` so the output does not step where
+  // the filter changes (issue #25: re-entry jerk). ≤ joint_smoothing_sigma: never wider.
+  float weak_input_joint_smoothing_sigma = 2.0f;
+  double weak_input_hold_seconds = 0.5;
+  double weak_input_ramp_seconds = 0.25;
   // After the joint filter, two-bone arm IK puts each hand on the input wrist (as the legs are put
   // on their pins): the input smoothed by a centred Gaussian of this σ over the samples that have
   // arrived (zero phase where the lag allows, unlike A2's exponential smoothing); < 0 = off.

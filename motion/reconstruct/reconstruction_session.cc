@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <optional>
 
@@ -83,6 +84,10 @@ struct ReconstructionSession::Segment {
   std::deque<ReconstructedFrame> post;  // solved frames waiting for the joint filter
   int post_first = 0;
   int emitted = 0;
+  // The joint filter's width (an index of joint_kernels_, moving by fractions) and when the input
+  // was last weak (ReconstructionOptions::weak_input_joint_smoothing_sigma).
+  float joint_filter_level = 0.0f;
+  double weak_input_time = -1e30;
 };
 
 ReconstructionSession::ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database,
@@ -96,6 +101,17 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
   ankle_kernel_ = GaussianKernel(options_.ankle_path.smoothing_sigma_frames);
   joint_kernel_ = GaussianKernel(options_.joint_smoothing_sigma);
+  joint_kernels_ = {joint_kernel_};
+  if (options_.joint_smoothing_sigma > 0) {
+    const float widest = options_.weak_input_joint_smoothing_sigma;
+    const int steps = static_cast<int>(std::ceil((widest - options_.joint_smoothing_sigma) / 0.1f - 1e-3f));
+    for (int i = 1; i <= steps; ++i)
+      joint_kernels_.push_back(GaussianKernel(std::min(widest, options_.joint_smoothing_sigma + 0.1f * i)));
+  }
+  // The hands' targets widen with it (by as many frames of σ): a body smoothed more than the hands
+  // it reaches for bends its elbows to make up the difference.
+  for (size_t i = 0; i < joint_kernels_.size(); ++i)
+    hand_kernels_.push_back(GaussianKernel(std::max(0.0f, options_.hand_target_sigma) + 0.1f * static_cast<float>(i)));
   hand_kernel_ = GaussianKernel(std::max(0.0f, options_.hand_target_sigma));
   const bool local_linear = options_.smoothing.local_linear_sigma > 0.0f;
   if (local_linear) wrist_kernel_ = GaussianKernel(options_.smoothing.local_linear_sigma);
@@ -134,7 +150,9 @@ absl::StatusOr<std::unique_ptr<ReconstructionSession>> ReconstructionSession::Cr
     return absl::InvalidArgumentError("window and lag must be ≥ 0 (lag ≤ 600 frames)");
   }
   if (!(options.max_gap_seconds > 0) || !(options.joint_smoothing_sigma >= 0) || options.joint_smoothing_sigma > 30 ||
-      !(options.ankle_path.smoothing_sigma_frames >= 0) || options.ankle_path.smoothing_sigma_frames > 30) {
+      !(options.ankle_path.smoothing_sigma_frames >= 0) || options.ankle_path.smoothing_sigma_frames > 30 ||
+      !(options.weak_input_joint_smoothing_sigma <= 30) || !(options.weak_input_hold_seconds >= 0) ||
+      !(options.weak_input_ramp_seconds >= 0) || !std::isfinite(options.weak_input_hold_seconds)) {
     return absl::InvalidArgumentError("gap and smoothing parameters out of range");
   }
   return std::unique_ptr<ReconstructionSession>(new ReconstructionSession(std::move(database), options));
@@ -418,8 +436,11 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
 
 void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFrame>* out) {
   Segment& s = *segment_;
-  const int radius = static_cast<int>(joint_kernel_.size()) / 2;
+  const int widest_radius = static_cast<int>(joint_kernels_.back().size()) / 2;
   const int last = s.post_first + static_cast<int>(s.post.size()) - 1;  // newest solved frame
+  const float levels = static_cast<float>(joint_kernels_.size() - 1);
+  const float level_step =
+      levels * static_cast<float>(database_->frame_time() / std::max(1e-3, options_.weak_input_ramp_seconds));
   const BodyModel& body = database_->body();
   const BodyLandmarks& l = database_->rig().topology.landmarks;
   const int ankle_joints[2] = {l.left_ankle, l.right_ankle}, wrist_joints[2] = {l.left_wrist, l.right_wrist};
@@ -428,6 +449,17 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
   while (s.emitted <= last && (flush || s.emitted + joint_filter_lag_ <= last)) {
     const int e = s.emitted;
     ReconstructedFrame frame = s.post[e - s.post_first];
+    const std::array<float, 2>& untracked = frame.diagnostics.untracked_seconds;
+    if (frame.diagnostics.bridged || untracked[0] > 0 || untracked[1] > 0) s.weak_input_time = frame.time;
+    if (e == 0 && s.id > 0) {  // the body comes back after a dropout too long to bridge: no motion before it
+      s.weak_input_time = frame.time;
+      s.joint_filter_level = levels;
+    }
+    const bool widen = frame.time - s.weak_input_time <= options_.weak_input_hold_seconds;
+    s.joint_filter_level = std::clamp(s.joint_filter_level + (widen ? level_step : -level_step), 0.0f, levels);
+    const size_t level = static_cast<size_t>(std::lround(s.joint_filter_level));
+    const std::vector<float>& kernel = joint_kernels_[level];
+    const int radius = static_cast<int>(kernel.size()) / 2;
     if (radius > 0) {
       const BodyPose& centre = s.post[e - s.post_first].pose;
       const int joints = static_cast<int>(centre.rotations.size());
@@ -436,7 +468,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       for (int i = -radius; i <= radius; ++i) {
         const int k = std::clamp(e + i, s.post_first, last);  // segment edges (and the lag) clamp
         const BodyPose& p = s.post[k - s.post_first].pose;
-        const float w = joint_kernel_[i + radius];
+        const float w = kernel[i + radius];
         pelvis += w * s.post[k - s.post_first].pelvis_position;
         for (int j = 0; j < joints; ++j)
           log_sum[j] += w * RotationVector(Eigen::Quaternionf(centre.rotations[j].conjugate() * p.rotations[j]));
@@ -492,7 +524,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     if (options_.hand_target_sigma >= 0.0f) {
       // Hands on the input: a local linear fit over the samples that have arrived, which is the
       // Gaussian average where the window is centred and has no lag where it is one-sided.
-      const SmoothedWrists target = FitInput(s, e, hand_kernel_);
+      const SmoothedWrists target = FitInput(s, e, hand_kernels_[level]);
       for (int side = 0; side < 2; ++side) SolveLegIk(body, wrist_joints[side], target.position[side], &frame.pose);
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
@@ -503,7 +535,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     out->push_back(std::move(frame));
     ++s.emitted;
     ++statistics_.frames;
-    while (s.post_first < s.emitted - radius) {  // older frames no longer reach the filter
+    while (s.post_first < s.emitted - widest_radius) {  // older frames no longer reach the filter
       s.post.pop_front();
       ++s.post_first;
     }
@@ -539,7 +571,8 @@ void ReconstructionSession::ForgetSettledFrames() {
   // there by at most one kernel reach (A2 fit, hand target, ankle smoothing) plus one frame (the
   // ankle velocity of the next solve).
   Segment& s = *segment_;
-  const int reach = static_cast<int>(std::max({wrist_kernel_.size(), hand_kernel_.size(), ankle_kernel_.size()})) / 2;
+  const int reach =
+      static_cast<int>(std::max({wrist_kernel_.size(), hand_kernels_.back().size(), ankle_kernel_.size()})) / 2;
   const int keep_from = s.emitted - reach - 1;
   if (keep_from <= 0) return;
   s.input.ForgetBefore(keep_from);

@@ -162,6 +162,9 @@ class ReconstructionSession {
   int ankle_lag_ = 0;
   int lookahead_ = 0;  // A2 frames (local linear smoothing)
   std::vector<float> ankle_kernel_, joint_kernel_, hand_kernel_, wrist_kernel_;
+  // The joint filter's kernels from joint_smoothing_sigma (first) to
+  // weak_input_joint_smoothing_sigma (last), 0.1 frame of σ apart; the hands' targets' alongside.
+  std::vector<std::vector<float>> joint_kernels_, hand_kernels_;
   // Issue #22: the output pelvis moves as the database's bodies do, across segments too.
   MotionGuard motion_guard_;
   InputJumpDetector jump_detector_;
