@@ -60,8 +60,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!options.ok()) return 0;
     absl::StatusOr<mocap::BodyPointOptions> points = mocap::PointOptionsFromProto(request);
     if (!points.ok()) return 0;
-    absl::StatusOr<mocap::SimilarQuery> query =
-        mocap::QueryFromProto(request, *options, limits, streaming, *points);
+    absl::StatusOr<mocap::SimilarQuery> query = mocap::QueryFromProto(request, *options, limits, streaming, *points);
     if (!query.ok()) continue;
     if (!query->Prepare({DatabaseFor(*points)}, *points).ok()) continue;
     // Bound the work per input (the service bounds it by its limits and fair scheduling).
