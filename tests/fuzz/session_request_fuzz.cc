@@ -10,16 +10,6 @@
 #include "server/session_driver.h"
 #include "tests/support/synthetic_database.h"
 
-namespace {
-
-const mocap::testing::SyntheticReconstructionSetup& Setup() {
-  static const auto* setup =
-      new mocap::testing::SyntheticReconstructionSetup(mocap::testing::MakeSyntheticReconstructionSetup({}, 30));
-  return *setup;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static mocap::ServerMetrics metrics;
   mocap::v1::ReconstructTrajectoryRequest request;
@@ -32,7 +22,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!config.overrides().has_pose_neighbours()) config.mutable_overrides()->set_pose_neighbours(16);
   mocap::SessionLimits limits;
   limits.max_window_frames = 120;
-  auto driver = mocap::SessionDriver::Create(config, Setup().database, "fuzz", limits, metrics);
+  auto driver = mocap::SessionDriver::Create(config, mocap::testing::SharedSyntheticReconstructionSetup().database,
+                                             "fuzz", limits, metrics);
   if (!driver.ok()) return 0;
   std::vector<mocap::v1::ReconstructResponse> replies;
   mocap::v1::WristSamples samples;

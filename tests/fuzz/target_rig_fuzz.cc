@@ -12,22 +12,12 @@
 #include "server/reconstruction_convert.h"
 #include "tests/support/synthetic_database.h"
 
-namespace {
-
-const mocap::testing::SyntheticReconstructionSetup& Setup() {
-  static const auto* setup =
-      new mocap::testing::SyntheticReconstructionSetup(mocap::testing::MakeSyntheticReconstructionSetup({}, 30));
-  return *setup;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   mocap::v1::TargetRig proto;
   if (!proto.ParseFromArray(data, static_cast<int>(size))) return 0;
   absl::StatusOr<mocap::RetargetRig> target = mocap::FromProto(proto);
   if (!target.ok()) return 0;
-  const mocap::ReconstructionDatabase& database = *Setup().database;
+  const mocap::ReconstructionDatabase& database = *mocap::testing::SharedSyntheticReconstructionSetup().database;
   absl::StatusOr<mocap::RetargetRig> source = mocap::SourceRigOf(database.rig(), database.body().skeleton());
   if (!source.ok()) __builtin_trap();  // the synthetic database's own rig always maps
   absl::StatusOr<mocap::Retargeter> retargeter = mocap::Retargeter::Create(*std::move(source), *std::move(target));

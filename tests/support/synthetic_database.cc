@@ -36,4 +36,9 @@ std::vector<WristSample> WristSamplesOf(const SyntheticReconstructionSetup& setu
   return samples;
 }
 
+const SyntheticReconstructionSetup& SharedSyntheticReconstructionSetup() {
+  static const auto* setup = new SyntheticReconstructionSetup(MakeSyntheticReconstructionSetup({}, 30));
+  return *setup;
+}
+
 }  // namespace mocap::testing

@@ -23,6 +23,10 @@ struct SyntheticReconstructionSetup {
 SyntheticReconstructionSetup MakeSyntheticReconstructionSetup(const SyntheticRigOptions& options = {},
                                                               int test_frames = 75);
 
+// A setup of the default rig with a 30-frame test clip, made on first use and kept for the
+// process (the fuzz targets build it once, not per input).
+const SyntheticReconstructionSetup& SharedSyntheticReconstructionSetup();
+
 // The test clip's wrists as timestamped samples (database rate, starting at `start_time`).
 std::vector<WristSample> WristSamplesOf(const SyntheticReconstructionSetup& setup, double start_time = 0.0);
 
