@@ -112,7 +112,6 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
   // it reaches for bends its elbows to make up the difference.
   for (size_t i = 0; i < joint_kernels_.size(); ++i)
     hand_kernels_.push_back(GaussianKernel(std::max(0.0f, options_.hand_target_sigma) + 0.1f * static_cast<float>(i)));
-  hand_kernel_ = GaussianKernel(std::max(0.0f, options_.hand_target_sigma));
   const bool local_linear = options_.smoothing.local_linear_sigma > 0.0f;
   if (local_linear) wrist_kernel_ = GaussianKernel(options_.smoothing.local_linear_sigma);
   const int radius = static_cast<int>(joint_kernel_.size()) / 2;
