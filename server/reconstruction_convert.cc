@@ -158,7 +158,10 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
   for (float c : confidences) {
     if (!(c >= 0.0f && c <= 1.0f)) return refused(StrCat("confidence ", c, " is outside [0, 1]"));
   }
-  const std::array<bool, 2> tracked = {confidences[0] >= min_confidence, confidences[1] >= min_confidence};
+  // Confidence 0 is a tracker saying it has lost the hand (OpenXR's and ARKit's "not tracked"),
+  // whatever min_confidence is: its position, often NaN, is not read.
+  const std::array<bool, 2> tracked = {confidences[0] > 0.0f && confidences[0] >= min_confidence,
+                                       confidences[1] > 0.0f && confidences[1] >= min_confidence};
   if (!tracked[0] && !tracked[1])
     return {SampleCheck::kDropout, "confidence below min_confidence (treated as a dropout)"};
   const LengthUnit unit = input.frame.convention.unit;

@@ -386,7 +386,7 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   command
       ->add_option("--min-confidence", o->min_confidence,
                    "A hand whose CSV confidence is below this is lost: the body goes on from the other hand "
-                   "(both below: a dropout)")
+                   "(both below: a dropout); a confidence of 0 is always lost")
       ->check(CLI::Range(0.0f, 1.0f))
       ->capture_default_str();
   command->add_flag("--diagnostics", o->diagnostics, "Per-frame diagnostics in the JSON");

@@ -318,6 +318,13 @@ TEST(SampleFromProtoTest, GarbageIsRefusedWithAReasonAndLowConfidenceIsADropout)
   unsure.set_right_confidence(0.1f);
   EXPECT_EQ(FromProto(unsure, 0.5f, native, &out).kind, SampleCheck::kDropout);
   unsure.set_right_confidence(0.9f);
+  // Confidence 0 is a lost hand even with min_confidence 0 (no gating asked for): a tracker's NaN
+  // position beside it is not refused.
+  unsure.set_left_confidence(0.0f);
+  ASSERT_EQ(FromProto(unsure, 0.0f, native, &out).kind, SampleCheck::kAccepted);
+  EXPECT_FALSE(out.tracked[0]);
+  EXPECT_TRUE(out.tracked[1]);
+  unsure.set_left_confidence(0.3f);
   unsure.mutable_left()->set_x(0.2);
   ASSERT_EQ(FromProto(unsure, 0.2f, native, &out).kind, SampleCheck::kAccepted);
   EXPECT_TRUE(out.tracked[0] && out.tracked[1]);
