@@ -100,8 +100,7 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
       jump_detector_(database_->motion_limits(), database_->frame_time(), options.motion_guard) {
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
   ankle_kernel_ = GaussianKernel(options_.ankle_path.smoothing_sigma_frames);
-  joint_kernel_ = GaussianKernel(options_.joint_smoothing_sigma);
-  joint_kernels_ = {joint_kernel_};
+  joint_kernels_ = {GaussianKernel(options_.joint_smoothing_sigma)};
   if (options_.joint_smoothing_sigma > 0) {
     const float widest = options_.weak_input_joint_smoothing_sigma;
     const int steps = static_cast<int>(std::ceil((widest - options_.joint_smoothing_sigma) / 0.1f - 1e-3f));
@@ -114,7 +113,7 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
     hand_kernels_.push_back(GaussianKernel(std::max(0.0f, options_.hand_target_sigma) + 0.1f * static_cast<float>(i)));
   const bool local_linear = options_.smoothing.local_linear_sigma > 0.0f;
   if (local_linear) wrist_kernel_ = GaussianKernel(options_.smoothing.local_linear_sigma);
-  const int radius = static_cast<int>(joint_kernel_.size()) / 2;
+  const int radius = static_cast<int>(joint_kernels_.front().size()) / 2;  // the lag is the usual filter's
   const int reach = static_cast<int>(wrist_kernel_.size()) / 2;
   const int lookahead = local_linear ? std::clamp(options_.smoothing.lookahead, 0, reach) : 0;
   if (options_.mode == StreamMode::kFixedLag) {

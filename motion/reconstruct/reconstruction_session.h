@@ -161,7 +161,7 @@ class ReconstructionSession {
   int joint_filter_lag_ = 0;
   int ankle_lag_ = 0;
   int lookahead_ = 0;  // A2 frames (local linear smoothing)
-  std::vector<float> ankle_kernel_, joint_kernel_, wrist_kernel_;
+  std::vector<float> ankle_kernel_, wrist_kernel_;
   // The joint filter's kernels from joint_smoothing_sigma (first) to
   // weak_input_joint_smoothing_sigma (last), 0.1 frame of σ apart; the hands' targets' alongside.
   std::vector<std::vector<float>> joint_kernels_, hand_kernels_;

@@ -55,11 +55,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   mocap::v1::FindSimilarPosesRequest request;
   if (!request.ParseFromArray(data, static_cast<int>(size))) return 0;
   const mocap::PoseSearchLimits limits;
-  for (const bool streaming : {false, true}) {
-    absl::StatusOr<mocap::PoseSearchOptions> options = mocap::SearchOptionsFromProto(request, limits);
-    if (!options.ok()) return 0;
-    absl::StatusOr<mocap::BodyPointOptions> points = mocap::PointOptionsFromProto(request);
-    if (!points.ok()) return 0;
+  absl::StatusOr<mocap::PoseSearchOptions> options = mocap::SearchOptionsFromProto(request, limits);
+  if (!options.ok()) return 0;
+  absl::StatusOr<mocap::BodyPointOptions> points = mocap::PointOptionsFromProto(request);
+  if (!points.ok()) return 0;
+  for (const bool streaming : {false, true}) {  // the query's frame limit differs
     absl::StatusOr<mocap::SimilarQuery> query = mocap::QueryFromProto(request, *options, limits, streaming, *points);
     if (!query.ok()) continue;
     if (!query->Prepare({DatabaseFor(*points)}, *points).ok()) continue;

@@ -55,7 +55,7 @@ for seed in "$repo"/tests/fuzz/seeds/session/*.txtpb; do
     <"$seed" >"$seeds/session_request_fuzz/$(basename "$seed" .txtpb).bin"
 done
 # Target rigs (both forms) and pose search requests from the first real clip of each data set and
-# the pose files (tests/fuzz/make_proto_seeds.py); the rig seeds also get the synthetic test rigs.
+# the pose files (tests/fuzz/make_proto_seeds.py), plus one small non-human test BVH.
 rig_clips=()
 for dir in "$data"/*/; do
   first=$(ls "$seeds/bvh_reader_fuzz/$(basename "$dir")"_*.bvh 2>/dev/null | head -1 || true)

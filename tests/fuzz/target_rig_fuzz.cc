@@ -18,9 +18,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   absl::StatusOr<mocap::RetargetRig> target = mocap::FromProto(proto);
   if (!target.ok()) return 0;
   const mocap::ReconstructionDatabase& database = *mocap::testing::SharedSyntheticReconstructionSetup().database;
-  absl::StatusOr<mocap::RetargetRig> source = mocap::SourceRigOf(database.rig(), database.body().skeleton());
-  if (!source.ok()) __builtin_trap();  // the synthetic database's own rig always maps
-  absl::StatusOr<mocap::Retargeter> retargeter = mocap::Retargeter::Create(*std::move(source), *std::move(target));
+  static const auto* source = [&] {  // the database's side, analysed once
+    absl::StatusOr<mocap::RetargetRig> rig = mocap::SourceRigOf(database.rig(), database.body().skeleton());
+    if (!rig.ok()) __builtin_trap();  // the synthetic database's own rig always maps
+    return new mocap::RetargetRig(*std::move(rig));
+  }();
+  absl::StatusOr<mocap::Retargeter> retargeter = mocap::Retargeter::Create(*source, *std::move(target));
   if (!retargeter.ok()) return 0;
   const Eigen::VectorXf feature = database.pose_feature(0).transpose();  // a database frame's pose
   const mocap::BodyPose pose =
