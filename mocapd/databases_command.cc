@@ -32,7 +32,7 @@ void RegisterDatabasesCommand(CLI::App& app, CommandRegistry& registry) {
     if (options->json) {
       nlohmann::json out = nlohmann::json::array();
       for (const DatabaseSummary& d : *databases) {
-        out.push_back({{"name", d.name},
+        out.push_back({{"name", d.ref.name()},
                        {"clips", d.num_clips},
                        {"frames", d.num_frames},
                        {"seconds", d.seconds()},
@@ -47,10 +47,10 @@ void RegisterDatabasesCommand(CLI::App& app, CommandRegistry& registry) {
     if (databases->empty()) std::cout << "no motion databases in " << options->store << "\n";
     for (const DatabaseSummary& d : *databases) {
       if (!d.has_rig) {
-        std::cout << d.name << ": empty (its rig comes with the first import) at " << d.frame_rate << " fps\n";
+        std::cout << d.ref.name() << ": empty (its rig comes with the first import) at " << d.frame_rate << " fps\n";
         continue;
       }
-      std::cout << d.name << ": " << d.num_clips << " clips, " << Thousands(d.num_frames) << " frames ("
+      std::cout << d.ref.name() << ": " << d.num_clips << " clips, " << Thousands(d.num_frames) << " frames ("
                 << d.seconds() / 60.0 << " min) at " << d.frame_rate << " fps; rig of " << d.num_joints
                 << " joints rooted at " << d.root_joint << ", imported from " << UnitName(d.unit) << "\n";
     }

@@ -58,9 +58,9 @@ class ExportReactor : public OwnedReactor<grpc::ServerWriteReactor<v1::ExportCli
   }
   absl::Status Format() {
     MOCAP_ASSIGN_OR_RETURN(DatabaseSummary database, TenantDatabase(call_, request_.database()));
-    MOCAP_RETURN_IF_ERROR(call_.store().FindClip(database.id, request_.clip_id()).status());
-    MOCAP_ASSIGN_OR_RETURN(RigModel rig, call_.store().LoadRig(database.id));
-    MOCAP_ASSIGN_OR_RETURN(StoredClip clip, call_.store().LoadClip(request_.clip_id(), rig));
+    MOCAP_RETURN_IF_ERROR(call_.store().FindClip(database.ref, request_.clip_id()).status());
+    MOCAP_ASSIGN_OR_RETURN(RigModel rig, call_.store().LoadRig(database.ref));
+    MOCAP_ASSIGN_OR_RETURN(StoredClip clip, call_.store().LoadClip(database.ref, request_.clip_id(), rig));
     // In the rig's own unit and axes: the exported file reads like the file imported.
     clip.motion.frame_time = 1.0 / database.frame_rate;
     text_ = FormatBvh(ToFileConventions(clip.skeleton, clip.motion, rig));
@@ -141,13 +141,13 @@ grpc::ServerUnaryReactor* MotionStoreService::DescribeDatabase(grpc::CallbackSer
   return RunUnary(service_, context, "DescribeDatabase", [request, response](CallScope& call) -> absl::Status {
     MOCAP_ASSIGN_OR_RETURN(DatabaseSummary database, TenantDatabase(call, request->name()));
     v1::DatabaseInfo* info = response->mutable_info();
-    info->set_name(database.name);
+    info->set_name(database.ref.name());
     info->set_frame_rate(database.frame_rate);
     info->set_clip_count(database.num_clips);
     info->set_frame_count(database.num_frames);
     if (database.has_rig) {
       info->set_source_unit(std::string(UnitName(database.unit)));
-      MOCAP_ASSIGN_OR_RETURN(RigModel rig, call.store().LoadRig(database.id));
+      MOCAP_ASSIGN_OR_RETURN(RigModel rig, call.store().LoadRig(database.ref));
       ToProto(rig, info->mutable_skeleton());
     }
     return absl::OkStatus();
@@ -160,7 +160,7 @@ grpc::ServerUnaryReactor* MotionStoreService::DeleteDatabase(grpc::CallbackServe
   return RunUnary(service_, context, "DeleteDatabase", [request](CallScope& call) -> absl::Status {
     MOCAP_RETURN_IF_ERROR(call.RequireWritableStore());
     MOCAP_ASSIGN_OR_RETURN(DatabaseSummary database, TenantDatabase(call, request->name()));
-    return call.store().DeleteDatabase(database.id);
+    return call.store().DeleteDatabase(database.ref);
   });
 }
 
@@ -174,7 +174,7 @@ grpc::ServerUnaryReactor* MotionStoreService::ListClips(grpc::CallbackServerCont
                                                         v1::ListClipsResponse* response) {
   return RunUnary(service_, context, "ListClips", [request, response](CallScope& call) -> absl::Status {
     MOCAP_ASSIGN_OR_RETURN(DatabaseSummary database, TenantDatabase(call, request->database()));
-    MOCAP_ASSIGN_OR_RETURN(std::vector<ClipSummary> clips, call.store().ListClips(database.id));
+    MOCAP_ASSIGN_OR_RETURN(std::vector<ClipSummary> clips, call.store().ListClips(database.ref));
     for (const ClipSummary& clip : clips) ToProto(clip, response->add_clips());
     return absl::OkStatus();
   });
@@ -191,7 +191,7 @@ grpc::ServerUnaryReactor* MotionStoreService::DeleteClip(grpc::CallbackServerCon
   return RunUnary(service_, context, "DeleteClip", [request](CallScope& call) -> absl::Status {
     MOCAP_RETURN_IF_ERROR(call.RequireWritableStore());
     MOCAP_ASSIGN_OR_RETURN(DatabaseSummary database, TenantDatabase(call, request->database()));
-    return call.store().DeleteClip(database.id, request->clip_id());
+    return call.store().DeleteClip(database.ref, request->clip_id());
   });
 }
 

@@ -30,8 +30,7 @@ PoseSearchState::PoseSearchState(ServiceContext& service_context, WorkPool& comp
               [](MotionStore& store, const DatabaseVersion& version) -> absl::StatusOr<SearchDatabasePtr> {
                 MOCAP_ASSIGN_OR_RETURN(const BodyPointOptions points, PointsOfVariant(version.variant));
                 DatabaseSummary summary;
-                summary.id = version.database_id;
-                summary.name = version.name;
+                summary.ref = version.database;
                 summary.frame_rate = version.frame_rate;
                 return LoadSearchDatabase(store, summary, points);
               }) {}
@@ -64,8 +63,8 @@ void PoseSearchCall::Begin() {
       if (!summary.has_rig || summary.num_clips == 0) {
         return absl::FailedPreconditionError(StrCat("database '", name, "' has no clips: import motion into it first"));
       }
-      MOCAP_ASSIGN_OR_RETURN(std::string stamp, call_.store().ContentStamp(summary.id));
-      versions_.push_back({summary.id, std::move(stamp), summary.frame_rate, summary.name, PointsVariant(points_)});
+      MOCAP_ASSIGN_OR_RETURN(std::string stamp, call_.store().ContentStamp(summary.ref));
+      versions_.push_back({summary.ref, std::move(stamp), summary.frame_rate, PointsVariant(points_)});
     }
     return absl::OkStatus();
   }();

@@ -189,7 +189,7 @@ void ToProto(int query_frame, const std::vector<FoundPose>& matches, std::option
   for (const FoundPose& found : matches) {
     const ClipSummary& clip = found.database->clips[found.match.clip];
     v1::PoseMatch* match = out->add_matches();
-    match->set_database(found.database->summary.name);
+    match->set_database(found.database->summary.ref.name());
     match->set_clip_id(clip.id);
     match->set_file_name(clip.source_name);
     match->set_frame(found.source_frame);

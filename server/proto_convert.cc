@@ -5,7 +5,7 @@
 namespace mocap {
 
 void ToProto(const DatabaseSummary& summary, v1::DatabaseSummary* out) {
-  out->set_name(summary.name);
+  out->set_name(summary.ref.name());
   out->set_frame_rate(summary.frame_rate);
   out->set_source_unit(summary.has_rig ? std::string(UnitName(summary.unit)) : std::string());
   out->set_joint_count(summary.num_joints);

@@ -6,13 +6,13 @@ namespace mocap {
 
 absl::StatusOr<ReconstructionDatabases::Database> ReconstructionDatabases::Load(MotionStore& store, const Key& key,
                                                                                 bool time_reversed_copies) {
-  MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(key.database_id));
-  MOCAP_ASSIGN_OR_RETURN(std::vector<ClipSummary> summaries, store.ListClips(key.database_id));
+  MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(key.database));
+  MOCAP_ASSIGN_OR_RETURN(std::vector<ClipSummary> summaries, store.ListClips(key.database));
   if (summaries.empty()) return absl::FailedPreconditionError("the database has no clips: import motion into it first");
   std::vector<DatabaseClip> clips;
   clips.reserve(summaries.size());
   for (const ClipSummary& summary : summaries) {
-    MOCAP_ASSIGN_OR_RETURN(StoredClip clip, store.LoadClip(summary.id, rig));
+    MOCAP_ASSIGN_OR_RETURN(StoredClip clip, store.LoadClip(key.database, summary.id, rig));
     clips.push_back({std::move(clip.features), EncodePoses(clip.motion, rig)});
   }
   const double frame_rate = key.frame_rate > 0 ? key.frame_rate : 30.0;

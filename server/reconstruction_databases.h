@@ -31,10 +31,6 @@ class ReconstructionDatabases {
   // the builder thread when it is. FailedPrecondition for a database without clips.
   void Acquire(const Key& key, Ready ready) { registry_.Acquire(key, std::move(ready)); }
 
-  // The content stamp of a database now (MotionStore::ContentStamp).
-  static absl::StatusOr<std::string> ContentStamp(MotionStore& store, std::int64_t database_id) {
-    return store.ContentStamp(database_id);
-  }
   // Builds one database from the store (what a builder thread runs), with its travelling frames
   // also played backwards unless told not to (DatabaseBuildOptions).
   static absl::StatusOr<Database> Load(MotionStore& store, const Key& key, bool time_reversed_copies = true);

@@ -48,8 +48,8 @@ void AcquireSessionDatabase(ReconstructionState& state, CallScope& call, const s
     if (!summary.has_rig || summary.num_clips == 0) {
       return absl::FailedPreconditionError(StrCat("database '", name, "' has no clips: import motion into it first"));
     }
-    MOCAP_ASSIGN_OR_RETURN(std::string stamp, ReconstructionDatabases::ContentStamp(call.store(), summary.id));
-    return ReconstructionDatabases::Key{summary.id, std::move(stamp), summary.frame_rate};
+    MOCAP_ASSIGN_OR_RETURN(std::string stamp, call.store().ContentStamp(summary.ref));
+    return ReconstructionDatabases::Key{summary.ref, std::move(stamp), summary.frame_rate};
   }();
   call.ReleaseStore();  // sessions outlive their need for the store
   if (!key.ok()) return answer(key.status());

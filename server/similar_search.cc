@@ -13,17 +13,16 @@ absl::StatusOr<SearchDatabasePtr> LoadSearchDatabase(MotionStore& store, const D
                                                      const BodyPointOptions& points) {
   auto loaded = std::make_shared<SearchDatabase>();
   loaded->summary = database;
-  const std::int64_t database_id = database.id;
-  MOCAP_ASSIGN_OR_RETURN(loaded->clips, store.ListClips(database_id));
+  MOCAP_ASSIGN_OR_RETURN(loaded->clips, store.ListClips(database.ref));
   if (loaded->clips.empty()) {
     return absl::FailedPreconditionError(
-        StrCat("database '", loaded->summary.name, "' has no clips: import motion into it first"));
+        StrCat("database '", loaded->summary.ref.name(), "' has no clips: import motion into it first"));
   }
-  MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(database_id));
+  MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(database.ref));
   loaded->index = PoseIndex(points);
   const BodyChains chains = MakeBodyChains(rig.skeleton, rig.topology);
   for (const ClipSummary& clip : loaded->clips) {
-    MOCAP_ASSIGN_OR_RETURN(StoredClip stored, store.LoadClip(clip.id, rig));
+    MOCAP_ASSIGN_OR_RETURN(StoredClip stored, store.LoadClip(database.ref, clip.id, rig));
     ClipPoints clip_points = MakeClipPoints(ForwardKinematics(stored.skeleton, stored.motion), chains, points);
     clip_points.name = clip.source_name;
     clip_points.clip_id = clip.id;

@@ -33,7 +33,7 @@ void VersionRegistry::Acquire(const DatabaseVersion& version, Ready ready) {
   {
     MutexLock lock(&mutex_);
     ReapBuilders();
-    Entry& entry = entries_[{version.database_id, version.variant, version.content_stamp}];
+    Entry& entry = entries_[{version.database.id(), version.variant, version.content_stamp}];
     entry.last_used = ++clock_;
     if (!entry.value) {
       entry.waiting.push_back(std::move(ready));
@@ -61,15 +61,15 @@ void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string variant = version.variant.empty() ? "" : StrCat(" (", version.variant, ")");
   if (built.ok()) {
-    spdlog::info("{} of database {}{} built in {:.1f} s", what_, version.database_id, variant, seconds);
+    spdlog::info("{} of database {}{} built in {:.1f} s", what_, version.database.id(), variant, seconds);
   } else {
-    spdlog::warn("{} of database {}{} failed to build: {}", what_, version.database_id, variant,
+    spdlog::warn("{} of database {}{} failed to build: {}", what_, version.database.id(), variant,
                  built.status().ToString());
   }
   std::vector<Ready> waiting;
   {
     MutexLock lock(&mutex_);
-    const EntryKey entry_key{version.database_id, version.variant, version.content_stamp};
+    const EntryKey entry_key{version.database.id(), version.variant, version.content_stamp};
     Entry& entry = entries_[entry_key];
     waiting.swap(entry.waiting);
     entry.building = false;
@@ -78,7 +78,7 @@ void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
       ++builds_;
       // Older versions of this database are not needed by new calls (running ones hold theirs).
       for (auto it = entries_.begin(); it != entries_.end();) {
-        const bool older = it->first.database_id == version.database_id && it->first.variant == version.variant &&
+        const bool older = it->first.database_id == version.database.id() && it->first.variant == version.variant &&
                            it->first != entry_key && !it->second.building;
         it = older ? entries_.erase(it) : std::next(it);
       }

@@ -30,10 +30,9 @@ namespace mocap {
 
 // One version of a store database: what a registry entry is built from and keyed by.
 struct DatabaseVersion {
-  std::int64_t database_id = 0;
+  DatabaseRef database;       // its id is part of the key; its name is for what is built
   std::string content_stamp;  // MotionStore::ContentStamp()
   double frame_rate = 30.0;
-  std::string name;  // for what is built; not part of the key
   // Which form of the database is built, when a registry builds several (the pose index's point
   // options); part of the key. A new content stamp replaces the older entries of the same variant.
   std::string variant;

@@ -56,7 +56,7 @@ absl::StatusOr<std::unique_ptr<ImportWriter>> ImportWriter::Start(MotionStore& s
     writer->database_ = *found;
     writer->preprocess_.frame_rate = found->frame_rate;
     if (found->has_rig) {
-      MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(found->id));
+      MOCAP_ASSIGN_OR_RETURN(RigModel rig, store.LoadRig(found->ref));
       writer->rig_ = std::move(rig);
     }
   } else if (found.status().code() != absl::StatusCode::kNotFound) {
@@ -89,7 +89,6 @@ absl::Status ImportWriter::EnsureBatch() {
 
 absl::Status ImportWriter::Fail(const absl::Status& status) {
   batch_.reset();  // roll back
-  owner_checked_in_batch_ = false;
   pending_.clear();
   std::string message = StrCat(status.message(), " — nothing from this batch was stored");
   if (committed_batches_ > 0) {
@@ -143,21 +142,14 @@ absl::Status ImportWriter::Store(Pending pending) {
     MOCAP_ASSIGN_OR_RETURN(database_,
                            store_.CreateDatabase(target_.database, *rig_, preprocess_.frame_rate, target_.tenant));
     totals_.created_database = true;
-    owner_checked_in_batch_ = true;  // created inside this batch's write
-  } else {
-    // The database was looked up when the import started: it may have been deleted since (by
-    // this tenant, on another call). Checked inside this batch's write, so the clips land in it
-    // or the import ends NotFound; never in a database created after it.
-    if (!owner_checked_in_batch_) {
-      MOCAP_RETURN_IF_ERROR(store_.CheckDatabaseOwner(database_->id, target_.tenant, target_.database));
-      owner_checked_in_batch_ = true;
-    }
-    if (!database_->has_rig) {
-      MOCAP_RETURN_IF_ERROR(store_.SetRig(database_->id, *rig_));
-      database_->has_rig = true;
-    }
+  } else if (!database_->has_rig) {
+    // The database was looked up when the import started and may have been deleted since (by
+    // this tenant, on another call): SetRig and InsertClip check it inside this batch's write,
+    // so the clips land in it or the import ends NotFound; never in another database.
+    MOCAP_RETURN_IF_ERROR(store_.SetRig(database_->ref, *rig_));
+    database_->has_rig = true;
   }
-  MOCAP_ASSIGN_OR_RETURN(std::optional<std::int64_t> existing, store_.FindClipByHash(database_->id, pending.hash));
+  MOCAP_ASSIGN_OR_RETURN(std::optional<std::int64_t> existing, store_.FindClipByHash(database_->ref, pending.hash));
   if (existing) {
     result.outcome = ImportFileResult::Outcome::kDuplicate;
     result.clip_id = *existing;
@@ -165,7 +157,7 @@ absl::Status ImportWriter::Store(Pending pending) {
     ++totals_.duplicates;
     return absl::OkStatus();
   }
-  MOCAP_ASSIGN_OR_RETURN(result.clip_id, store_.InsertClip(database_->id, pending.file_name, pending.hash,
+  MOCAP_ASSIGN_OR_RETURN(result.clip_id, store_.InsertClip(database_->ref, pending.file_name, pending.hash,
                                                            pending.labels, pending.clip, *rig_));
   result.outcome = ImportFileResult::Outcome::kImported;
   result.frames = pending.clip.num_frames();
@@ -189,7 +181,6 @@ absl::Status ImportWriter::Commit() {
     if (absl::Status status = batch_->Commit(); !status.ok()) return Fail(status);
     batch_.reset();
   }
-  owner_checked_in_batch_ = false;
   ++committed_batches_;
   committed_imported_ = totals_.imported;
   hashes_in_batch_.clear();

@@ -117,7 +117,6 @@ class ImportWriter {
   std::vector<Pending> pending_;
   std::int64_t pending_frames_ = 0;
   std::set<std::string> hashes_in_batch_;
-  bool owner_checked_in_batch_ = false;  // CheckDatabaseOwner ran inside the open write
   int files_in_batch_ = 0;
   int committed_batches_ = 0;
   ImportTotals totals_;

@@ -44,23 +44,9 @@ constexpr const char* kSummarySelect = R"sql(
          (SELECT COALESCE(SUM(num_frames), 0) FROM clips c WHERE c.database_id = d.id)
   FROM databases d)sql";
 
-absl::StatusOr<DatabaseSummary> SummaryFromRow(SQLite::Statement& query) {
-  DatabaseSummary summary;
-  summary.id = query.getColumn(0).getInt64();
-  summary.name = query.getColumn(1).getString();
-  summary.frame_rate = query.getColumn(2).getDouble();
-  summary.tenant_id = query.getColumn(5).getInt64();
-  summary.num_clips = query.getColumn(6).getInt64();
-  summary.num_frames = query.getColumn(7).getInt64();
-  summary.has_rig = !query.getColumn(4).isNull();
-  if (!summary.has_rig) return summary;
-  auto unit = ParseUnit(query.getColumn(3).getString());
-  if (!unit) return absl::DataLossError("database has an unknown unit");
-  summary.unit = *unit;
-  MOCAP_ASSIGN_OR_RETURN(RigModel rig, storage::DecodeRig(query.getColumn(4).getString()));
-  summary.num_joints = rig.skeleton.num_joints();
-  summary.root_joint = rig.skeleton.joint(0).name;
-  return summary;
+// The answer of every call whose database is gone: deleted, perhaps while the caller used it.
+absl::Status NoLongerExists(const DatabaseRef& database) {
+  return absl::NotFoundError(StrCat("motion database '", database.name(), "' no longer exists"));
 }
 
 // Columns: id, source_name, content_hash, num_frames, source_frame_rate, source_frames.
@@ -104,6 +90,24 @@ absl::Status CheckCheckpointed(const std::filesystem::path& path) {
 }
 
 }  // namespace
+
+absl::StatusOr<DatabaseSummary> MotionStore::SummaryFromRow(SQLite::Statement& query) {
+  DatabaseSummary summary;
+  summary.ref =
+      DatabaseRef(query.getColumn(0).getInt64(), query.getColumn(5).getInt64(), query.getColumn(1).getString());
+  summary.frame_rate = query.getColumn(2).getDouble();
+  summary.num_clips = query.getColumn(6).getInt64();
+  summary.num_frames = query.getColumn(7).getInt64();
+  summary.has_rig = !query.getColumn(4).isNull();
+  if (!summary.has_rig) return summary;
+  auto unit = ParseUnit(query.getColumn(3).getString());
+  if (!unit) return absl::DataLossError("database has an unknown unit");
+  summary.unit = *unit;
+  MOCAP_ASSIGN_OR_RETURN(RigModel rig, storage::DecodeRig(query.getColumn(4).getString()));
+  summary.num_joints = rig.skeleton.num_joints();
+  summary.root_joint = rig.skeleton.joint(0).name;
+  return summary;
+}
 
 MotionStore::MotionStore(std::filesystem::path path, std::unique_ptr<SQLite::Database> db)
     : path_(std::move(path)), db_(std::move(db)) {}
@@ -241,28 +245,30 @@ absl::StatusOr<DatabaseSummary> MotionStore::InsertDatabase(TenantId tenant, con
   return FindDatabase(name, tenant);
 }
 
-absl::Status MotionStore::SetRig(std::int64_t database_id, const RigModel& rig) {
+absl::Status MotionStore::SetRig(const DatabaseRef& database, const RigModel& rig) {
   try {
+    MOCAP_RETURN_IF_ERROR(CheckDatabaseExists(database));
     SQLite::Statement update(*db_, "UPDATE databases SET unit = ?, rig = ? WHERE id = ? AND rig IS NULL");
     update.bind(1, std::string(UnitName(rig.unit)));
     update.bind(2, storage::EncodeRig(rig));
-    update.bind(3, database_id);
+    update.bind(3, database.id());
     if (update.exec() == 0)
-      return absl::FailedPreconditionError(StrCat("motion database ", database_id, " has a rig already"));
+      return absl::FailedPreconditionError(StrCat("motion database '", database.name(), "' has a rig already"));
     return absl::OkStatus();
   } catch (const std::exception& error) {
     return FromException(error, "setting the rig");
   }
 }
 
-absl::StatusOr<RigModel> MotionStore::LoadRig(std::int64_t database_id) {
+absl::StatusOr<RigModel> MotionStore::LoadRig(const DatabaseRef& database) {
   try {
-    SQLite::Statement query(*db_, "SELECT rig, name FROM databases WHERE id = ?");
-    query.bind(1, database_id);
-    if (!query.executeStep()) return absl::NotFoundError(StrCat("no motion database with id ", database_id));
+    SQLite::Statement query(*db_, "SELECT rig FROM databases WHERE id = ? AND tenant_id = ?");
+    query.bind(1, database.id());
+    query.bind(2, database.tenant());
+    if (!query.executeStep()) return NoLongerExists(database);
     if (query.getColumn(0).isNull()) {
       return absl::FailedPreconditionError(
-          StrCat("motion database '", query.getColumn(1).getString(), "' has no rig yet (nothing imported)"));
+          StrCat("motion database '", database.name(), "' has no rig yet (nothing imported)"));
     }
     return storage::DecodeRig(query.getColumn(0).getString());
   } catch (const std::exception& error) {
@@ -270,37 +276,36 @@ absl::StatusOr<RigModel> MotionStore::LoadRig(std::int64_t database_id) {
   }
 }
 
-absl::Status MotionStore::CheckDatabaseOwner(std::int64_t database_id, TenantId tenant, const std::string& name) {
+absl::Status MotionStore::CheckDatabaseExists(const DatabaseRef& database) {
   try {
     SQLite::Statement query(*db_, "SELECT 1 FROM databases WHERE id = ? AND tenant_id = ? AND name = ?");
-    query.bind(1, database_id);
-    query.bind(2, tenant);
-    query.bind(3, name);
-    if (!query.executeStep()) {
-      return absl::NotFoundError(StrCat("motion database '", name, "' no longer exists (deleted while in use)"));
-    }
+    query.bind(1, database.id());
+    query.bind(2, database.tenant());
+    query.bind(3, database.name());
+    if (!query.executeStep()) return NoLongerExists(database);
     return absl::OkStatus();
   } catch (const std::exception& error) {
     return FromException(error, "checking database");
   }
 }
 
-absl::Status MotionStore::DeleteDatabase(std::int64_t database_id) {
+absl::Status MotionStore::DeleteDatabase(const DatabaseRef& database) {
   try {
-    SQLite::Statement remove(*db_, "DELETE FROM databases WHERE id = ?");
-    remove.bind(1, database_id);
-    if (remove.exec() == 0) return absl::NotFoundError(StrCat("no motion database with id ", database_id));
+    SQLite::Statement remove(*db_, "DELETE FROM databases WHERE id = ? AND tenant_id = ?");
+    remove.bind(1, database.id());
+    remove.bind(2, database.tenant());
+    if (remove.exec() == 0) return NoLongerExists(database);
     return absl::OkStatus();
   } catch (const std::exception& error) {
     return FromException(error, "deleting database");
   }
 }
 
-absl::StatusOr<std::optional<std::int64_t>> MotionStore::FindClipByHash(std::int64_t database_id,
+absl::StatusOr<std::optional<std::int64_t>> MotionStore::FindClipByHash(const DatabaseRef& database,
                                                                         const std::string& content_hash) {
   try {
     SQLite::Statement query(*db_, "SELECT id FROM clips WHERE database_id = ? AND content_hash = ?");
-    query.bind(1, database_id);
+    query.bind(1, database.id());
     query.bind(2, content_hash);
     if (!query.executeStep()) return std::optional<std::int64_t>();
     return std::optional<std::int64_t>(query.getColumn(0).getInt64());
@@ -309,7 +314,7 @@ absl::StatusOr<std::optional<std::int64_t>> MotionStore::FindClipByHash(std::int
   }
 }
 
-absl::StatusOr<std::int64_t> MotionStore::InsertClip(std::int64_t database_id, const std::string& source_name,
+absl::StatusOr<std::int64_t> MotionStore::InsertClip(const DatabaseRef& database, const std::string& source_name,
                                                      const std::string& content_hash, const ClipLabels& labels,
                                                      const PreparedClip& clip, const RigModel& rig) {
   const int joints = clip.skeleton.num_joints();
@@ -329,11 +334,12 @@ absl::StatusOr<std::int64_t> MotionStore::InsertClip(std::int64_t database_id, c
     }
   }
   try {
+    MOCAP_RETURN_IF_ERROR(CheckDatabaseExists(database));
     SQLite::Statement insert(*db_, R"sql(
       INSERT INTO clips (database_id, source_name, content_hash, source_frame_rate, source_frames, num_frames,
                          offsets, poses, animated_joints, translations, features)
       VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?))sql");
-    insert.bind(1, database_id);
+    insert.bind(1, database.id());
     insert.bind(2, source_name);
     insert.bind(3, content_hash);
     insert.bind(4, clip.source_frame_rate);
@@ -364,7 +370,8 @@ absl::StatusOr<std::int64_t> MotionStore::InsertClip(std::int64_t database_id, c
   }
 }
 
-absl::StatusOr<std::string> MotionStore::ContentStamp(std::int64_t database_id) {
+absl::StatusOr<std::string> MotionStore::ContentStamp(const DatabaseRef& database) {
+  const std::int64_t database_id = database.id();
   try {
     // data_version first: a commit landing between it and the listing makes the next call list
     // again, never keeps a stale stamp.
@@ -376,9 +383,11 @@ absl::StatusOr<std::string> MotionStore::ContentStamp(std::int64_t database_id) 
     if (auto it = stamp_cache_.stamps.find(database_id); it != stamp_cache_.stamps.end()) return it->second;
     // The database's identity (tenant, name, creation) is part of the stamp: whatever is built
     // and named from one database can never be taken for another's, even if an id repeated.
-    SQLite::Statement identity(*db_, "SELECT tenant_id, name, created_at FROM databases WHERE id = ?");
+    SQLite::Statement identity(*db_,
+                               "SELECT tenant_id, name, created_at FROM databases WHERE id = ? AND tenant_id = ?");
     identity.bind(1, database_id);
-    if (!identity.executeStep()) return absl::NotFoundError(StrCat("no motion database with id ", database_id));
+    identity.bind(2, database.tenant());
+    if (!identity.executeStep()) return NoLongerExists(database);
     const std::string owner = StrCat(identity.getColumn(0).getInt64(), "/", identity.getColumn(1).getString(), "/",
                                      identity.getColumn(2).getString());
     SQLite::Statement query(*db_, "SELECT id, content_hash FROM clips WHERE database_id = ? ORDER BY id");
@@ -399,7 +408,8 @@ absl::StatusOr<std::string> MotionStore::ContentStamp(std::int64_t database_id) 
   }
 }
 
-absl::StatusOr<std::vector<ClipSummary>> MotionStore::ListClips(std::int64_t database_id) {
+absl::StatusOr<std::vector<ClipSummary>> MotionStore::ListClips(const DatabaseRef& database) {
+  const std::int64_t database_id = database.id();
   try {
     std::vector<ClipSummary> clips;
     SQLite::Statement query(*db_, R"sql(
@@ -425,12 +435,12 @@ absl::StatusOr<std::vector<ClipSummary>> MotionStore::ListClips(std::int64_t dat
   }
 }
 
-absl::StatusOr<ClipSummary> MotionStore::FindClip(std::int64_t database_id, std::int64_t clip_id) {
+absl::StatusOr<ClipSummary> MotionStore::FindClip(const DatabaseRef& database, std::int64_t clip_id) {
   try {
     SQLite::Statement query(*db_, R"sql(
       SELECT id, source_name, content_hash, num_frames, source_frame_rate, source_frames
       FROM clips WHERE database_id = ? AND id = ?)sql");
-    query.bind(1, database_id);
+    query.bind(1, database.id());
     query.bind(2, clip_id);
     if (!query.executeStep()) return absl::NotFoundError(StrCat("no clip ", clip_id, " in this database"));
     return ClipFromRow(query);
@@ -439,10 +449,10 @@ absl::StatusOr<ClipSummary> MotionStore::FindClip(std::int64_t database_id, std:
   }
 }
 
-absl::Status MotionStore::DeleteClip(std::int64_t database_id, std::int64_t clip_id) {
+absl::Status MotionStore::DeleteClip(const DatabaseRef& database, std::int64_t clip_id) {
   try {
     SQLite::Statement remove(*db_, "DELETE FROM clips WHERE database_id = ? AND id = ?");
-    remove.bind(1, database_id);
+    remove.bind(1, database.id());
     remove.bind(2, clip_id);
     if (remove.exec() == 0) return absl::NotFoundError(StrCat("no clip ", clip_id, " in this database"));
     return absl::OkStatus();
@@ -451,14 +461,16 @@ absl::Status MotionStore::DeleteClip(std::int64_t database_id, std::int64_t clip
   }
 }
 
-absl::StatusOr<StoredClip> MotionStore::LoadClip(std::int64_t clip_id, const RigModel& rig) {
+absl::StatusOr<StoredClip> MotionStore::LoadClip(const DatabaseRef& database, std::int64_t clip_id,
+                                                 const RigModel& rig) {
   try {
     SQLite::Statement query(*db_, R"sql(
       SELECT c.source_name, c.content_hash, c.num_frames, c.source_frame_rate, c.source_frames,
              c.offsets, c.poses, c.translations, c.features, d.frame_rate, c.animated_joints
-      FROM clips c JOIN databases d ON d.id = c.database_id WHERE c.id = ?)sql");
+      FROM clips c JOIN databases d ON d.id = c.database_id WHERE c.id = ? AND c.database_id = ?)sql");
     query.bind(1, clip_id);
-    if (!query.executeStep()) return absl::NotFoundError(StrCat("no clip with id ", clip_id));
+    query.bind(2, database.id());
+    if (!query.executeStep()) return absl::NotFoundError(StrCat("no clip ", clip_id, " in this database"));
     StoredClip out;
     out.summary.id = clip_id;
     out.summary.source_name = query.getColumn(0).getString();

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -20,6 +21,7 @@
 
 namespace SQLite {
 class Database;
+class Statement;
 class Transaction;
 }  // namespace SQLite
 
@@ -30,10 +32,32 @@ using TenantId = std::int64_t;
 // The tenant of databases from version 1 stores, and the one the local admin commands act as.
 inline constexpr TenantId kDefaultTenantId = 1;
 
+class MotionStore;
+
+// One tenant's database as that tenant's lookup found it: the key every call that reads or
+// writes a database's rig and clips takes. Only MotionStore makes one (FindDatabase,
+// ListDatabases, Create*), so no bare id — from a request, from another tenant's lookup — can
+// reach those calls; and ids are never reused (schema 3), so a ref that outlives its database
+// (an open import, a cached index) answers NotFound and never lands in another's database.
+// A default ref names no database.
+class DatabaseRef {
+ public:
+  DatabaseRef() = default;
+  std::int64_t id() const { return id_; }
+  TenantId tenant() const { return tenant_; }
+  const std::string& name() const { return name_; }
+  friend bool operator==(const DatabaseRef&, const DatabaseRef&) = default;
+
+ private:
+  friend class MotionStore;
+  DatabaseRef(std::int64_t id, TenantId tenant, std::string name) : id_(id), tenant_(tenant), name_(std::move(name)) {}
+  std::int64_t id_ = 0;
+  TenantId tenant_ = kDefaultTenantId;
+  std::string name_;
+};
+
 struct DatabaseSummary {
-  std::int64_t id = 0;
-  TenantId tenant_id = kDefaultTenantId;
-  std::string name;
+  DatabaseRef ref;
   double frame_rate = 0.0;
   bool has_rig = false;                       // false for a database created empty, until its first import
   LengthUnit unit = LengthUnit::kCentimetre;  // meaningful only with has_rig
@@ -101,8 +125,8 @@ class MotionStore {
   };
   absl::StatusOr<std::unique_ptr<WriteBatch>> BeginWrite();
 
-  // Databases are looked up by name within one tenant (default: kDefaultTenantId). Calls taking
-  // a database or clip id do not check the tenant: get the id from a tenant's lookup first.
+  // Databases are looked up by name within one tenant (default: kDefaultTenantId); everything
+  // else takes the DatabaseRef that lookup gave, and a clip id only within its database.
 
   // NotFound when the tenant has no database called `name`.
   absl::StatusOr<DatabaseSummary> FindDatabase(const std::string& name, TenantId tenant = kDefaultTenantId);
@@ -115,38 +139,42 @@ class MotionStore {
   absl::StatusOr<DatabaseSummary> CreateEmptyDatabase(const std::string& name, double frame_rate,
                                                       TenantId tenant = kDefaultTenantId);
   // FailedPrecondition when the database has a rig already.
-  absl::Status SetRig(std::int64_t database_id, const RigModel& rig);
+  // Each call below answers NotFound when the database no longer exists.
+  absl::Status SetRig(const DatabaseRef& database, const RigModel& rig);
   // FailedPrecondition when the database has no rig yet.
-  absl::StatusOr<RigModel> LoadRig(std::int64_t database_id);
-  absl::Status DeleteDatabase(std::int64_t database_id);
-  // NotFound unless database `database_id` still exists as `tenant`'s database `name`: work that
-  // outlives its lookup (an open import) checks it inside the write that depends on it. Ids are
-  // never reused (schema 3), so a deleted database's id cannot come back as another's.
-  absl::Status CheckDatabaseOwner(std::int64_t database_id, TenantId tenant, const std::string& name);
+  absl::StatusOr<RigModel> LoadRig(const DatabaseRef& database);
+  absl::Status DeleteDatabase(const DatabaseRef& database);
+  // NotFound unless the database still exists as its tenant's database of that name: work that
+  // outlives its lookup (an open import) checks it inside the write that depends on it.
+  absl::Status CheckDatabaseExists(const DatabaseRef& database);
 
   // Id of the clip with this content hash in the database, if any.
-  absl::StatusOr<std::optional<std::int64_t>> FindClipByHash(std::int64_t database_id, const std::string& content_hash);
+  absl::StatusOr<std::optional<std::int64_t>> FindClipByHash(const DatabaseRef& database,
+                                                             const std::string& content_hash);
   // Inserts one clip (with its labels); returns its id.
-  absl::StatusOr<std::int64_t> InsertClip(std::int64_t database_id, const std::string& source_name,
+  absl::StatusOr<std::int64_t> InsertClip(const DatabaseRef& database, const std::string& source_name,
                                           const std::string& content_hash, const ClipLabels& labels,
                                           const PreparedClip& clip, const RigModel& rig);
-  absl::StatusOr<std::vector<ClipSummary>> ListClips(std::int64_t database_id);
+  absl::StatusOr<std::vector<ClipSummary>> ListClips(const DatabaseRef& database);
   // A value that changes whenever the database's clips change (an import, a deletion, a deleted
   // clip's id reused by another file), for what is built from them (the server's indices).
   // Cached per connection until anything is committed to the file: SQLite's data_version tells
   // of commits by other connections or processes, the connection's change count of its own, so
   // a call costs two cheap look-ups while nothing changes (a listing of the clips otherwise).
-  absl::StatusOr<std::string> ContentStamp(std::int64_t database_id);
+  absl::StatusOr<std::string> ContentStamp(const DatabaseRef& database);
   // NotFound when the database has no clip with that id (labels not filled).
-  absl::StatusOr<ClipSummary> FindClip(std::int64_t database_id, std::int64_t clip_id);
+  absl::StatusOr<ClipSummary> FindClip(const DatabaseRef& database, std::int64_t clip_id);
   // NotFound when the database has no clip with that id.
-  absl::Status DeleteClip(std::int64_t database_id, std::int64_t clip_id);
-  // DataLoss when a blob does not have the size its row declares.
-  absl::StatusOr<StoredClip> LoadClip(std::int64_t clip_id, const RigModel& rig);
+  absl::Status DeleteClip(const DatabaseRef& database, std::int64_t clip_id);
+  // NotFound when the database has no clip with that id; DataLoss when a blob does not have the
+  // size its row declares.
+  absl::StatusOr<StoredClip> LoadClip(const DatabaseRef& database, std::int64_t clip_id, const RigModel& rig);
 
  private:
   friend class TenantDirectory;  // tenants and keys share the connection
   MotionStore(std::filesystem::path path, std::unique_ptr<SQLite::Database> db);
+  // A row of kSummarySelect (motion_store.cc); the one place a DatabaseRef is made.
+  static absl::StatusOr<DatabaseSummary> SummaryFromRow(SQLite::Statement& query);
   absl::StatusOr<DatabaseSummary> InsertDatabase(TenantId tenant, const std::string& name, const RigModel* rig,
                                                  double frame_rate);
   std::filesystem::path path_;

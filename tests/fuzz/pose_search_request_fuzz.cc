@@ -25,7 +25,7 @@ mocap::SearchDatabasePtr DatabaseFor(const mocap::BodyPointOptions& points) {
                                          static_cast<int>(points.scaling)};
   if (auto it = cache->find(key); it != cache->end()) return it->second;
   auto database = std::make_shared<mocap::SearchDatabase>();
-  database->summary.name = "walks";
+  // No name: only a store makes a database's ref, and the reply's database name is not fuzzed.
   database->summary.frame_rate = 30;
   database->index = mocap::PoseIndex(points);
   int id = 1;

@@ -11,6 +11,7 @@
 
 #include "motion/core/units.h"
 #include "tests/support/synthetic_clip.h"
+#include "tests/support/temp_dir.h"
 
 namespace mocap {
 // Named, so that helpers do not meet other files' in a unity batch.
@@ -18,8 +19,10 @@ namespace proto_convert_test {
 namespace {
 
 TEST(ProtoConvertTest, DatabaseSummaryCarriesEveryFieldAndNoUnitWithoutARig) {
-  DatabaseSummary summary;
-  summary.name = "walks";
+  // Only a store makes a database's ref (its name); the other fields are set here.
+  testing::ScopedTempDir temp;
+  auto store = std::move(MotionStore::Open(temp.path() / "mocap.db")).value();
+  DatabaseSummary summary = store->CreateEmptyDatabase("walks", 30.0).value();
   summary.frame_rate = 30.0;
   summary.has_rig = true;
   summary.unit = LengthUnit::kInch;
@@ -36,8 +39,7 @@ TEST(ProtoConvertTest, DatabaseSummaryCarriesEveryFieldAndNoUnitWithoutARig) {
   EXPECT_EQ(out.frame_count(), 360);
   EXPECT_DOUBLE_EQ(out.duration_seconds(), 12.0);
 
-  DatabaseSummary empty;
-  empty.name = "new";
+  DatabaseSummary empty = store->CreateEmptyDatabase("new", 30.0).value();
   empty.frame_rate = 0.0;  // not yet known
   v1::DatabaseSummary empty_out;
   ToProto(empty, &empty_out);

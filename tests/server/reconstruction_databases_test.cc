@@ -23,12 +23,12 @@ TEST(ReconstructionDatabasesTest, LoadsEveryStoredClipWithOrWithoutItsReversedCo
   for (int length : {90, 61}) {
     auto prepared = PrepareClip(testing::MakeWalkingClip({}, length), rig, {});
     ASSERT_TRUE(prepared.ok()) << prepared.status();
-    ASSERT_TRUE((*store)->InsertClip(database->id, "walk.bvh", std::to_string(length), {}, *prepared, rig).ok());
+    ASSERT_TRUE((*store)->InsertClip(database->ref, "walk.bvh", std::to_string(length), {}, *prepared, rig).ok());
     frames += prepared->num_frames();
   }
-  auto stamp = ReconstructionDatabases::ContentStamp(**store, database->id);
+  auto stamp = (*store)->ContentStamp(database->ref);
   ASSERT_TRUE(stamp.ok()) << stamp.status();
-  const ReconstructionDatabases::Key key{.database_id = database->id, .content_stamp = *stamp, .frame_rate = 30.0};
+  const ReconstructionDatabases::Key key{.database = database->ref, .content_stamp = *stamp, .frame_rate = 30.0};
 
   auto with_copies = ReconstructionDatabases::Load(**store, key);
   ASSERT_TRUE(with_copies.ok()) << with_copies.status();

@@ -55,7 +55,7 @@ TEST_F(StorePoolTest, TwoLeasesAtOnceAreTwoConnections) {
   ASSERT_TRUE(created.ok()) << created.status();
   auto found = (*b)->FindDatabase("walks");
   ASSERT_TRUE(found.ok()) << found.status();
-  EXPECT_EQ(found->id, created->id);
+  EXPECT_EQ(found->ref, created->ref);
 }
 
 // Borrowers that all hold a lease at the same moment each have their own connection, use it

@@ -44,7 +44,7 @@ class VersionRegistryTest : public ::testing::Test {
 };
 
 TEST_F(VersionRegistryTest, VariantsOfOneVersionAreBuiltAndKeptApart) {
-  const DatabaseVersion a{.database_id = 1, .content_stamp = "v1", .name = "walks", .variant = "bone-directions"};
+  const DatabaseVersion a{.content_stamp = "v1", .variant = "bone-directions"};
   DatabaseVersion b = a;
   b.variant = "body-scale";
   EXPECT_EQ(*Get(a), "v1/bone-directions");

@@ -62,8 +62,8 @@ TEST(ExportRoundTripTest, SharedFilesComeBackWhereTheyWereInTheirOwnUnit) {
     ASSERT_TRUE(summary.ok()) << summary.status();
     auto store = std::move(MotionStore::Open(options.store)).value();
     const DatabaseSummary database = store->FindDatabase("round-trip").value();
-    const RigModel rig = store->LoadRig(database.id).value();
-    auto stored = store->LoadClip(store->ListClips(database.id)->front().id, rig);
+    const RigModel rig = store->LoadRig(database.ref).value();
+    auto stored = store->LoadClip(database.ref, store->ListClips(database.ref)->front().id, rig);
     ASSERT_TRUE(stored.ok()) << stored.status();
     stored->motion.frame_time = 1.0 / database.frame_rate;
     auto exported = ParseBvh(FormatBvh(ToFileConventions(stored->skeleton, stored->motion, rig)), "exported.bvh");
@@ -185,19 +185,19 @@ RoundTripFileResult RoundTripOneSharedFile(const fs::path& file, MotionStore& st
     result.message = StrCat("database after import: ", found.status().ToString());
     return result;
   }
-  auto rig = store.LoadRig(found->id);
+  auto rig = store.LoadRig(found->ref);
   if (!rig.ok()) {
     result.message = StrCat("rig after import: ", rig.status().ToString());
     return result;
   }
   result.unit = rig->unit;
-  auto clips = store.ListClips(found->id);
+  auto clips = store.ListClips(found->ref);
   if (!clips.ok() || clips->size() != 1) {
     result.message =
         StrCat("clips after import: ", clips.ok() ? StrCat(clips->size(), " clips") : clips.status().ToString());
     return result;
   }
-  auto stored = store.LoadClip(clips->front().id, *rig);
+  auto stored = store.LoadClip(found->ref, clips->front().id, *rig);
   if (!stored.ok()) {
     result.message = StrCat("loading the stored clip: ", stored.status().ToString());
     return result;
@@ -279,7 +279,7 @@ TEST(ExportRoundTripTest, EveryFileOfEverySharedSetComesBackWithinOneMillimetreJ
       const std::string name = set.name + "/" + file.filename().string();
       const std::string database = "round-trip-" + std::to_string(files++);
       const RoundTripFileResult result = RoundTripOneSharedFile(file, store, store_path, database, set.frame_step);
-      if (auto found = store.FindDatabase(database); found.ok()) store.DeleteDatabase(found->id).IgnoreError();
+      if (auto found = store.FindDatabase(database); found.ok()) store.DeleteDatabase(found->ref).IgnoreError();
       frames += result.frames_compared;
       positions += result.positions_compared;
       if (result.frames_compared > 0 && result.worst_mm() > worst_mm) {

@@ -165,13 +165,13 @@ TEST_F(ImportPipelineTest, RetargetsAnotherRigWhenAsked) {
   // The retargeted walks move like the original: same pelvis height and travel within 2 cm.
   auto store = std::move(MotionStore::Open(store_)).value();
   auto database = store->FindDatabase("walks");
-  auto rig = store->LoadRig(database->id);
+  auto rig = store->LoadRig(database->ref);
   ASSERT_TRUE(rig.ok());
-  const auto clips = store->ListClips(database->id).value();
-  auto plain = store->LoadClip(clips[0].id, *rig);
+  const auto clips = store->ListClips(database->ref).value();
+  auto plain = store->LoadClip(database->ref, clips[0].id, *rig);
   ASSERT_TRUE(plain.ok());
   for (size_t c = 1; c < clips.size(); ++c) {
-    auto other = store->LoadClip(clips[c].id, *rig);
+    auto other = store->LoadClip(database->ref, clips[c].id, *rig);
     ASSERT_TRUE(other.ok()) << other.status();
     const int frames = std::min(plain->motion.num_frames(), other->motion.num_frames());
     for (int f = 0; f < frames; ++f) {
@@ -197,7 +197,7 @@ TEST_F(ImportPipelineTest, RigComesFromTheFirstFileNamed) {
     auto store = std::move(MotionStore::Open(store_)).value();
     auto database = store->FindDatabase("walks");
     ASSERT_TRUE(database.ok()) << database.status();
-    auto rig = store->LoadRig(database->id);
+    auto rig = store->LoadRig(database->ref);
     ASSERT_TRUE(rig.ok()) << rig.status();
     EXPECT_EQ(rig->skeleton.num_joints(), testing::MakeWalkingClip({}, 2).skeleton.num_joints());
     EXPECT_LT(rig->skeleton.Find("LeftHandIndex1"), 0);  // not a.bvh's fingers
@@ -217,7 +217,7 @@ TEST_F(ImportPipelineTest, RigComesFromTheFirstFileNamed) {
   auto store = std::move(MotionStore::Open(store_)).value();
   auto database = store->FindDatabase("reverse");
   ASSERT_TRUE(database.ok()) << database.status();
-  auto rig = store->LoadRig(database->id);
+  auto rig = store->LoadRig(database->ref);
   ASSERT_TRUE(rig.ok()) << rig.status();
   EXPECT_GE(rig->skeleton.Find("LeftHandIndex1"), 0);
 }
@@ -284,10 +284,10 @@ TEST_F(ImportPipelineTest, ResamplesOtherRatesAndConvertsUnits) {
   auto database = store->FindDatabase("walks");
   ASSERT_TRUE(database.ok());
   EXPECT_EQ(database->unit, LengthUnit::kInch);
-  auto rig = store->LoadRig(database->id);
-  auto clips = store->ListClips(database->id);
+  auto rig = store->LoadRig(database->ref);
+  auto clips = store->ListClips(database->ref);
   ASSERT_TRUE(clips.ok());
-  auto clip = store->LoadClip(clips->front().id, *rig);
+  auto clip = store->LoadClip(database->ref, clips->front().id, *rig);
   ASSERT_TRUE(clip.ok()) << clip.status();
   // Pelvis height in metres, whatever the file's unit.
   EXPECT_NEAR(clip->features[0].pelvis_height, 0.92, 0.06);
@@ -334,13 +334,13 @@ TEST_F(ImportPipelineTest, KillDuringImportLeavesStoreIntact) {
   auto databases = (*store)->ListDatabases();
   ASSERT_TRUE(databases.ok());
   ASSERT_EQ(databases->size(), 1u);
-  EXPECT_EQ(databases->front().name, "first");
+  EXPECT_EQ(databases->front().ref.name(), "first");
   EXPECT_EQ(databases->front().num_clips, before->imported);
   EXPECT_EQ(databases->front().num_frames, before->frames);
-  auto rig = (*store)->LoadRig(databases->front().id);
-  auto clips = (*store)->ListClips(databases->front().id);
+  auto rig = (*store)->LoadRig(databases->front().ref);
+  auto clips = (*store)->ListClips(databases->front().ref);
   ASSERT_TRUE(clips.ok());
-  EXPECT_TRUE((*store)->LoadClip(clips->back().id, *rig).ok());
+  EXPECT_TRUE((*store)->LoadClip(databases->front().ref, clips->back().id, *rig).ok());
 }
 
 }  // namespace

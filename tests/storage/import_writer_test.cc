@@ -59,11 +59,11 @@ TEST_P(ImportWriterTest, ImportIntoADeletedDatabaseEndsNotFoundAndTouchesNoOther
     // holds the store's write lock from its first clip, so the delete could not come between.)
     ASSERT_TRUE(AddClip(*import, 41).ok());
   }
-  const std::int64_t old_id = store_->FindDatabase("walks")->id;
-  ASSERT_TRUE(store_->DeleteDatabase(old_id).ok());
+  const DatabaseRef old = store_->FindDatabase("walks")->ref;
+  ASSERT_TRUE(store_->DeleteDatabase(old).ok());
   auto theirs = store_->CreateEmptyDatabase("walks", 30.0, acme_);
   ASSERT_TRUE(theirs.ok());
-  EXPECT_NE(theirs->id, old_id);
+  EXPECT_NE(theirs->ref.id(), old.id());
 
   absl::Status status = AddClip(*import, 43);
   if (status.ok()) status = import->Finish();
@@ -82,7 +82,7 @@ TEST_P(ImportWriterTest, DatabaseDeletedBetweenBatchesEndsTheImport) {
   auto import = StartImport(kDefaultTenantId);
   ASSERT_TRUE(AddClip(*import, 40).ok());
   ASSERT_TRUE(import->Finish().ok());  // created with its first clip
-  ASSERT_TRUE(store_->DeleteDatabase(store_->FindDatabase("walks")->id).ok());
+  ASSERT_TRUE(store_->DeleteDatabase(store_->FindDatabase("walks")->ref).ok());
   ASSERT_TRUE(store_->CreateEmptyDatabase("walks", 30.0, acme_).ok());
   absl::Status status = AddClip(*import, 41);
   if (status.ok()) status = import->Finish();

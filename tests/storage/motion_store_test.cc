@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <type_traits>
 
 #include <SQLiteCpp/Database.h>
 #include <SQLiteCpp/Statement.h>
@@ -76,7 +77,7 @@ TEST_F(MotionStoreTest, StoresAndLoadsClipsExactly) {
   auto batch = std::move(store->BeginWrite()).value();
   auto database = store->CreateDatabase("walks", rig_, 30.0);
   ASSERT_TRUE(database.ok()) << database.status();
-  auto id = store->InsertClip(database->id, "walk.bvh", "abc", {{"content", "walk"}}, prepared_, rig_);
+  auto id = store->InsertClip(database->ref, "walk.bvh", "abc", {{"content", "walk"}}, prepared_, rig_);
   ASSERT_TRUE(id.ok()) << id.status();
   ASSERT_TRUE(batch->Commit().ok());
 
@@ -86,12 +87,12 @@ TEST_F(MotionStoreTest, StoresAndLoadsClipsExactly) {
   EXPECT_EQ(summary->num_frames, prepared_.num_frames());
   EXPECT_EQ(summary->num_joints, clip_.skeleton.num_joints());
 
-  auto rig = store->LoadRig(database->id);
+  auto rig = store->LoadRig(database->ref);
   ASSERT_TRUE(rig.ok()) << rig.status();
   EXPECT_EQ(rig->topology.landmarks.left_wrist, rig_.topology.landmarks.left_wrist);
   EXPECT_TRUE(rig->skeleton.SameRigAs(rig_.skeleton));
 
-  auto loaded = store->LoadClip(*id, *rig);
+  auto loaded = store->LoadClip(database->ref, *id, *rig);
   ASSERT_TRUE(loaded.ok()) << loaded.status();
   EXPECT_EQ(loaded->summary.source_name, "walk.bvh");
   ASSERT_EQ(loaded->summary.labels.size(), 1u);
@@ -124,40 +125,40 @@ TEST_F(MotionStoreTest, DuplicateNamesAndHashesAreDetected) {
   ASSERT_TRUE(database.ok());
   EXPECT_EQ(store->CreateDatabase("walks", rig_, 30.0).status().code(), absl::StatusCode::kAlreadyExists);
   EXPECT_EQ(store->CreateDatabase("", rig_, 30.0).status().code(), absl::StatusCode::kInvalidArgument);
-  ASSERT_TRUE(store->InsertClip(database->id, "a.bvh", "hash-1", {}, prepared_, rig_).ok());
-  auto found = store->FindClipByHash(database->id, "hash-1");
+  ASSERT_TRUE(store->InsertClip(database->ref, "a.bvh", "hash-1", {}, prepared_, rig_).ok());
+  auto found = store->FindClipByHash(database->ref, "hash-1");
   ASSERT_TRUE(found.ok());
   EXPECT_TRUE(found->has_value());
-  EXPECT_FALSE(store->InsertClip(database->id, "b.bvh", "hash-1", {}, prepared_, rig_).ok());
-  EXPECT_FALSE(store->FindClipByHash(database->id, "hash-2")->has_value());
+  EXPECT_FALSE(store->InsertClip(database->ref, "b.bvh", "hash-1", {}, prepared_, rig_).ok());
+  EXPECT_FALSE(store->FindClipByHash(database->ref, "hash-2")->has_value());
 }
 
 TEST_F(MotionStoreTest, CorruptBlobIsDataLoss) {
-  std::int64_t database_id, clip_id;
+  std::int64_t clip_id;
   {
     auto store = std::move(MotionStore::Open(path_)).value();
-    database_id = store->CreateDatabase("walks", rig_, 30.0)->id;
-    clip_id = *store->InsertClip(database_id, "a.bvh", "h", {}, prepared_, rig_);
+    clip_id = *store->InsertClip(store->CreateDatabase("walks", rig_, 30.0)->ref, "a.bvh", "h", {}, prepared_, rig_);
   }
   {
     SQLite::Database raw(path_.string(), SQLite::OPEN_READWRITE);
     raw.exec("UPDATE clips SET poses = x'00112233'");
   }
   auto store = std::move(MotionStore::Open(path_)).value();
-  auto loaded = store->LoadClip(clip_id, rig_);
+  const DatabaseRef walks = store->FindDatabase("walks")->ref;
+  auto loaded = store->LoadClip(walks, clip_id, rig_);
   EXPECT_EQ(loaded.status().code(), absl::StatusCode::kDataLoss);
-  EXPECT_EQ(store->LoadClip(clip_id + 100, rig_).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->LoadClip(walks, clip_id + 100, rig_).status().code(), absl::StatusCode::kNotFound);
 }
 
 TEST_F(MotionStoreTest, DeletingADatabaseRemovesItsClips) {
   auto store = std::move(MotionStore::Open(path_)).value();
   auto database = store->CreateDatabase("walks", rig_, 30.0);
-  ASSERT_TRUE(store->InsertClip(database->id, "a.bvh", "h", {{"k", "v"}}, prepared_, rig_).ok());
-  ASSERT_TRUE(store->DeleteDatabase(database->id).ok());
+  ASSERT_TRUE(store->InsertClip(database->ref, "a.bvh", "h", {{"k", "v"}}, prepared_, rig_).ok());
+  ASSERT_TRUE(store->DeleteDatabase(database->ref).ok());
   SQLite::Database raw(path_.string());
   EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clips").getInt(), 0);
   EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clip_labels").getInt(), 0);
-  EXPECT_EQ(store->DeleteDatabase(database->id).code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->DeleteDatabase(database->ref).code(), absl::StatusCode::kNotFound);
 }
 
 // The content stamp keys the server's indices: it must change with every change of a database's
@@ -168,28 +169,28 @@ TEST_F(MotionStoreTest, ContentStampChangesWithTheClipsFromAnyConnection) {
   auto walks = store->CreateDatabase("walks", rig_, 30.0);
   auto runs = store->CreateDatabase("runs", rig_, 30.0);
   ASSERT_TRUE(walks.ok() && runs.ok());
-  ASSERT_TRUE(store->InsertClip(walks->id, "a.bvh", "hash-a", {}, prepared_, rig_).ok());
-  auto stamp = [](MotionStore& s, std::int64_t id) { return s.ContentStamp(id).value(); };
-  const std::string empty_runs = stamp(*store, runs->id);
-  const std::string one = stamp(*store, walks->id);
-  EXPECT_EQ(stamp(*store, walks->id), one);  // nothing changed
-  EXPECT_EQ(stamp(*other, walks->id), one);  // the same on every connection
+  ASSERT_TRUE(store->InsertClip(walks->ref, "a.bvh", "hash-a", {}, prepared_, rig_).ok());
+  auto stamp = [](MotionStore& s, const DatabaseRef& database) { return s.ContentStamp(database).value(); };
+  const std::string empty_runs = stamp(*store, runs->ref);
+  const std::string one = stamp(*store, walks->ref);
+  EXPECT_EQ(stamp(*store, walks->ref), one);  // nothing changed
+  EXPECT_EQ(stamp(*other, walks->ref), one);  // the same on every connection
 
   // This connection's own import.
-  auto b = store->InsertClip(walks->id, "b.bvh", "hash-b", {}, prepared_, rig_);
+  auto b = store->InsertClip(walks->ref, "b.bvh", "hash-b", {}, prepared_, rig_);
   ASSERT_TRUE(b.ok());
-  const std::string two = stamp(*store, walks->id);
+  const std::string two = stamp(*store, walks->ref);
   EXPECT_NE(two, one);
-  EXPECT_EQ(stamp(*other, walks->id), two);
-  EXPECT_EQ(stamp(*store, runs->id), empty_runs);  // another database's stamp stays
+  EXPECT_EQ(stamp(*other, walks->ref), two);
+  EXPECT_EQ(stamp(*store, runs->ref), empty_runs);  // another database's stamp stays
 
   // Another connection deletes the newest clip and imports another file, which takes its id.
-  ASSERT_TRUE(other->DeleteClip(walks->id, *b).ok());
-  EXPECT_EQ(stamp(*store, walks->id), one);
-  auto c = other->InsertClip(walks->id, "c.bvh", "hash-c", {}, prepared_, rig_);
+  ASSERT_TRUE(other->DeleteClip(walks->ref, *b).ok());
+  EXPECT_EQ(stamp(*store, walks->ref), one);
+  auto c = other->InsertClip(walks->ref, "c.bvh", "hash-c", {}, prepared_, rig_);
   ASSERT_TRUE(c.ok());
   EXPECT_GT(*c, *b);  // ids are never reused (schema 3)
-  const std::string reused = stamp(*store, walks->id);
+  const std::string reused = stamp(*store, walks->ref);
   EXPECT_NE(reused, two);
   EXPECT_NE(reused, one);
 
@@ -198,7 +199,7 @@ TEST_F(MotionStoreTest, ContentStampChangesWithTheClipsFromAnyConnection) {
     SQLite::Database raw(path_.string(), SQLite::OPEN_READWRITE);
     raw.exec("DELETE FROM clips WHERE id = " + std::to_string(*c));
   }
-  EXPECT_EQ(stamp(*store, walks->id), one);
+  EXPECT_EQ(stamp(*store, walks->ref), one);
 }
 
 // A store written by schema version 1 (one namespace of databases) opens as the current version with its
@@ -228,6 +229,12 @@ TEST_F(MotionStoreTest, MigratesVersionOneStoreToTheDefaultTenant) {
   EXPECT_FALSE(SQLite::Statement(raw, "PRAGMA foreign_key_check").executeStep());
 }
 
+// Isolation as a type (issue #24): nothing but the store makes a DatabaseRef, so no id from a
+// request or another tenant's lookup can name a database to the calls that read or write one.
+static_assert(!std::is_constructible_v<DatabaseRef, std::int64_t, TenantId, std::string>);
+static_assert(!std::is_convertible_v<std::int64_t, DatabaseRef>);
+static_assert(!std::is_invocable_v<decltype(&MotionStore::ListClips), MotionStore&, std::int64_t>);
+
 // Issue #24 finding 1: an id freed by a delete must never name a database (or clip) created
 // later, or work that still holds it (an open import, a cached index) lands in the new one.
 TEST_F(MotionStoreTest, DatabaseAndClipIdsAreNeverReused) {
@@ -236,20 +243,28 @@ TEST_F(MotionStoreTest, DatabaseAndClipIdsAreNeverReused) {
   ASSERT_TRUE(acme.ok());
   auto first = store->CreateDatabase("private", rig_, 30.0);
   ASSERT_TRUE(first.ok());
-  auto clip = store->InsertClip(first->id, "a.bvh", "h", {}, prepared_, rig_);
+  auto clip = store->InsertClip(first->ref, "a.bvh", "h", {}, prepared_, rig_);
   ASSERT_TRUE(clip.ok());
-  ASSERT_TRUE(store->DeleteDatabase(first->id).ok());  // the highest ids are free again
+  ASSERT_TRUE(store->DeleteDatabase(first->ref).ok());  // the highest ids are free again
   auto second = store->CreateDatabase("walks", rig_, 30.0, acme->id);
   ASSERT_TRUE(second.ok());
-  EXPECT_GT(second->id, first->id);
-  auto second_clip = store->InsertClip(second->id, "b.bvh", "h", {}, prepared_, rig_);
+  EXPECT_GT(second->ref.id(), first->ref.id());
+  auto second_clip = store->InsertClip(second->ref, "b.bvh", "h", {}, prepared_, rig_);
   ASSERT_TRUE(second_clip.ok());
   EXPECT_GT(*second_clip, *clip);
-  // Holders of the old ids are told it is gone, whoever asks.
-  EXPECT_EQ(store->CheckDatabaseOwner(first->id, kDefaultTenantId, "private").code(), absl::StatusCode::kNotFound);
-  EXPECT_EQ(store->CheckDatabaseOwner(second->id, kDefaultTenantId, "walks").code(), absl::StatusCode::kNotFound);
-  EXPECT_TRUE(store->CheckDatabaseOwner(second->id, acme->id, "walks").ok());
-  EXPECT_EQ(store->LoadClip(*clip, rig_).status().code(), absl::StatusCode::kNotFound);
+  // Holders of the old ref are told it is gone, by every call.
+  EXPECT_EQ(store->CheckDatabaseExists(first->ref).code(), absl::StatusCode::kNotFound);
+  EXPECT_TRUE(store->CheckDatabaseExists(second->ref).ok());
+  EXPECT_EQ(store->LoadClip(first->ref, *clip, rig_).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->InsertClip(first->ref, "c.bvh", "h2", {}, prepared_, rig_).status().code(),
+            absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->LoadRig(first->ref).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->ContentStamp(first->ref).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->DeleteDatabase(first->ref).code(), absl::StatusCode::kNotFound);
+  // A clip id is read only through its own database's ref.
+  EXPECT_EQ(store->LoadClip(second->ref, *clip, rig_).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->FindClip(first->ref, *second_clip).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_TRUE(store->LoadClip(second->ref, *second_clip, rig_).ok());
 }
 
 // Schema 2 stores (ids reusable) keep their ids through the migration, and from then on the
@@ -260,7 +275,7 @@ TEST_F(MotionStoreTest, MigratingVersionTwoKeepsIdsAndStopsReuse) {
     SQLite::Database raw(path_.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
     ASSERT_TRUE(storage::MigrateSchema(raw, 2).ok());
     raw.exec(
-        "INSERT INTO databases (id, tenant_id, name, frame_rate, unit, rig) VALUES (7, 1, 'walks', 30, 'cm', '{}')");
+        "INSERT INTO databases (id, tenant_id, name, frame_rate, unit, rig) VALUES (7, 1, 'walks', 30, 'cm', NULL)");
     raw.exec(R"sql(INSERT INTO clips (id, database_id, source_name, content_hash, source_frame_rate, source_frames,
                                        num_frames, offsets, poses, features) VALUES (3, 7, 'a.bvh', 'h', 30, 2, 2,
                                        x'', x'', x''))sql");
@@ -277,10 +292,10 @@ TEST_F(MotionStoreTest, MigratingVersionTwoKeepsIdsAndStopsReuse) {
     EXPECT_FALSE(SQLite::Statement(raw, "PRAGMA foreign_key_check").executeStep());
     EXPECT_EQ(raw.execAndGet("PRAGMA integrity_check").getString(), "ok");
   }
-  ASSERT_TRUE(store->DeleteDatabase(7).ok());
+  ASSERT_TRUE(store->DeleteDatabase(store->FindDatabase("walks")->ref).ok());
   SQLite::Database raw(path_.string());
   EXPECT_EQ(raw.execAndGet("SELECT COUNT(*) FROM clip_labels").getInt(), 0);  // cascades still hold
-  EXPECT_GT(store->CreateDatabase("runs", rig_, 30.0)->id, 7);
+  EXPECT_GT(store->CreateDatabase("runs", rig_, 30.0)->ref.id(), 7);
 }
 
 // Issue #24 finding 2: the content stamp keys the server's indices, which carry database and
@@ -292,15 +307,20 @@ TEST_F(MotionStoreTest, ContentStampNamesTheDatabasesOwner) {
   ASSERT_TRUE(acme.ok());
   auto mine = store->CreateDatabase("acme_private", rig_, 30.0);
   ASSERT_TRUE(mine.ok());
-  const std::string before = store->ContentStamp(mine->id).value();
-  ASSERT_TRUE(store->DeleteDatabase(mine->id).ok());
-  EXPECT_EQ(store->ContentStamp(mine->id).status().code(), absl::StatusCode::kNotFound);
+  const std::string before = store->ContentStamp(mine->ref).value();
+  ASSERT_TRUE(store->DeleteDatabase(mine->ref).ok());
+  EXPECT_EQ(store->ContentStamp(mine->ref).status().code(), absl::StatusCode::kNotFound);
   {  // an id reused behind the store's back, as schema 2 did
     SQLite::Database raw(path_.string(), SQLite::OPEN_READWRITE);
-    raw.exec("INSERT INTO databases (id, tenant_id, name, frame_rate) VALUES (" + std::to_string(mine->id) + ", " +
-             std::to_string(acme->id) + ", 'walks', 30)");
+    raw.exec("INSERT INTO databases (id, tenant_id, name, frame_rate) VALUES (" + std::to_string(mine->ref.id()) +
+             ", " + std::to_string(acme->id) + ", 'walks', 30)");
   }
-  EXPECT_NE(store->ContentStamp(mine->id).value(), before);
+  // The old ref does not reach the new row; the new row's own stamp is another.
+  EXPECT_EQ(store->ContentStamp(mine->ref).status().code(), absl::StatusCode::kNotFound);
+  auto theirs = store->FindDatabase("walks", acme->id);
+  ASSERT_TRUE(theirs.ok());
+  EXPECT_EQ(theirs->ref.id(), mine->ref.id());
+  EXPECT_NE(store->ContentStamp(theirs->ref).value(), before);
 }
 
 TEST_F(MotionStoreTest, DatabaseNamesAreUniquePerTenant) {
@@ -311,10 +331,10 @@ TEST_F(MotionStoreTest, DatabaseNamesAreUniquePerTenant) {
   ASSERT_TRUE(store->CreateDatabase("walks", rig_, 30.0).ok());
   auto theirs = store->CreateDatabase("walks", rig_, 30.0, acme->id);
   ASSERT_TRUE(theirs.ok()) << theirs.status();
-  EXPECT_EQ(theirs->tenant_id, acme->id);
+  EXPECT_EQ(theirs->ref.tenant(), acme->id);
   EXPECT_EQ(store->ListDatabases(acme->id)->size(), 1u);
   EXPECT_EQ(store->ListDatabases()->size(), 1u);
-  EXPECT_NE(store->FindDatabase("walks", acme->id)->id, store->FindDatabase("walks")->id);
+  EXPECT_NE(store->FindDatabase("walks", acme->id)->ref, store->FindDatabase("walks")->ref);
   EXPECT_EQ(store->FindDatabase("walks", acme->id + 1).status().code(), absl::StatusCode::kNotFound);
 }
 
@@ -324,9 +344,9 @@ TEST_F(MotionStoreTest, EmptyDatabaseGetsItsRigOnce) {
   ASSERT_TRUE(empty.ok()) << empty.status();
   EXPECT_FALSE(empty->has_rig);
   EXPECT_EQ(empty->num_joints, 0);
-  EXPECT_EQ(store->LoadRig(empty->id).status().code(), absl::StatusCode::kFailedPrecondition);
-  ASSERT_TRUE(store->SetRig(empty->id, rig_).ok());
-  EXPECT_EQ(store->SetRig(empty->id, rig_).code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(store->LoadRig(empty->ref).status().code(), absl::StatusCode::kFailedPrecondition);
+  ASSERT_TRUE(store->SetRig(empty->ref, rig_).ok());
+  EXPECT_EQ(store->SetRig(empty->ref, rig_).code(), absl::StatusCode::kFailedPrecondition);
   auto found = store->FindDatabase("later");
   ASSERT_TRUE(found.ok());
   EXPECT_TRUE(found->has_rig);
@@ -338,12 +358,12 @@ TEST_F(MotionStoreTest, ClipsAreFoundAndDeletedOnlyInTheirDatabase) {
   auto store = std::move(MotionStore::Open(path_)).value();
   auto walks = store->CreateDatabase("walks", rig_, 30.0);
   auto other = store->CreateDatabase("other", rig_, 30.0);
-  auto id = store->InsertClip(walks->id, "a.bvh", "h", {}, prepared_, rig_);
+  auto id = store->InsertClip(walks->ref, "a.bvh", "h", {}, prepared_, rig_);
   ASSERT_TRUE(id.ok());
-  EXPECT_EQ(store->FindClip(walks->id, *id)->source_name, "a.bvh");
-  EXPECT_EQ(store->FindClip(other->id, *id).status().code(), absl::StatusCode::kNotFound);
-  EXPECT_EQ(store->DeleteClip(other->id, *id).code(), absl::StatusCode::kNotFound);
-  ASSERT_TRUE(store->DeleteClip(walks->id, *id).ok());
+  EXPECT_EQ(store->FindClip(walks->ref, *id)->source_name, "a.bvh");
+  EXPECT_EQ(store->FindClip(other->ref, *id).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store->DeleteClip(other->ref, *id).code(), absl::StatusCode::kNotFound);
+  ASSERT_TRUE(store->DeleteClip(walks->ref, *id).ok());
   EXPECT_EQ(store->FindDatabase("walks")->num_clips, 0);
 }
 
