@@ -19,7 +19,9 @@ void AddConfidenceSamples(const ReconstructedFrame& frame, float scale,
     samples->push_back({.predicted = scale * frame.landmark_error[k],
                         .actual = (output[k] - truth[k]).norm(),
                         .landmark = static_cast<std::uint8_t>(k),
-                        .cues = ConfidenceCuesOf(frame.diagnostics)});
+                        .cues = ConfidenceCuesOf(frame.diagnostics),
+                        .segment = frame.segment,
+                        .frame_in_segment = frame.frame_in_segment});
   }
 }
 
@@ -121,12 +123,14 @@ std::filesystem::path ConfidenceSamplesFile(const std::filesystem::path& file, c
 absl::Status WriteConfidenceSamples(const std::vector<ConfidenceSample>& samples, const std::filesystem::path& file) {
   std::ofstream out(file);
   if (!out) return absl::UnavailableError(absl::StrCat("cannot write ", file.string()));
-  out << "clip,landmark,predicted_m,actual_m,distance,wrist_fit_m,solver_cost,session_log_cost,untracked_s\n";
+  out << "clip,segment,frame_in_segment,landmark,predicted_m,actual_m,distance,wrist_fit_m,solver_cost,"
+         "session_log_cost,untracked_s,fading_guess_weight\n";
   for (const ConfidenceSample& s : samples) {
     const ConfidenceCues& c = s.cues;
-    out << s.clip << ',' << kBodyLandmarkNames[s.landmark] << ',' << s.predicted << ',' << s.actual << ',' << c.distance
-        << ',' << c.wrist_fit << ',' << c.solver_cost << ',' << c.session_log_cost << ','
-        << UntrackedSecondsFor(c, s.landmark) << '\n';
+    out << s.clip << ',' << s.segment << ',' << s.frame_in_segment << ',' << kBodyLandmarkNames[s.landmark] << ','
+        << s.predicted << ',' << s.actual << ',' << c.distance << ',' << c.wrist_fit << ',' << c.solver_cost << ','
+        << c.session_log_cost << ',' << UntrackedSecondsFor(c, s.landmark) << ','
+        << FadingGuessFor(c, s.landmark).weight << '\n';
   }
   out.close();
   if (!out) return absl::DataLossError(absl::StrCat("writing ", file.string(), " failed"));

@@ -22,7 +22,8 @@ struct ConfidenceSample {
   std::uint8_t landmark = 0;        // BodyLandmarkJoints order
   // What it was told from, for fitting the calibration (landmark_confidence.h ConfidenceCues).
   ConfidenceCues cues;
-  int clip = 0;  // test clip index
+  int clip = 0;                           // test clip index
+  int segment = 0, frame_in_segment = 0;  // where in the session (ReconstructedFrame's)
 };
 
 // The pair for each landmark of `frame` (predicted: its landmark_error, multiplied by `scale` as

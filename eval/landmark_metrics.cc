@@ -90,7 +90,11 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
       if (k == kPelvisLandmark) continue;
       pose += ((at[k] - at[kPelvisLandmark]) - (truth.positions[f][k] - truth.positions[f][kPelvisLandmark])).norm();
     }
-    if (confidence) {
+    // A time between two segments (a dropout too long to bridge) has no answer, so no expected
+    // error either: its position is scored as interpolated, its confidence is not.
+    const bool answered =
+        frames[next - 1].segment == frames[next].segment || std::min(t - t0, t1 - t) <= 0.5 * database.frame_time();
+    if (confidence && answered) {
       AddConfidenceSamples(frames[w < 0.5f ? next - 1 : next], output_scale, at, truth.positions[f], confidence);
     }
     m.pose_error_m += pose / (kNumScoredLandmarks - 1);

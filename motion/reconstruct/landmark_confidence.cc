@@ -52,6 +52,18 @@ float UntrackedSecondsFor(const ConfidenceCues& cues, int landmark) {
   return std::max(cues.untracked_seconds[0], cues.untracked_seconds[1]);
 }
 
+FadingGuess FadingGuessFor(const ConfidenceCues& cues, int landmark) {
+  if (landmark >= 2 && landmark <= 7) return cues.fading_guess[landmark % 2];
+  const auto& [left, right] = cues.fading_guess;
+  return left.weight >= right.weight ? left : right;
+}
+
+namespace {
+float UntrackedError(int landmark, float seconds) {
+  return std::exp(kUntrackedLogBase[landmark] + kUntrackedExponent * std::log1p(seconds / kUntrackedScaleSeconds));
+}
+}  // namespace
+
 LandmarkErrors ExpectedLandmarkErrors(const ConfidenceCues& cues) {
   const float shared = kDistanceExponent * std::log(std::max(0.0f, cues.distance) + 1e-4f) +
                        kWristFitExponent * std::log(std::max(0.0f, cues.wrist_fit) + 1e-4f) +
@@ -59,10 +71,17 @@ LandmarkErrors ExpectedLandmarkErrors(const ConfidenceCues& cues) {
   LandmarkErrors errors;
   for (int k = 0; k < kNumBodyLandmarks; ++k) {
     const float untracked = UntrackedSecondsFor(cues, k);
-    errors[k] =
-        untracked > 0
-            ? std::exp(kUntrackedLogBase[k] + kUntrackedExponent * std::log1p(untracked / kUntrackedScaleSeconds))
-            : std::exp(kLogBase[k] + shared);
+    if (untracked > 0) {
+      errors[k] = UntrackedError(k, untracked);
+      continue;
+    }
+    errors[k] = std::exp(kLogBase[k] + shared);
+    // A position part guess, part input: its error is at most the blend of the two errors
+    // (triangle inequality), which the guess's model and the tracked one predict.
+    if (const FadingGuess fading = FadingGuessFor(cues, k); fading.weight > 0) {
+      const float w = std::min(fading.weight, 1.0f);
+      errors[k] = w * std::max(UntrackedError(k, std::max(fading.seconds, 0.0f)), errors[k]) + (1 - w) * errors[k];
+    }
   }
   return errors;
 }

@@ -8,6 +8,7 @@
 
 #include <array>
 
+#include "motion/reconstruct/wrist_resampler.h"
 #include "motion/skeleton/body_topology.h"
 
 namespace mocap {
@@ -24,11 +25,17 @@ struct ConfidenceCues {
   // interpolation the seconds to the nearer real sample, for a hand held by the other one
   // (one_hand_bridge.h) the seconds since it was lost; 0 when tracked.
   std::array<float, 2> untracked_seconds{};
+  // Per hand, how much of a hand that came back is still the guess (OneHandBridge's cross-fade):
+  // its landmarks' error falls from the guess's to the tracked one's with that weight.
+  std::array<FadingGuess, 2> fading_guess{};
 };
 
 // The untracked seconds that bear on `landmark`: its own hand's for an arm's shoulder, elbow and
 // wrist, the longer of the two for the rest of the body.
 float UntrackedSecondsFor(const ConfidenceCues& cues, int landmark);
+// The fading guess that bears on `landmark`, by the same rule: its own hand's for an arm, the
+// heavier of the two for the rest.
+FadingGuess FadingGuessFor(const ConfidenceCues& cues, int landmark);
 
 // The causal mean of the log A6 energy over a session: the plain mean over its first
 // `window_seconds`, then an exponential mean of that time constant. One per session (across its

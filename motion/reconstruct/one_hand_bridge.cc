@@ -11,7 +11,8 @@ Eigen::Vector3f OneHandBridge::TravelVelocity(int side) const {
   return velocity;
 }
 
-bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_seconds) {
+bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_seconds,
+                         std::array<FadingGuess, 2>* fading_guess) {
   const std::array<bool, 2> tracked = sample->tracked;
   if (!tracked[0] && !tracked[1]) return false;
   for (int side = 0; side < 2; ++side) {
@@ -20,6 +21,7 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
   const double t = sample->time;
   const std::array<Eigen::Vector3f, 2> input = {sample->left, sample->right};
   std::array<Eigen::Vector3f, 2> position = input;
+  std::array<FadingGuess, 2> fading{};
   for (int side = 0; side < 2; ++side) {
     (*untracked_seconds)[side] = 0.0f;
     if (!tracked[side]) {
@@ -33,6 +35,7 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
     }
     if (lost_[side]) {  // back: cross-fade from the guess, which goes on as if the hand were still lost
       reentry_time_[side] = t;
+      lost_after_[side] = *last_tracked_time_[side];
       lost_[side] = false;
     }
     if (reentry_time_[side]) {
@@ -46,6 +49,7 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
         // when the hand comes back and with the input when the fade ends.
         const float w = static_cast<float>(u * u * (3.0 - 2.0 * u));
         position[side] = (1.0f - w) * guess_[side] + w * input[side];
+        fading[side] = {.weight = 1.0f - w, .seconds = static_cast<float>(t - lost_after_[side])};
       }
     }
     last_tracked_time_[side] = t;
@@ -59,6 +63,7 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
     recent.emplace_back(t, input[side]);
     while (recent.size() > 2 && t - recent[1].first >= travel_seconds_) recent.pop_front();
   }
+  if (fading_guess != nullptr) *fading_guess = fading;
   sample->left = position[0];
   sample->right = position[1];
   previous_time_ = t;

@@ -27,9 +27,11 @@ class OneHandBridge {
 
   // Fills in the position of a hand `sample` does not track and eases a returning one; sets
   // `untracked_seconds` per hand (left, right) to the seconds since that hand was last tracked
-  // (0: tracked). False, leaving the sample as it was, when no hand is tracked or when one is
+  // (0: tracked) and `fading_guess` (optional) to how much of a returning hand's position is
+  // still the guess. False, leaving the sample as it was, when no hand is tracked or when one is
   // not and no earlier sample tracked it (nothing to go on from): the caller drops the sample.
-  bool Fill(WristSample* sample, std::array<float, 2>* untracked_seconds);
+  bool Fill(WristSample* sample, std::array<float, 2>* untracked_seconds,
+            std::array<FadingGuess, 2>* fading_guess = nullptr);
   // A new session: nothing is remembered.
   void Reset() { *this = OneHandBridge(reentry_seconds_, travel_seconds_); }
 
@@ -47,6 +49,7 @@ class OneHandBridge {
   // Where a lost hand is guessed to be; after it is back, the guess goes on for the cross-fade.
   std::array<Eigen::Vector3f, 2> guess_{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
   std::array<std::optional<double>, 2> reentry_time_;  // when a hand in its cross-fade came back
+  std::array<double, 2> lost_after_{0.0, 0.0};         // when it was last tracked before it was lost
 };
 
 }  // namespace mocap

@@ -67,7 +67,8 @@ struct ReconstructionSession::Segment {
   FrameHistory<SmoothedWrists> wrists;
   FrameHistory<std::array<Eigen::Vector3f, 2>> input;  // resampled, unsmoothed wrists
   FrameHistory<double> times;
-  FrameHistory<std::array<float, 2>> untracked;  // GridSample::untracked_seconds
+  FrameHistory<std::array<float, 2>> untracked;     // GridSample::untracked_seconds
+  FrameHistory<std::array<FadingGuess, 2>> fading;  // GridSample::fading_guess
   FrameHistory<char> bridged;
   FrameHistory<float> wrist_distance;
   // A4 state.
@@ -167,7 +168,7 @@ int ReconstructionSession::frames_held() const {
   if (!segment_) return 0;
   const Segment& s = *segment_;
   auto held = [](const auto& history) { return history.stored(); };
-  return std::max({held(s.input), held(s.wrists), held(s.times), held(s.untracked), held(s.bridged),
+  return std::max({held(s.input), held(s.wrists), held(s.times), held(s.untracked), held(s.fading), held(s.bridged),
                    held(s.wrist_distance), held(s.raw), held(s.raw_rows), held(s.ankles),
                    static_cast<int>(s.window.size()), static_cast<int>(s.dp.size()), static_cast<int>(s.post.size())});
 }
@@ -181,9 +182,10 @@ absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<
   }
   WristSample filled = sample;
   std::array<float, 2> untracked{};
-  if (!one_hand_bridge_.Fill(&filled, &untracked)) return absl::OkStatus();  // no hand to go on from yet: a dropout
+  std::array<FadingGuess, 2> fading{};
+  if (!one_hand_bridge_.Fill(&filled, &untracked, &fading)) return absl::OkStatus();  // no hand to go on from yet
   std::vector<GridSample> grid;
-  MOCAP_RETURN_IF_ERROR(resampler_.Push(filled, &grid, untracked));
+  MOCAP_RETURN_IF_ERROR(resampler_.Push(filled, &grid, untracked, fading));
   ++statistics_.samples;
   for (const GridSample& g : grid) MOCAP_RETURN_IF_ERROR(AcceptGridSample(g, out));
   return absl::OkStatus();
@@ -213,6 +215,7 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
   s.input.push_back({sample.left, sample.right});
   s.times.push_back(sample.time);
   s.untracked.push_back(sample.untracked_seconds);
+  s.fading.push_back(sample.fading_guess);
   s.bridged.push_back(sample.bridged);
   // A2 looks `lookahead_` frames ahead: frame t is processed once t + lookahead_ has arrived.
   while (static_cast<int>(s.wrists.size()) + lookahead_ < static_cast<int>(s.input.size())) {
@@ -422,6 +425,7 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   d.solver_evaluations = solved.evaluations;
   for (int c = 0; c < kNumControlPoints; ++c) d.control_error[c] = solved.control_error[c];
   d.untracked_seconds = s.untracked[f];
+  d.fading_guess = s.fading[f];
   d.bridged = s.bridged[f];
   d.session_log_cost = session_cost_.Add(d.solver_cost);
   frame.landmark_error = ExpectedLandmarkErrors(ConfidenceCuesOf(d));
@@ -577,6 +581,7 @@ void ReconstructionSession::ForgetSettledFrames() {
   s.wrists.ForgetBefore(keep_from);
   s.times.ForgetBefore(keep_from);
   s.untracked.ForgetBefore(keep_from);
+  s.fading.ForgetBefore(keep_from);
   s.bridged.ForgetBefore(keep_from);
   s.wrist_distance.ForgetBefore(keep_from);
   s.raw.ForgetBefore(keep_from);

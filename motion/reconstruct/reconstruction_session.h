@@ -43,7 +43,8 @@ struct FrameDiagnostics {
   bool bridged = false;                  // input interpolated across a dropout
   // Per hand (left, right): seconds its input has not been real (GridSample::untracked_seconds).
   std::array<float, 2> untracked_seconds{};
-  float session_log_cost = 0;  // SessionCost's mean log A6 energy (landmark_confidence.h)
+  std::array<FadingGuess, 2> fading_guess{};  // per hand: a returning hand's guess share (GridSample)
+  float session_log_cost = 0;                 // SessionCost's mean log A6 energy (landmark_confidence.h)
 };
 
 // What a frame's expected errors are told from (landmark_confidence.h).
@@ -52,7 +53,8 @@ inline ConfidenceCues ConfidenceCuesOf(const FrameDiagnostics& d) {
           .wrist_fit = 0.5f * (d.control_error[0] + d.control_error[1]),
           .solver_cost = d.solver_cost,
           .session_log_cost = d.session_log_cost,
-          .untracked_seconds = d.untracked_seconds};
+          .untracked_seconds = d.untracked_seconds,
+          .fading_guess = d.fading_guess};
 }
 
 // What the engine makes of one hand's input in a frame (the states of issue #25). Both hands gone

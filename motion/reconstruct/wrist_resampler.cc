@@ -24,7 +24,7 @@ absl::Status WristResampler::Check(const WristSample& sample) const {
 }
 
 absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSample>* out,
-                                  std::array<float, 2> untracked_seconds) {
+                                  std::array<float, 2> untracked_seconds, std::array<FadingGuess, 2> fading_guess) {
   MOCAP_RETURN_IF_ERROR(Check(sample));
   if (!sample.left.allFinite() || !sample.right.allFinite()) {  // a lost hand must be filled in first
     return absl::InvalidArgumentError(StrCat("wrist sample at t = ", sample.time, " s is not finite (NaN or inf)"));
@@ -37,6 +37,7 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
     GridSample first{.starts_segment = true,
                      .bridged = false,
                      .untracked_seconds = untracked_seconds,
+                     .fading_guess = fading_guess,
                      .time = sample.time,
                      .left = sample.left,
                      .right = sample.right};
@@ -58,11 +59,16 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
       const bool guessed = bridged && t < sample.time - 0.01 * frame_time_;
       const float bridge = guessed ? static_cast<float>(std::min(t - previous_.time, sample.time - t)) : 0.0f;
       std::array<float, 2> untracked;
-      for (int side = 0; side < 2; ++side)
+      std::array<FadingGuess, 2> fading;
+      for (int side = 0; side < 2; ++side) {
         untracked[side] = std::max(bridge, (1 - a) * previous_untracked_[side] + a * untracked_seconds[side]);
+        fading[side] = {.weight = (1 - a) * previous_fading_[side].weight + a * fading_guess[side].weight,
+                        .seconds = (1 - a) * previous_fading_[side].seconds + a * fading_guess[side].seconds};
+      }
       out->push_back(GridSample{.starts_segment = false,
                                 .bridged = guessed,
                                 .untracked_seconds = untracked,
+                                .fading_guess = fading,
                                 .time = t,
                                 .left = (1 - a) * previous_.left + a * sample.left,
                                 .right = (1 - a) * previous_.right + a * sample.right});
@@ -71,6 +77,7 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
   }
   previous_ = sample;
   previous_untracked_ = untracked_seconds;
+  previous_fading_ = fading_guess;
   has_previous_ = true;
   return absl::OkStatus();
 }

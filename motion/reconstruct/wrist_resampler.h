@@ -23,6 +23,14 @@ struct WristSample {
   std::array<bool, 2> tracked{true, true};  // left, right
 };
 
+// A hand whose position is still partly a guess although its input is real again: OneHandBridge's
+// cross-fade after the hand comes back. `weight`: the guess's share of the position (1 → 0 over
+// the fade; 0 otherwise); `seconds`: since the hand was last tracked before it was lost.
+struct FadingGuess {
+  float weight = 0;
+  float seconds = 0;
+};
+
 struct GridSample {
   bool starts_segment = false;  // the previous segment (if any) ended before this sample
   bool bridged = false;         // interpolated across a dropout longer than two sample periods
@@ -30,6 +38,7 @@ struct GridSample {
   // seconds to the nearer real sample; for a hand held by the other (OneHandBridge) the seconds
   // since it was last tracked; 0 when tracked.
   std::array<float, 2> untracked_seconds{};
+  std::array<FadingGuess, 2> fading_guess{};  // per hand, interpolated like the positions
   double time = 0.0;
   Eigen::Vector3f left, right;
 };
@@ -40,10 +49,10 @@ class WristResampler {
   // InvalidArgument for a sample Push would refuse: a time not finite or not after the previous
   // sample's, a tracked hand's position not finite (a lost hand's is not read).
   absl::Status Check(const WristSample& sample) const;
-  // Appends the grid samples this input sample completes. `untracked_seconds`: the sample's own
-  // (OneHandBridge), interpolated onto the grid like its positions.
+  // Appends the grid samples this input sample completes. `untracked_seconds`, `fading_guess`:
+  // the sample's own (OneHandBridge), interpolated onto the grid like its positions.
   absl::Status Push(const WristSample& sample, std::vector<GridSample>* out,
-                    std::array<float, 2> untracked_seconds = {});
+                    std::array<float, 2> untracked_seconds = {}, std::array<FadingGuess, 2> fading_guess = {});
   void Reset() { has_previous_ = false; }
 
  private:
@@ -51,6 +60,7 @@ class WristResampler {
   bool has_previous_ = false;
   WristSample previous_;
   std::array<float, 2> previous_untracked_{};
+  std::array<FadingGuess, 2> previous_fading_{};
   double typical_period_ = 0.0;
   long next_index_ = 0;  // next grid frame, counted from grid_origin_
   double grid_origin_ = 0.0;

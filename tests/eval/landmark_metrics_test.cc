@@ -83,6 +83,27 @@ TEST(LandmarkMetricsTest, GroupsAverageTheirPairs) {
   EXPECT_EQ(m.clips, 1);
 }
 
+// Times between two segments (a dropout the engine did not bridge) have no answer: their
+// positions are scored as interpolated, but they give no confidence pairs.
+TEST(LandmarkMetricsTest, AnUnansweredGapGivesNoConfidencePairs) {
+  const auto setup = MakeSyntheticReconstructionSetup();
+  Output out = PosedAsTestClip(setup);
+  LandmarkTruth truth{.frame_time = setup.database->frame_time(), .positions = out.landmarks};
+  const int size = static_cast<int>(out.frames.size());
+  ASSERT_GT(size, 40);
+  std::vector<ReconstructedFrame> answered;
+  for (int f = 0; f < size; ++f) {
+    if (f >= 20 && f < 30) continue;  // a gap of 10 frames
+    ReconstructedFrame frame = out.frames[f];
+    frame.segment = f >= 30 ? 1 : 0;
+    answered.push_back(frame);
+  }
+  std::vector<ConfidenceSample> pairs;
+  const LandmarkMetrics m = MeasureLandmarks(*setup.database, truth, answered, 1.0f, &pairs);
+  EXPECT_EQ(m.frames, size);  // every truth frame scored
+  EXPECT_EQ(pairs.size(), static_cast<size_t>((size - 10) * kNumBodyLandmarks));
+}
+
 // A clip of another rig (metres, authored Z-up, CC-like extra bones, 60 fps) is read on its own
 // rig: its landmarks are where the same motion's are on the plain centimetre rig.
 TEST(LandmarkTestClipTest, AnyRigUnitAndRateGivesTheSameLandmarks) {

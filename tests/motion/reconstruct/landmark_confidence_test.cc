@@ -77,6 +77,39 @@ TEST(ExpectedLandmarkErrorsTest, InputThatIsNotRealWidensThemTheLongerItLasts) {
   EXPECT_FLOAT_EQ(ExpectedLandmarkErrors(right_lost)[right_wrist], previous[left_wrist]);
 }
 
+// A hand that came back but is still partly the guess (the re-entry cross-fade): its landmarks'
+// errors fall from the guess's to the tracked ones with the guess's weight.
+TEST(ExpectedLandmarkErrorsTest, AReturningHandIsTrustedAsItsGuessFades) {
+  const ConfidenceCues tracked{
+      .distance = 0.05f, .wrist_fit = 0.005f, .solver_cost = 2.0f, .session_log_cost = LogSolverCost(2.0f)};
+  const LandmarkErrors at_tracked = ExpectedLandmarkErrors(tracked);
+  ConfidenceCues lost = tracked;
+  lost.untracked_seconds = {2.0f, 0.0f};
+  const LandmarkErrors at_lost = ExpectedLandmarkErrors(lost);
+  const int left_wrist = 6, right_wrist = 7;
+  ConfidenceCues fading = tracked;
+  float previous = at_lost[left_wrist] * 1.0001f;
+  for (float weight : {1.0f, 0.75f, 0.5f, 0.25f, 0.0f}) {
+    fading.fading_guess = {FadingGuess{.weight = weight, .seconds = 2.0f}, FadingGuess{}};
+    const LandmarkErrors errors = ExpectedLandmarkErrors(fading);
+    EXPECT_LE(errors[left_wrist], previous) << weight;
+    EXPECT_GE(errors[left_wrist], at_tracked[left_wrist]) << weight;
+    EXPECT_EQ(errors[right_wrist], at_tracked[right_wrist]) << "the other hand is its own";
+    if (weight == 1.0f) {
+      EXPECT_FLOAT_EQ(errors[left_wrist], at_lost[left_wrist]);
+    } else if (weight == 0.5f) {
+      EXPECT_GT(errors[left_wrist], 3 * at_tracked[left_wrist]) << "half a guess is no tracked hand";
+    } else if (weight == 0.0f) {
+      EXPECT_EQ(errors[left_wrist], at_tracked[left_wrist]);
+    }
+    previous = errors[left_wrist];
+  }
+  fading.fading_guess = {FadingGuess{.weight = 0.2f, .seconds = 2.0f}, FadingGuess{.weight = 0.6f, .seconds = 1.0f}};
+  EXPECT_EQ(FadingGuessFor(fading, left_wrist).weight, 0.2f);
+  EXPECT_EQ(FadingGuessFor(fading, right_wrist).weight, 0.6f);
+  EXPECT_EQ(FadingGuessFor(fading, 0).weight, 0.6f);  // the body: the heavier guess
+}
+
 TEST(ExpectedLandmarkErrorsTest, EveryReconstructedFrameCarriesThem) {
   const testing::SyntheticReconstructionSetup setup = testing::MakeSyntheticReconstructionSetup({}, 60);
   ReconstructionOptions options;

@@ -92,6 +92,48 @@ TEST(OneHandBridgeTest, ALostHandTravelsWithTheBodyAndReturnsSmoothly) {
   EXPECT_LT(largest_step, (kWalkingVelocity.x() + 0.6f) * kSamplePeriod + 1.5f * 0.1f / 30.0f);
 }
 
+// While a returning hand eases onto its input, the bridge says how much of it is still the guess
+// (the confidence's "recently untracked" cue): all of it at re-entry, falling to none by the end
+// of the fade, with the seconds since the hand was last tracked; nothing for the other hand.
+TEST(OneHandBridgeTest, AReturningHandReportsTheGuessStillInIt) {
+  OneHandBridge bridge(/*reentry_seconds=*/0.5, /*travel_seconds=*/1.0);
+  std::array<float, 2> untracked;
+  std::array<FadingGuess, 2> fading;
+  for (int i = 0; i < 120; ++i) {
+    WristSample s = Walking(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked, &fading));
+    EXPECT_EQ(fading[0].weight, 0.0f);
+  }
+  for (int i = 120; i < 180; ++i) {  // lost: untracked, not fading
+    WristSample s = LeftLost(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked, &fading));
+    EXPECT_EQ(fading[0].weight, 0.0f);
+    EXPECT_GT(untracked[0], 0.0f);
+  }
+  float previous_weight = 1.0f;
+  for (int i = 180; i < 240; ++i) {
+    WristSample s = Walking(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked, &fading));
+    EXPECT_EQ(untracked[0], 0.0f) << "its input is real again";
+    EXPECT_EQ(fading[1].weight, 0.0f);
+    if (i == 180) {
+      EXPECT_EQ(fading[0].weight, 1.0f) << "all guess at re-entry";
+    }
+    EXPECT_LE(fading[0].weight, previous_weight) << i;
+    if (fading[0].weight > 0) {
+      EXPECT_NEAR(fading[0].seconds, (i - 119) * kSamplePeriod, 1e-5) << i;
+      // The share of the guess in the position is exactly the reported weight.
+      const WristSample guess_free = Walking(i);
+      const float input_gap = (s.left - guess_free.left).norm();
+      EXPECT_LE(input_gap, fading[0].weight * 0.5f + 1e-5f) << i;
+    }
+    if (i >= 180 + 30) {
+      EXPECT_EQ(fading[0].weight, 0.0f) << "eased in within 0.5 s";
+    }
+    previous_weight = fading[0].weight;
+  }
+}
+
 TEST(OneHandBridgeTest, AStandingBodyKeepsTheLostHandInPlace) {
   OneHandBridge bridge;
   std::array<float, 2> untracked;

@@ -223,6 +223,18 @@ TEST_F(ReconstructionSessionTest, ABodyGoesOnFromTheOtherHandWhileOneIsLost) {
   }
   EXPECT_EQ(predicted, 15);
   EXPECT_EQ(lost, 21);
+  // Back at frame 56: tracked, but the hand is still partly the guess for the 0.5 s cross-fade,
+  // and its expected error says so, falling as the guess fades (the "recently untracked" cue).
+  const int left_wrist = 6;
+  const ReconstructedFrame& back = (*frames)[56];
+  EXPECT_EQ(back.hand_state[0], TrackingState::kTracked);
+  EXPECT_GT(back.diagnostics.fading_guess[0].weight, 0.9f);
+  const float settled = (*frames)[74].landmark_error[left_wrist];
+  EXPECT_EQ((*frames)[74].diagnostics.fading_guess[0].weight, 0.0f);
+  EXPECT_GT(back.landmark_error[left_wrist], 3 * settled);
+  for (int f = 57; f < 75; ++f) {
+    EXPECT_LE((*frames)[f].diagnostics.fading_guess[0].weight, (*frames)[f - 1].diagnostics.fading_guess[0].weight);
+  }
 }
 
 // Mean over the first `joints` joints (all: -1) and frames [first, last) of |third difference of
