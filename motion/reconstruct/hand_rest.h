@@ -23,6 +23,13 @@ class HandRestDetector {
  public:
   // One frame's input of this hand and the other; true while this hand is put down.
   bool Update(double time, const Eigen::Vector3f& hand, const Eigen::Vector3f& other_hand);
+  // A frame where either hand is a guess (lost, bridged across a dropout, still fading back in):
+  // no evidence either way. A still run starts again after it; a hand already put down stays
+  // so (a tracker that briefly lost a device lying on a table finds it where it was).
+  bool Unobserved() {
+    window_.clear();
+    return put_down_;
+  }
 
  private:
   struct Sample {

@@ -487,9 +487,14 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
         if (frame.ankle_targets[side]) SolveLegIk(body, ankle_joints[side], *frame.ankle_targets[side], &frame.pose);
       }
     }
+    // The put-down detector takes only input it can trust: a guessed hand stands still or travels
+    // as the guess does, not as the device.
+    const bool observed =
+        s.untracked[e][0] == 0 && s.untracked[e][1] == 0 && s.fading[e][0].weight == 0 && s.fading[e][1].weight == 0;
     for (int side = 0; side < 2; ++side) {  // the step into this frame's input
       auto input_at = [&](int f) { return f >= s.input.first() && f >= 0 ? &s.input[f][side] : nullptr; };
-      const bool put_down = hand_rest_[side].Update(frame.time, s.input[e][side], s.input[e][1 - side]);
+      const bool put_down = observed ? hand_rest_[side].Update(frame.time, s.input[e][side], s.input[e][1 - side])
+                                     : hand_rest_[side].Unobserved();
       const float untracked = s.untracked[e][side];
       if (untracked > options_.max_gap_seconds) {
         frame.hand_state[side] = TrackingState::kLost;  // held by the other hand for long

@@ -45,5 +45,24 @@ TEST(HandRestDetectorTest, PickedUpOnceItLeavesItsPlace) {
   EXPECT_FALSE(detector.Update(t + 0.03, {0.6f, 0.8f, 0.0f}, {0.0f, 0.8f, float(t)}));
 }
 
+// Frames where a hand is a guess are no evidence: a still run across them starts again, and a
+// device already put down stays so while its tracker briefly loses it.
+TEST(HandRestDetectorTest, GuessedFramesAreNoEvidence) {
+  HandRestDetector detector;
+  const Eigen::Vector3f still(0.5f, 0.8f, 0.0f);
+  auto other = [](double t) { return Eigen::Vector3f(0.0f, 0.8f, static_cast<float>(t)); };
+  double t = 0.0;
+  for (; t < 2.0; t += 1.0 / kRate) ASSERT_FALSE(detector.Update(t, still, other(t)));
+  for (; t < 3.0; t += 1.0 / kRate) ASSERT_FALSE(detector.Unobserved());
+  double first = -1.0;
+  for (; t < 6.0 && first < 0; t += 1.0 / kRate) {
+    if (detector.Update(t, still, other(t))) first = t;
+  }
+  ASSERT_GE(first, 0.0);
+  EXPECT_GE(first, 3.0 + kPutDownSeconds - 1e-6) << "the still run counts from the first observed frame";
+  for (int f = 0; f < 30; ++f) EXPECT_TRUE(detector.Unobserved());
+  EXPECT_TRUE(detector.Update(t + 1.0, still, other(t + 1.0)));  // found where it was
+}
+
 }  // namespace
 }  // namespace mocap
