@@ -62,7 +62,7 @@ absl::Status ImportReactor::HandleMessage() {
       }
       MOCAP_RETURN_IF_ERROR(writer_->Finish());
       ToProto(database_, writer_->totals(), response_);
-      call_.service().metrics.FilesImported(writer_->totals().imported, writer_->totals().frames);
+      call_.metrics().FilesImported(writer_->totals().imported, writer_->totals().frames);
       ended_ = true;
       return absl::OkStatus();
     default:
@@ -122,12 +122,12 @@ absl::Status ImportReactor::HandleChunk(const v1::FileChunk& chunk) {
   }
   const ServerLimits& limits = call_.service().limits;
   if (static_cast<std::int64_t>(file_bytes_.size() + chunk.data().size()) > limits.max_file_bytes) {
-    call_.service().metrics.Rejected("file_bytes");
+    call_.metrics().Rejected("file_bytes");
     return absl::ResourceExhaustedError(
         StrCat(name, ": file is larger than the server's limit of ", limits.max_file_bytes, " bytes"));
   }
   file_bytes_ += chunk.data();
-  call_.service().metrics.BytesReceived(static_cast<std::int64_t>(chunk.data().size()));
+  call_.metrics().BytesReceived(static_cast<std::int64_t>(chunk.data().size()));
   if (!chunk.end_of_file()) return absl::OkStatus();
   absl::Status status = ImportFile();
   file_name_.clear();

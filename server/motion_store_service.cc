@@ -64,7 +64,7 @@ class ExportReactor : public OwnedReactor<grpc::ServerWriteReactor<v1::ExportCli
     // In the rig's own unit and axes: the exported file reads like the file imported.
     clip.motion.frame_time = 1.0 / database.frame_rate;
     text_ = FormatBvh(ToFileConventions(clip.skeleton, clip.motion, rig));
-    call_.service().metrics.BytesSent(static_cast<std::int64_t>(text_.size()));
+    call_.metrics().BytesSent(static_cast<std::int64_t>(text_.size()));
     return absl::OkStatus();
   }
   void WriteNext() {

@@ -40,7 +40,7 @@ void ReconstructReactor::Authenticate() {
       std::count_if(tenants->begin(), tenants->end(), [](const Tenant& t) { return t.active_keys > 0; }) > 1;
   absl::StatusOr<StreamCapacity::Ticket> stream = state_.streams.Admit(call_.tenant().id, shared);
   if (!stream.ok()) {
-    state_.service.metrics.Rejected("server_streams");
+    call_.metrics().Rejected("server_streams");
     return Deliver({}, stream.status());
   }
   pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
@@ -143,8 +143,8 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
           // shutdown (issue #24 finding 5).
           absl::StatusOr<std::unique_ptr<SessionDriver>> driver = absl::InternalError("session setup failed");
           try {
-            driver = SessionDriver::Create(config, *database, session_id_, state_.limits.session,
-                                           state_.service.metrics, &cancelled_);
+            driver = SessionDriver::Create(config, *database, session_id_, state_.limits.session, call_.metrics(),
+                                           &cancelled_);
           } catch (const std::bad_alloc&) {
             driver = absl::ResourceExhaustedError("session setup needs more memory than this server can give it");
           } catch (const std::exception& error) {

@@ -31,6 +31,13 @@ void ServerMetrics::Rejected(const std::string& reason) {
   ++rejected_[reason];
 }
 
+ServerMetrics& ServerMetrics::OfTenant(std::int64_t tenant) {
+  MutexLock lock(&mutex_);
+  std::unique_ptr<ServerMetrics>& metrics = tenants_[tenant];
+  if (!metrics) metrics = std::make_unique<ServerMetrics>();
+  return *metrics;
+}
+
 std::string ServerMetrics::PrometheusText() const {
   std::ostringstream out;
   auto gauge = [&](const char* name, const char* type, const char* help, std::int64_t value) {

@@ -1,11 +1,13 @@
-// Server-wide counters, rendered in the Prometheus text format (ServerStatus.GetMetrics).
-// Thread-safe.
+// Server-wide counters, and the same counters per tenant, rendered in the Prometheus text format
+// (ServerStatus.GetMetrics: a tenant is answered its own, the operator's default tenant the
+// server's). Thread-safe.
 #pragma once
 
 #include <array>
 #include <atomic>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include "server/mutex.h"
@@ -37,6 +39,10 @@ class ServerMetrics {
 
   std::string PrometheusText() const;
 
+  // The counters of one tenant's calls alone: made on first use, kept for the server's life (a
+  // tenant's counters must not restart while the server runs).
+  ServerMetrics& OfTenant(std::int64_t tenant);
+
  private:
   std::atomic<std::int64_t> in_flight_{0};
   std::atomic<std::int64_t> imported_files_{0};
@@ -54,6 +60,54 @@ class ServerMetrics {
   std::array<std::int64_t, 8> latency_buckets_ ABSL_GUARDED_BY(mutex_){};  // ≤ kLatencyBounds[i], then +Inf
   double latency_sum_ ABSL_GUARDED_BY(mutex_) = 0.0;
   std::int64_t latency_count_ ABSL_GUARDED_BY(mutex_) = 0;
+  std::map<std::int64_t, std::unique_ptr<ServerMetrics>> tenants_ ABSL_GUARDED_BY(mutex_);
+};
+
+// Where one call's work counts: the server's counters and, once the call's tenant is known, that
+// tenant's too.
+class MetricsScope {
+ public:
+  MetricsScope(ServerMetrics& server, ServerMetrics* tenant = nullptr)  // NOLINT: a server's alone
+      : server_(&server), tenant_(tenant) {}
+  void CallFinished(const std::string& method, const std::string& code, double seconds) {
+    Each([&](ServerMetrics& m) { m.CallFinished(method, code, seconds); });
+  }
+  void FilesImported(std::int64_t files, std::int64_t frames) {
+    Each([&](ServerMetrics& m) { m.FilesImported(files, frames); });
+  }
+  void BytesReceived(std::int64_t bytes) {
+    Each([&](ServerMetrics& m) { m.BytesReceived(bytes); });
+  }
+  void BytesSent(std::int64_t bytes) {
+    Each([&](ServerMetrics& m) { m.BytesSent(bytes); });
+  }
+  void Rejected(const std::string& reason) {
+    Each([&](ServerMetrics& m) { m.Rejected(reason); });
+  }
+  void SessionStarted() {
+    Each([](ServerMetrics& m) { m.SessionStarted(); });
+  }
+  void SessionEnded() {
+    Each([](ServerMetrics& m) { m.SessionEnded(); });
+  }
+  void FramesReconstructed(std::int64_t frames) {
+    Each([&](ServerMetrics& m) { m.FramesReconstructed(frames); });
+  }
+  void SamplesRejected(std::int64_t samples) {
+    Each([&](ServerMetrics& m) { m.SamplesRejected(samples); });
+  }
+  void ReplyLatency(double seconds) {
+    Each([&](ServerMetrics& m) { m.ReplyLatency(seconds); });
+  }
+
+ private:
+  template <typename F>
+  void Each(F&& record) {
+    record(*server_);
+    if (tenant_ != nullptr) record(*tenant_);
+  }
+  ServerMetrics* server_;
+  ServerMetrics* tenant_;
 };
 
 }  // namespace mocap

@@ -53,7 +53,7 @@ CallScope::CallScope(ServiceContext& service, grpc::CallbackServerContext* conte
 }
 
 CallScope::~CallScope() {
-  if (!ended_) service_.metrics.CallFinished(method_, "CANCELLED", 0.0);
+  if (!ended_) metrics().CallFinished(method_, "CANCELLED", 0.0);
 }
 
 absl::Status CallScope::RequireWritableStore() const {
@@ -91,9 +91,11 @@ absl::Status CallScope::BeginUnguarded(TenantAdmission* admission, const char* l
     return tenant.status();
   }
   tenant_ = std::move(*tenant);
+  tenant_metrics_ = &service_.metrics.OfTenant(tenant_.id);
+  tenant_metrics_->CallStarted();
   absl::StatusOr<TenantAdmission::Ticket> ticket = (admission ? *admission : service_.admission).Admit(tenant_.id);
   if (!ticket.ok()) {
-    service_.metrics.Rejected(limit_name);
+    metrics().Rejected(limit_name);
     return ticket.status();
   }
   ticket_ = std::move(*ticket);
@@ -104,7 +106,7 @@ grpc::Status CallScope::End(const absl::Status& status) {
   ended_ = true;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const grpc::Status mapped = ToGrpcStatus(status, request_id_);
-  service_.metrics.CallFinished(method_, GrpcCodeName(mapped.error_code()), seconds);
+  metrics().CallFinished(method_, GrpcCodeName(mapped.error_code()), seconds);
   const std::string tenant = tenant_.name.empty() ? "-" : tenant_.name;
   if (status.ok()) {
     spdlog::info("request={} method={} tenant={} peer={} code=OK ms={:.1f}", request_id_, method_, tenant,

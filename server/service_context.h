@@ -68,6 +68,8 @@ class CallScope {
   const Tenant& tenant() const { return tenant_; }
   MotionStore& store() { return **store_; }
   ServiceContext& service() { return service_; }
+  // Where this call's work counts: the server's counters, and its tenant's once Begin knew it.
+  MetricsScope metrics() { return {service_.metrics, tenant_metrics_}; }
   const std::string& request_id() const { return request_id_; }
   grpc::CallbackServerContext* context() { return context_; }
 
@@ -80,6 +82,7 @@ class CallScope {
   const std::chrono::steady_clock::time_point start_;
   std::optional<StorePool::Lease> store_;
   Tenant tenant_;
+  ServerMetrics* tenant_metrics_ = nullptr;
   TenantAdmission::Ticket ticket_;
   bool ended_ = false;
 };

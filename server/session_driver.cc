@@ -9,7 +9,7 @@ namespace mocap {
 
 absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
     const v1::SessionConfig& config, std::shared_ptr<const ReconstructionDatabase> database, std::string session_id,
-    const SessionLimits& limits, ServerMetrics& metrics, const std::atomic<bool>* cancel) {
+    const SessionLimits& limits, MetricsScope metrics, const std::atomic<bool>* cancel) {
   MOCAP_ASSIGN_OR_RETURN(ReconstructionOptions options, OptionsFromConfig(config));
   options.max_window_frames = limits.max_window_frames;
   MOCAP_ASSIGN_OR_RETURN(PerformerScale scale, ScaleForPerformer(*database, config.performer_height()));
@@ -50,7 +50,7 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
   *started.mutable_config()->mutable_input_frame() = ToProto(input_frame, config.input_frame().preset());
   started.mutable_config()->clear_target_rig();  // the rig itself is `skeleton`; no echo of its text
   // Counted once every check has passed: a session refused here never started.
-  metrics.SessionStarted();
+  driver->metrics_.SessionStarted();
   driver->counted_ = true;
   return driver;
 }

@@ -44,7 +44,7 @@ class SessionDriver {
   static absl::StatusOr<std::unique_ptr<SessionDriver>> Create(const v1::SessionConfig& config,
                                                                std::shared_ptr<const ReconstructionDatabase> database,
                                                                std::string session_id, const SessionLimits& limits,
-                                                               ServerMetrics& metrics,
+                                                               MetricsScope metrics,
                                                                const std::atomic<bool>* cancel = nullptr);
   ~SessionDriver();
 
@@ -66,7 +66,7 @@ class SessionDriver {
 
  private:
   bool counted_ = false;  // in the session metrics (SessionStarted called)
-  explicit SessionDriver(ServerMetrics& metrics) : metrics_(metrics) {}
+  explicit SessionDriver(MetricsScope metrics) : metrics_(metrics) {}
   void AppendFrames(std::vector<v1::ReconstructResponse>* replies);
   absl::Status Reject(long index, double time, const std::string& reason,
                       std::vector<v1::ReconstructResponse>* replies);
@@ -74,7 +74,7 @@ class SessionDriver {
   absl::Status PushReady(std::vector<v1::ReconstructResponse>* replies);
   absl::Status ReportInput(std::vector<v1::ReconstructResponse>* replies);
 
-  ServerMetrics& metrics_;
+  MetricsScope metrics_;
   v1::SessionConfig config_;
   std::unique_ptr<ReconstructionSession> session_;
   PerformerScale scale_;

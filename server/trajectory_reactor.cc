@@ -28,9 +28,8 @@ void TrajectoryReactor::Begin() {
 void TrajectoryReactor::Start(absl::StatusOr<ReconstructionDatabases::Database> database) {
   MutexLock lock(&mutex_);
   if (!database.ok()) return Complete(database.status());
-  absl::StatusOr<std::unique_ptr<SessionDriver>> driver =
-      SessionDriver::Create(request_->config(), *database, state_.NextSessionId(), state_.limits.session,
-                            state_.service.metrics, &cancelled_);
+  absl::StatusOr<std::unique_ptr<SessionDriver>> driver = SessionDriver::Create(
+      request_->config(), *database, state_.NextSessionId(), state_.limits.session, call_.metrics(), &cancelled_);
   if (!driver.ok()) return Complete(driver.status());
   driver_ = std::move(*driver);
   *response_->mutable_started() = driver_->started();

@@ -46,6 +46,9 @@ class InProcessServiceTest : public ::testing::Test {
       ASSERT_TRUE(key.ok()) << key.status();
       keys_[name] = key->key;
     }
+    auto operator_key = tenants.AddKey(kDefaultTenantId);  // the operator's (the default tenant)
+    ASSERT_TRUE(operator_key.ok()) << operator_key.status();
+    keys_["default"] = operator_key->key;
   }
   void TearDown() override {
     if (server_) server_->Shutdown();
@@ -175,6 +178,18 @@ TEST_F(InProcessServiceTest, AnImportThenAReconstructionStreamReturnsEveryFrame)
   auto metrics = acme->GetMetrics();
   ASSERT_TRUE(metrics.ok()) << metrics.status();
   EXPECT_NE(metrics->find("\nmocap_sessions_total 1\n"), std::string::npos) << *metrics;
+  EXPECT_EQ(metrics->find("\nmocap_imported_files_total 0\n"), std::string::npos) << *metrics;
+  // Another tenant's counters do not show acme's traffic (issue #24); the operator's show the server's.
+  auto others = other->GetMetrics();
+  ASSERT_TRUE(others.ok()) << others.status();
+  EXPECT_NE(others->find("\nmocap_sessions_total 0\n"), std::string::npos) << *others;
+  EXPECT_NE(others->find("\nmocap_imported_files_total 0\n"), std::string::npos) << *others;
+  EXPECT_NE(others->find("\nmocap_frames_reconstructed_total 0\n"), std::string::npos) << *others;
+  EXPECT_EQ(others->find("method=\"ImportBvh\""), std::string::npos) << *others;
+  auto server_wide = Connect(keys_["default"])->GetMetrics();
+  ASSERT_TRUE(server_wide.ok()) << server_wide.status();
+  EXPECT_NE(server_wide->find("\nmocap_sessions_total 1\n"), std::string::npos) << *server_wide;
+  EXPECT_NE(server_wide->find("method=\"ImportBvh\""), std::string::npos) << *server_wide;
 }
 
 TEST_F(InProcessServiceTest, AnUnaryTrajectoryMatchesTheStream) {

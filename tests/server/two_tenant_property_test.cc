@@ -252,7 +252,7 @@ class TwoTenantPropertyTest : public ::testing::Test {
   void Retire(const ModelDatabase& database) {
     for (const auto& [id, clip] : database.clips) retired_.push_back(id);
   }
-  std::int64_t ReceivedBytes();
+  std::int64_t ReceivedBytes(int t);  // tenant t's own byte counter (GetMetrics)
 
   std::string Other(int t) const { return kTenants[1 - t]; }
   int Draw(int n) { return std::uniform_int_distribution<int>(0, n - 1)(rng_); }
@@ -615,7 +615,7 @@ void TwoTenantPropertyTest::Session(int t, const std::string& name) {
 // byte counter has the file's bytes: start and chunk are handled in order), so the model knows
 // which database the import looked up.
 void TwoTenantPropertyTest::OpenImportCall(int t, const std::string& name, int content) {
-  const std::int64_t before = ReceivedBytes();
+  const std::int64_t before = ReceivedBytes(t);
   auto open = std::make_unique<OpenImport>();
   open->database = name;
   open->content = content;
@@ -637,7 +637,7 @@ void TwoTenantPropertyTest::OpenImportCall(int t, const std::string& name, int c
         (open->instance ? "its database #" + std::to_string(*open->instance) : std::string("no database yet")) + ")");
   if (!sent) return Fail("the open import's first messages were not sent");
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (ReceivedBytes() < before + static_cast<std::int64_t>(bytes_[t][content].size())) {
+  while (ReceivedBytes(t) < before + static_cast<std::int64_t>(bytes_[t][content].size())) {
     if (std::chrono::steady_clock::now() > deadline) return Fail("the server did not read the open import's file");
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
@@ -793,8 +793,8 @@ void TwoTenantPropertyTest::Scan(int t, const std::string& text, const std::stri
   }
 }
 
-std::int64_t TwoTenantPropertyTest::ReceivedBytes() {
-  auto text = clients_[0]->GetMetrics();
+std::int64_t TwoTenantPropertyTest::ReceivedBytes(int t) {
+  auto text = clients_[t]->GetMetrics();
   if (!text.ok()) return -1;
   const std::string name = "\nmocap_received_bytes_total ";
   const size_t at = text->find(name);
