@@ -2,6 +2,8 @@
 #include <pthread.h>
 #include <signal.h>
 
+#include <chrono>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <thread>
@@ -9,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "mocapd/commands.h"
+#include "server/bounded_shutdown.h"
 #include "server/grpc_server.h"
 
 namespace mocap {
@@ -38,11 +41,22 @@ int Serve(const ServeOptions& options) {
   spdlog::info("serving store {} on {} ({})", options.store.string(), WithPort(options.listen, (*server)->port()),
                options.tls_cert.empty() ? "plaintext" : "TLS");
 
-  std::thread waiter([&signals, &server] {
+  std::thread waiter([&signals, &server, &options] {
     int signal = 0;
     sigwait(&signals, &signal);
     spdlog::info("received {}", signal == SIGTERM ? "SIGTERM" : "SIGINT");
-    (*server)->Shutdown();
+    // The calls get the drain time and 5 s more to end; a call whose work would not stop, or a
+    // second signal, must not keep the process up: committed data is safe in the store whatever
+    // is cut short (each import batch is one transaction).
+    const auto limit = options.drain_timeout + std::chrono::seconds(5);
+    if (!WaitForShutdown([&server] { (*server)->Shutdown(); }, limit, signals)) {
+      spdlog::error(
+          "shutdown did not end within the drain time + 5 s ({} ms), or a second signal came: exiting with "
+          "calls still running (everything committed is in the store)",
+          limit.count());
+      spdlog::default_logger()->flush();
+      std::_Exit(3);
+    }
   });
   (*server)->Wait();
   waiter.join();
@@ -118,7 +132,10 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
   command->add_flag("!--no-reversed-motion", reconstruction.time_reversed_copies,
                     "Do not also search the travelling frames played backwards (saves ~185 bytes per database "
                     "frame of bandai-namco-2; bodies walking backwards then only find forward motion)");
-  command->add_option("--drain-seconds", *drain_seconds, "On SIGTERM/SIGINT, how long running calls may finish")
+  command
+      ->add_option("--drain-seconds", *drain_seconds,
+                   "On SIGTERM/SIGINT, how long running calls may finish; the process exits at the latest 5 s later (a "
+                   "second signal: at once)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   registry.Add(command, [options, drain_seconds, idle_seconds] {
