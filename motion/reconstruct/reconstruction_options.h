@@ -53,6 +53,11 @@ struct ReconstructionOptions {
   float weak_input_joint_smoothing_sigma = 2.0f;
   double weak_input_hold_seconds = 0.5;
   double weak_input_ramp_seconds = 0.25;
+  // Noisy input is weak too: where a tracked hand's input jitters by more than this (metres; the
+  // σ of white noise told from the median size of its second differences over the last second,
+  // which a hand's own motion at 30 Hz keeps below ~0.5 cm), the joint filter widens as above.
+  // 0 = off.
+  float noisy_input_metres = 0.025f;
   // After the joint filter, two-bone arm IK puts each hand on the input wrist (as the legs are put
   // on their pins): the input smoothed by a centred Gaussian of this σ over the samples that have
   // arrived (zero phase where the lag allows, unlike A2's exponential smoothing); < 0 = off.

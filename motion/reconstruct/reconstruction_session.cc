@@ -1,6 +1,7 @@
 #include "motion/reconstruct/reconstruction_session.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -89,6 +90,10 @@ struct ReconstructionSession::Segment {
   // was last weak (ReconstructionOptions::weak_input_joint_smoothing_sigma).
   float joint_filter_level = 0.0f;
   double weak_input_time = -1e30;
+  // Input noise (ReconstructionOptions::noisy_input_metres): each tracked hand's second
+  // differences over the last second, and the input time it last read as noisy.
+  std::array<std::deque<float>, 2> second_differences;
+  double noisy_input_time = -1e30;
 };
 
 ReconstructionSession::ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database,
@@ -151,7 +156,8 @@ absl::StatusOr<std::unique_ptr<ReconstructionSession>> ReconstructionSession::Cr
   if (!(options.max_gap_seconds > 0) || !(options.joint_smoothing_sigma >= 0) || options.joint_smoothing_sigma > 30 ||
       !(options.ankle_path.smoothing_sigma_frames >= 0) || options.ankle_path.smoothing_sigma_frames > 30 ||
       !(options.weak_input_joint_smoothing_sigma <= 30) || !(options.weak_input_hold_seconds >= 0) ||
-      !(options.weak_input_ramp_seconds >= 0) || !std::isfinite(options.weak_input_hold_seconds)) {
+      !(options.weak_input_ramp_seconds >= 0) || !std::isfinite(options.weak_input_hold_seconds) ||
+      !(options.noisy_input_metres >= 0)) {
     return absl::InvalidArgumentError("gap and smoothing parameters out of range");
   }
   return std::unique_ptr<ReconstructionSession>(new ReconstructionSession(std::move(database), options));
@@ -204,6 +210,33 @@ absl::Status ReconstructionSession::CheckCancelled() const {
   return absl::OkStatus();
 }
 
+void ReconstructionSession::TrackInputNoise(Segment& s, const GridSample& sample) const {
+  if (options_.noisy_input_metres <= 0) return;
+  const int newest = s.input.size() - 1;
+  const size_t window = static_cast<size_t>(std::lround(1.0 / database_->frame_time()));  // one second
+  float noise = 0.0f;
+  for (int side = 0; side < 2; ++side) {
+    std::deque<float>& history = s.second_differences[side];
+    // A guessed or bridged hand says nothing of the device's noise.
+    if (newest - 2 < s.input.first() || sample.untracked_seconds[side] > 0 || sample.fading_guess[side].weight > 0 ||
+        sample.bridged) {
+      history.clear();
+      continue;
+    }
+    history.push_back((s.input[newest][side] - 2.0f * s.input[newest - 1][side] + s.input[newest - 2][side]).norm());
+    if (history.size() > window) history.pop_front();
+    if (history.size() < window) continue;
+    std::array<float, 256> sorted;  // one second at up to 256 frames per second
+    const size_t n = std::min(history.size(), sorted.size());
+    std::copy_n(history.end() - static_cast<std::ptrdiff_t>(n), n, sorted.begin());
+    std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.begin() + n);
+    // White noise of σ per axis: a second difference's size has median ≈ 1.54·√6·σ (χ with 3
+    // degrees of freedom); the hand's own motion adds little at 30 Hz.
+    noise = std::max(noise, sorted[n / 2] / (1.54f * std::sqrt(6.0f)));
+  }
+  if (noise > options_.noisy_input_metres) s.noisy_input_time = sample.time;
+}
+
 absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, std::vector<ReconstructedFrame>* out) {
   MOCAP_RETURN_IF_ERROR(CheckCancelled());
   if (sample.starts_segment) MOCAP_RETURN_IF_ERROR(EndSegment(out));
@@ -216,6 +249,7 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
   s.times.push_back(sample.time);
   s.untracked.push_back(sample.untracked_seconds);
   s.fading.push_back(sample.fading_guess);
+  TrackInputNoise(s, sample);
   s.bridged.push_back(sample.bridged);
   // A2 looks `lookahead_` frames ahead: frame t is processed once t + lookahead_ has arrived.
   while (static_cast<int>(s.wrists.size()) + lookahead_ < static_cast<int>(s.input.size())) {
@@ -453,6 +487,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     ReconstructedFrame frame = s.post[e - s.post_first];
     const std::array<float, 2>& untracked = frame.diagnostics.untracked_seconds;
     if (frame.diagnostics.bridged || untracked[0] > 0 || untracked[1] > 0) s.weak_input_time = frame.time;
+    s.weak_input_time = std::max(s.weak_input_time, s.noisy_input_time);
     if (e == 0 && s.id > 0) {  // the body comes back after a dropout too long to bridge: no motion before it
       s.weak_input_time = frame.time;
       s.joint_filter_level = levels;

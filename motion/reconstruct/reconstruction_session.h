@@ -147,6 +147,8 @@ class ReconstructionSession {
   void EmitFiltered(bool flush, std::vector<ReconstructedFrame>* out);
   // A2's local linear fit of the input at `frame` over the samples that have arrived.
   SmoothedWrists FitInput(const Segment& s, int frame, const std::vector<float>& kernel) const;
+  // Reads the newest input frame's noise (ReconstructionOptions::noisy_input_metres).
+  void TrackInputNoise(Segment& s, const GridSample& sample) const;
   // Marks a tracked hand whose input lies beyond its arm's reach from the emitted body's shoulder.
   void MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input, const std::vector<Eigen::Vector3f>& world_positions,
                       ReconstructedFrame* frame) const;

@@ -6,9 +6,9 @@
 #include <pthread.h>
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <memory>
-#include <chrono>
 #include <thread>
 
 namespace mocap {
