@@ -36,6 +36,7 @@ class ReconstructionDatabases {
   static absl::StatusOr<Database> Load(MotionStore& store, const Key& key, bool time_reversed_copies = true);
 
   int builds() const { return registry_.builds(); }  // versions built so far (for tests and metrics)
+  void WaitForBuilds() { registry_.WaitForBuilds(); }  // VersionRegistry::WaitForBuilds
 
  private:
   TypedVersionRegistry<ReconstructionDatabase> registry_;

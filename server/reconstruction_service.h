@@ -40,6 +40,9 @@ class ReconstructReactor;
 // What the handlers and every session share.
 struct ReconstructionState {
   ReconstructionState(ServiceContext& service, const ReconstructionLimits& limits);
+  // A database build still running answers its callers by posting to `compute`, which is
+  // destroyed first: the builds end while it is there (found by ThreadSanitizer at shutdown).
+  ~ReconstructionState() { databases.WaitForBuilds(); }
   ServiceContext& service;
   const ReconstructionLimits limits;
   ReconstructionDatabases databases;

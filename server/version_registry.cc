@@ -14,7 +14,9 @@ namespace mocap {
 VersionRegistry::VersionRegistry(StorePool& stores, int max_cached, std::string what, Loader loader)
     : stores_(stores), max_cached_(std::max(1, max_cached)), what_(std::move(what)), loader_(std::move(loader)) {}
 
-VersionRegistry::~VersionRegistry() {
+VersionRegistry::~VersionRegistry() { WaitForBuilds(); }
+
+void VersionRegistry::WaitForBuilds() {
   std::list<Builder> builders;
   {
     MutexLock lock(&mutex_);

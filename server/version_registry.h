@@ -57,6 +57,9 @@ class VersionRegistry {
   void Acquire(const DatabaseVersion& version, Ready ready);
 
   int builds() const;  // versions built so far (for tests and metrics)
+  // Joins the builds in progress (their callers get their callbacks): for an owner whose
+  // callbacks use what it destroys before this registry.
+  void WaitForBuilds();
 
  private:
   struct Entry {
@@ -114,6 +117,7 @@ class TypedVersionRegistry {
     });
   }
   int builds() const { return registry_.builds(); }
+  void WaitForBuilds() { registry_.WaitForBuilds(); }
 
  private:
   VersionRegistry registry_;
