@@ -35,7 +35,7 @@ class ReconstructionDatabases {
   // also played backwards unless told not to (DatabaseBuildOptions).
   static absl::StatusOr<Database> Load(MotionStore& store, const Key& key, bool time_reversed_copies = true);
 
-  int builds() const { return registry_.builds(); }  // versions built so far (for tests and metrics)
+  int builds() const { return registry_.builds(); }    // versions built so far (for tests and metrics)
   void WaitForBuilds() { registry_.WaitForBuilds(); }  // VersionRegistry::WaitForBuilds
 
  private:

@@ -32,6 +32,14 @@ constexpr std::array<float, kNumBodyLandmarks> kUntrackedLogBase = {-3.2393f, -3
 constexpr float kUntrackedExponent = 0.3746f;
 constexpr float kUntrackedScaleSeconds = 0.1f;
 
+// The hand an arm's landmark follows (0 left, 1 right), -1 for the rest of the body:
+// kBodyLandmarkNames 2..7 are the left and right shoulder, elbow and wrist, alternating.
+int ArmSideOf(int landmark) { return landmark >= 2 && landmark <= 7 ? landmark % 2 : -1; }
+
+float UntrackedError(int landmark, float seconds) {
+  return std::exp(kUntrackedLogBase[landmark] + kUntrackedExponent * std::log1p(seconds / kUntrackedScaleSeconds));
+}
+
 }  // namespace
 
 SessionCost::SessionCost(double frame_time, double window_seconds)
@@ -47,22 +55,15 @@ float SessionCost::Add(float solver_cost) {
 float LogSolverCost(float solver_cost) { return std::log(std::max(0.0f, solver_cost) + 1e-3f); }
 
 float UntrackedSecondsFor(const ConfidenceCues& cues, int landmark) {
-  // kBodyLandmarkNames: 2..7 are the left and right shoulder, elbow and wrist, alternating.
-  if (landmark >= 2 && landmark <= 7) return cues.untracked_seconds[landmark % 2];
+  if (const int side = ArmSideOf(landmark); side >= 0) return cues.untracked_seconds[side];
   return std::max(cues.untracked_seconds[0], cues.untracked_seconds[1]);
 }
 
 FadingGuess FadingGuessFor(const ConfidenceCues& cues, int landmark) {
-  if (landmark >= 2 && landmark <= 7) return cues.fading_guess[landmark % 2];
+  if (const int side = ArmSideOf(landmark); side >= 0) return cues.fading_guess[side];
   const auto& [left, right] = cues.fading_guess;
   return left.weight >= right.weight ? left : right;
 }
-
-namespace {
-float UntrackedError(int landmark, float seconds) {
-  return std::exp(kUntrackedLogBase[landmark] + kUntrackedExponent * std::log1p(seconds / kUntrackedScaleSeconds));
-}
-}  // namespace
 
 LandmarkErrors ExpectedLandmarkErrors(const ConfidenceCues& cues) {
   const float shared = kDistanceExponent * std::log(std::max(0.0f, cues.distance) + 1e-4f) +
