@@ -15,6 +15,7 @@ namespace mocap {
 namespace {
 
 struct Split {
+  std::vector<float> points;  // the features the index was built over (the brute-force reference's)
   WristFeatureIndex index;
   std::vector<std::array<float, kWristFeatureDims>> queries;
   bool ok = false;
@@ -35,10 +36,12 @@ const Split& GetSplit() {
          }).ok()) {
       return s;
     }
-    std::vector<FrameFeatures> database, test_frames;
+    std::vector<FrameFeatures> test_frames;
+    std::vector<FrameFeatures> database;
     for (auto& f : database_features) database.insert(database.end(), f.begin(), f.end());
     for (auto& f : test_features) test_frames.insert(test_frames.end(), f.begin(), f.end());
     if (!s.index.Build(database).ok()) return s;
+    s.points = WristFeatures(database);
     std::mt19937 random(42);
     std::normal_distribution<float> noise(0.0f, 0.005f);
     for (size_t i = 0; i < test_frames.size() && s.queries.size() < 200; i += test_frames.size() / 200 + 1) {
@@ -63,7 +66,8 @@ void BM_WristKnn(benchmark::State& state, bool brute_force) {
   size_t q = 0;
   for (auto _ : state) {
     const auto& query = split.queries[q++ % split.queries.size()];
-    auto result = brute_force ? split.index.SearchBruteForce(query.data(), k) : split.index.Search(query.data(), k);
+    auto result = brute_force ? BruteForceNearest(split.points, kWristFeatureDims, query.data(), k)
+                              : split.index.Search(query.data(), k);
     benchmark::DoNotOptimize(result);
   }
   state.counters["database_frames"] = split.index.size();
@@ -72,7 +76,7 @@ void BM_WristKnn(benchmark::State& state, bool brute_force) {
     double recall = 0;
     for (const auto& query : split.queries) {
       auto fast = split.index.Search(query.data(), k);
-      auto exact = split.index.SearchBruteForce(query.data(), k);
+      auto exact = BruteForceNearest(split.points, kWristFeatureDims, query.data(), k);
       const float kth = exact->back().distance * (1 + 1e-5f) + 1e-9f;
       recall += static_cast<double>(
                     std::count_if(fast->begin(), fast->end(), [&](const Neighbour& n) { return n.distance <= kth; })) /

@@ -1,12 +1,14 @@
 // KdTree: exact k-nearest-neighbour search (squared L2) over float points, a thin owner of a
 // FLANN single kd-tree. FLANN's matrix does not own its data and its default search visits only
-// 32 leaves; this wrapper owns the points, always searches exactly, and turns FLANN's exceptions
-// into statuses (STYLE.md §4; FACTS.md: exact and ~8x faster than brute force at K = 1000).
+// 32 leaves; this wrapper keeps one copy of the points (FLANN's leaf-ordered one), always searches
+// exactly, and turns FLANN's exceptions into statuses (STYLE.md §4; FACTS.md: exact and ~8x faster than brute force at
+// K = 1000).
 //
 // Thread safety: Build once; Search is const and safe from many threads at once.
 #pragma once
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -19,6 +21,12 @@ struct Neighbour {
   float distance;  // squared L2
 };
 
+// The min(k, rows) nearest of the row-major `points` (rows of `dims` floats) by exhaustive
+// comparison, nearest first: the reference for a tree's recall and speed-up. InvalidArgument for
+// k < 1, dims < 1 or points that are not whole rows.
+absl::StatusOr<std::vector<Neighbour>> BruteForceNearest(std::span<const float> points, int dims, const float* query,
+                                                         int k);
+
 class KdTree {
  public:
   KdTree();
@@ -26,7 +34,8 @@ class KdTree {
   KdTree(KdTree&&) noexcept;
   KdTree& operator=(KdTree&&) noexcept;
 
-  // `points` holds size() rows of `dims` floats, row-major. FailedPrecondition when empty.
+  // `points` holds size() rows of `dims` floats, row-major; the tree keeps one leaf-ordered copy
+  // and lets `points` go. FailedPrecondition when empty.
   absl::Status Build(std::vector<float> points, int dims);
   // The min(k, size()) nearest rows, nearest first. FailedPrecondition before Build;
   // InvalidArgument for k < 1 or a non-finite query.
@@ -34,7 +43,8 @@ class KdTree {
 
   int size() const;
   int dims() const;
-  const float* point(int row) const;
+  // Bytes this tree holds: its points, FLANN's nodes, index and row pointers.
+  size_t memory_bytes() const;
 
  private:
   struct Impl;

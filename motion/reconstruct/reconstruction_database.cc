@@ -69,6 +69,8 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   if (total == 0) return absl::FailedPreconditionError("reconstruction database has no frames");
   db->captured_frames_ = static_cast<int>(total);
   db->frames_.reserve(total);
+  db->clip_of_row_.reserve(total);
+  db->frame_of_row_.reserve(total);
   db->pose_features_.resize(static_cast<Eigen::Index>(total),
                             2 + 3 * static_cast<Eigen::Index>(db->pose_joints_.size()));
   for (size_t c = 0; c < clips.size(); ++c) {
@@ -112,7 +114,9 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
       }
       clip_start += frames;
     }
-    db->frames_.shrink_to_fit();  // the copies' count was not known: give back what growth left over
+    // The copies' count was not known: give back what growth left over.
+    db->frames_.shrink_to_fit();
+    db->reversed_source_.shrink_to_fit();
   }
   const size_t rows = db->frames_.size();
   std::vector<float> lower_ankle(total);
@@ -133,6 +137,16 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   if (absl::Status status = db->full_index_.Build(std::move(points), kWristAnkleFeatureDims); !status.ok())
     return status;
   return std::shared_ptr<const ReconstructionDatabase>(std::move(db));
+}
+
+ReconstructionDatabase::MemoryUse ReconstructionDatabase::memory_use() const {
+  MemoryUse use;
+  use.features = frames_.capacity() * sizeof(FrameFeatures);
+  use.pose_features = static_cast<size_t>(pose_features_.size()) * sizeof(float);
+  use.row_maps = (reversed_source_.capacity() + clip_of_row_.capacity() + frame_of_row_.capacity()) * sizeof(int);
+  use.wrist_index = wrist_index_.memory_bytes();
+  use.full_index = full_index_.memory_bytes();
+  return use;
 }
 
 absl::StatusOr<std::vector<Neighbour>> ReconstructionDatabase::NearestByWristsAndAnkles(

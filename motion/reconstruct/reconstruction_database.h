@@ -85,6 +85,12 @@ class ReconstructionDatabase {
   // K nearest frames by eq. 8 (exact kd-tree).
   absl::StatusOr<std::vector<Neighbour>> NearestByWristsAndAnkles(const float query[kWristAnkleFeatureDims],
                                                                   int k) const;
+  // Bytes the rows and indices hold (what grows with the database; the rig and body are fixed).
+  struct MemoryUse {
+    size_t features = 0, pose_features = 0, row_maps = 0, wrist_index = 0, full_index = 0;
+    size_t total() const { return features + pose_features + row_maps + wrist_index + full_index; }
+  };
+  MemoryUse memory_use() const;
 
   ReconstructionDatabase(const ReconstructionDatabase&) = delete;
   ReconstructionDatabase& operator=(const ReconstructionDatabase&) = delete;

@@ -25,6 +25,8 @@ struct WristFeatureOptions {
 
 // The 12-D weighted feature of one frame: left/right wrist positions (m) then velocities (m/s).
 void WristFeature(const FrameFeatures& features, const WristFeatureOptions& options, float out[kWristFeatureDims]);
+// Every frame's feature, row-major (what the index is built over; BruteForceNearest's points).
+std::vector<float> WristFeatures(const std::vector<FrameFeatures>& frames, const WristFeatureOptions& options = {});
 
 class WristFeatureIndex {
  public:
@@ -34,10 +36,9 @@ class WristFeatureIndex {
   // The k nearest frames (rows of `frames`), nearest first, with their eq. 2 values.
   // InvalidArgument for k < 1 or a non-finite query.
   absl::StatusOr<std::vector<Neighbour>> Search(const float query[kWristFeatureDims], int k) const;
-  // The same by exhaustive comparison (the reference for recall and speed-up).
-  absl::StatusOr<std::vector<Neighbour>> SearchBruteForce(const float query[kWristFeatureDims], int k) const;
 
   int size() const { return tree_.size(); }
+  size_t memory_bytes() const { return tree_.memory_bytes(); }
 
  private:
   KdTree tree_;

@@ -16,6 +16,7 @@ TEST(KdTreeTest, ExactNearestNeighboursInAnyDimension) {
     for (float& v : points) v = uniform(random);
     const std::vector<float> copy = points;
     KdTree tree;
+    // The array is freed inside Build: the tree searches its own copy (ASan would see a read).
     ASSERT_TRUE(tree.Build(std::move(points), dims).ok());
     EXPECT_EQ(tree.size(), 2000);
     std::vector<float> query(dims);
@@ -30,6 +31,10 @@ TEST(KdTreeTest, ExactNearestNeighboursInAnyDimension) {
     }
     std::sort(all.begin(), all.end());
     for (int i = 0; i < 50; ++i) EXPECT_NEAR((*found)[i].distance, all[i], 1e-5f) << dims << " " << i;
+    auto exhaustive = BruteForceNearest(copy, dims, query.data(), 50);
+    ASSERT_TRUE(exhaustive.ok());
+    for (int i = 0; i < 50; ++i) EXPECT_NEAR((*exhaustive)[i].distance, all[i], 1e-5f) << dims << " " << i;
+    EXPECT_GE(tree.memory_bytes(), copy.size() * sizeof(float));  // the leaf-ordered copy
   }
 }
 
@@ -44,6 +49,10 @@ TEST(KdTreeTest, ClearErrors) {
   const float nan_query[3] = {0, std::nanf(""), 0};
   EXPECT_EQ(tree.Search(nan_query, 1).status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(tree.Search(query, 10)->size(), 2u);
+  EXPECT_EQ(BruteForceNearest(std::vector<float>{1, 2, 3, 4}, 3, query, 1).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(BruteForceNearest(std::vector<float>{1, 2, 3}, 3, query, 0).status().code(),
+            absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

@@ -45,12 +45,13 @@ TEST(WristFeatureIndexTest, KdTreeMatchesBruteForceExactly) {
   const std::vector<FrameFeatures> frames = RandomFrames(20000, 7);
   WristFeatureIndex index;
   ASSERT_TRUE(index.Build(frames).ok());
+  const std::vector<float> points = WristFeatures(frames);
   const std::vector<FrameFeatures> queries = RandomFrames(20, 8);
   for (const FrameFeatures& q : queries) {
     float feature[kWristFeatureDims];
     WristFeature(q, {}, feature);
     auto fast = index.Search(feature, 1000);
-    auto exact = index.SearchBruteForce(feature, 1000);
+    auto exact = BruteForceNearest(points, kWristFeatureDims, feature, 1000);
     ASSERT_TRUE(fast.ok() && exact.ok());
     ASSERT_EQ(fast->size(), 1000u);
     for (size_t i = 1; i < fast->size(); ++i) EXPECT_LE((*fast)[i - 1].distance, (*fast)[i].distance);
