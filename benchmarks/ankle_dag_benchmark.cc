@@ -38,6 +38,7 @@ const Clouds& GetClouds() {
     for (auto& features : per_file) database.insert(database.end(), features.begin(), features.end());
     WristFeatureIndex index;
     if (!index.Build(database).ok()) return c;
+    const std::vector<DatabaseFrame> rows = ToDatabaseFrames(database);
     auto query = ReadBvhFile(standard->folder / "dataset-2_walk_normal_003.bvh");
     if (!query.ok()) return c;
     auto prepared = PrepareClip(*query, *rig, {});
@@ -55,7 +56,7 @@ const Clouds& GetClouds() {
         const SmoothedWrists wrists =
             smoother.Push(poses.position(f, l.left_wrist) + n1, poses.position(f, l.right_wrist) + n2);
         std::vector<AnkleCandidate> cloud;
-        if (!FindAnkleCloud(index, database, {}, wrists, ks[i], &heading, &cloud).ok()) return c;
+        if (!FindAnkleCloud(index, rows, {}, wrists, ks[i], &heading, &cloud).ok()) return c;
         c.by_k[i].push_back(std::move(cloud));
       }
     }

@@ -139,10 +139,10 @@ struct SizeReference {
   float lower_wrist = 0, walking_wrist = 0;  // medians, metres; 0: no walking frame
 };
 
-SizeReference DatabaseSizeReference(const ReconstructionDatabase& database) {
-  SizeReference reference{.body = BodySizeOf(database)};
+SizeReference DatabaseSizeReference(const EvaluationDatabases& databases) {
+  SizeReference reference{.body = BodySizeOf(*databases.captured)};
   std::vector<float> lower, walking;
-  for (const FrameFeatures& f : database.frames()) {
+  for (const FrameFeatures& f : databases.captured_features) {
     lower.push_back(std::min(f.wrist_position[0][1], f.wrist_position[1][1]));
     const float vx = 0.5f * (f.wrist_velocity[0][0] + f.wrist_velocity[1][0]);
     const float vz = 0.5f * (f.wrist_velocity[0][2] + f.wrist_velocity[1][2]);
@@ -244,7 +244,7 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     const std::vector<Experiment>& experiments, unsigned seed, int threads,
     const std::filesystem::path& confidence_samples, const std::function<void(const std::string&)>& progress) {
   std::vector<LandmarkExperimentResult> results;
-  const SizeReference reference = DatabaseSizeReference(*databases.captured);
+  const SizeReference reference = DatabaseSizeReference(databases);
   for (const Experiment& experiment : experiments) {
     const std::shared_ptr<const ReconstructionDatabase>& database = databases.For(experiment);
     std::vector<LandmarkMetrics> per_clip(tests.size());

@@ -45,6 +45,9 @@ absl::StatusOr<EvaluationDatabases> LoadDatabases(const std::vector<std::filesys
   MOCAP_ASSIGN_OR_RETURN(databases.method, ReconstructionDatabase::Build(loaded.first, loaded.second));
   MOCAP_ASSIGN_OR_RETURN(databases.captured,
                          ReconstructionDatabase::Build(loaded.first, loaded.second, {.time_reversed_copies = false}));
+  for (const DatabaseClip& clip : loaded.second) {
+    databases.captured_features.insert(databases.captured_features.end(), clip.features.begin(), clip.features.end());
+  }
   return databases;
 }
 

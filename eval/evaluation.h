@@ -49,6 +49,9 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
 // (Experiment::captured_only).
 struct EvaluationDatabases {
   std::shared_ptr<const ReconstructionDatabase> method, captured;
+  // The captured frames' whole A1 features, in row order (the databases keep only what the
+  // reconstruction reads of them: DatabaseFrame).
+  std::vector<FrameFeatures> captured_features;
   const std::shared_ptr<const ReconstructionDatabase>& For(const Experiment& experiment) const {
     return experiment.captured_only ? captured : method;
   }

@@ -17,7 +17,7 @@ FrameFeatures WristQueryFeatures(const ReferenceFrame& ref, const SmoothedWrists
   return query;
 }
 
-absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<FrameFeatures>& database,
+absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<DatabaseFrame>& database,
                             const WristFeatureOptions& feature_options, const SmoothedWrists& wrists, int k,
                             float* heading, std::vector<AnkleCandidate>* cloud) {
   for (int side = 0; side < 2; ++side) {
@@ -32,7 +32,7 @@ absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<Fr
   MOCAP_ASSIGN_OR_RETURN(std::vector<Neighbour> neighbours, index.Search(feature, k));
   cloud->resize(neighbours.size());
   for (size_t i = 0; i < neighbours.size(); ++i) {
-    const FrameFeatures& f = database[neighbours[i].row];
+    const DatabaseFrame& f = database[neighbours[i].row];
     AnkleCandidate& candidate = (*cloud)[i];
     candidate.row = neighbours[i].row;
     candidate.wrist_distance = neighbours[i].distance;

@@ -9,6 +9,7 @@
 
 #include "absl/status/status.h"
 #include "motion/preprocess/frame_features.h"
+#include "motion/reconstruct/database_frame.h"
 #include "motion/reconstruct/wrist_feature_index.h"
 #include "motion/reconstruct/wrist_smoother.h"
 
@@ -29,7 +30,7 @@ FrameFeatures WristQueryFeatures(const ReferenceFrame& ref, const SmoothedWrists
 // Fills `cloud` with the `k` nearest database frames to `wrists`. `heading` carries the
 // reference frame's heading between calls (used when the wrists are vertically aligned) and is
 // updated. InvalidArgument for non-finite input.
-absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<FrameFeatures>& database,
+absl::Status FindAnkleCloud(const WristFeatureIndex& index, const std::vector<DatabaseFrame>& database,
                             const WristFeatureOptions& feature_options, const SmoothedWrists& wrists, int k,
                             float* heading, std::vector<AnkleCandidate>* cloud);
 

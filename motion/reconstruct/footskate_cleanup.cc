@@ -37,7 +37,7 @@ FootskateCleaner::FootskateCleaner(const BodyModel& body, float planted_ankle_he
 
 void FootskateCleaner::Reset() { feet_ = {}; }
 
-std::array<bool, 2> PlantedFeet(const FrameFeatures& frame, float planted_ankle_height,
+std::array<bool, 2> PlantedFeet(const DatabaseFrame& frame, float planted_ankle_height,
                                 const FootskateOptions& options) {
   std::array<bool, 2> planted{};
   for (int side = 0; side < 2; ++side) {
@@ -50,7 +50,7 @@ std::array<bool, 2> PlantedFeet(const FrameFeatures& frame, float planted_ankle_
 }
 
 std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles,
-                                              const FrameFeatures* source_frame, BodyPose* pose,
+                                              const DatabaseFrame* source_frame, BodyPose* pose,
                                               AnkleTargets* targets) {
   std::array<bool, 2> contact{false, false};
   if (targets) *targets = {};

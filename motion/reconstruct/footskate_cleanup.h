@@ -14,8 +14,8 @@
 
 #include <Eigen/Core>
 
-#include "motion/preprocess/frame_features.h"
 #include "motion/reconstruct/body_model.h"
+#include "motion/reconstruct/database_frame.h"
 
 namespace mocap {
 
@@ -41,7 +41,7 @@ struct FootskateOptions {
 void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose);
 
 // Whether each foot of a captured database frame is planted (ground-plane speed and height).
-std::array<bool, 2> PlantedFeet(const FrameFeatures& frame, float planted_ankle_height,
+std::array<bool, 2> PlantedFeet(const DatabaseFrame& frame, float planted_ankle_height,
                                 const FootskateOptions& options);
 
 class FootskateCleaner {
@@ -56,7 +56,7 @@ class FootskateCleaner {
   // the A4 path chose (nullptr: contacts from the estimate whatever the option). Adjusts `pose`;
   // returns the contact flags [left, right]; `targets` (optional) gets the IK targets, so that a
   // later joint-space filter can re-impose them.
-  std::array<bool, 2> Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles, const FrameFeatures* source_frame,
+  std::array<bool, 2> Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles, const DatabaseFrame* source_frame,
                               BodyPose* pose, AnkleTargets* targets = nullptr);
   void Reset();
 

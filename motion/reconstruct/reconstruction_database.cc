@@ -41,6 +41,22 @@ std::vector<bool> TravellingFrames(const std::vector<FrameFeatures>& clip, doubl
   return travelling;
 }
 
+// 16-bit fixed point per column: each column's step is its largest magnitude / 32767, so every
+// value is kept to half a step (issue #26: the pose rows were a third of a database's memory).
+template <typename FloatRows, typename IntRows>
+void QuantizePoseFeatures(const FloatRows& values, IntRows* stored, Eigen::RowVectorXf* step) {
+  constexpr float kLargest = 32767.0f;
+  *step = values.cwiseAbs().colwise().maxCoeff() / kLargest;
+  for (Eigen::Index c = 0; c < step->size(); ++c) {
+    if (!((*step)[c] > 0.0f)) (*step)[c] = 1.0f;  // an all-zero column
+  }
+  *stored = (values.array().rowwise() / step->array())
+                .round()
+                .cwiseMax(-kLargest)
+                .cwiseMin(kLargest)
+                .template cast<int16_t>();
+}
+
 }  // namespace
 
 absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionDatabase::Build(
@@ -68,19 +84,21 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   }
   if (total == 0) return absl::FailedPreconditionError("reconstruction database has no frames");
   db->captured_frames_ = static_cast<int>(total);
-  db->frames_.reserve(total);
+  // Every row's whole A1 features while the indices are built; the database keeps DatabaseFrames.
+  std::vector<FrameFeatures> row_features;
+  row_features.reserve(total);
   db->clip_of_row_.reserve(total);
   db->frame_of_row_.reserve(total);
-  db->pose_features_.resize(static_cast<Eigen::Index>(total),
-                            2 + 3 * static_cast<Eigen::Index>(db->pose_joints_.size()));
+  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> pose_features(
+      static_cast<Eigen::Index>(total), 2 + 3 * static_cast<Eigen::Index>(db->pose_joints_.size()));
   for (size_t c = 0; c < clips.size(); ++c) {
     for (size_t f = 0; f < clips[c].features.size(); ++f) {
-      const int row = static_cast<int>(db->frames_.size());
+      const int row = static_cast<int>(row_features.size());
       const FrameFeatures& features = clips[c].features[f];
-      db->frames_.push_back(features);
+      row_features.push_back(features);
       db->clip_of_row_.push_back(static_cast<int>(c));
       db->frame_of_row_.push_back(static_cast<int>(f));
-      auto m = db->pose_features_.row(row);
+      auto m = pose_features.row(row);
       m[0] = features.pelvis_tilt;
       m[1] = features.pelvis_height;
       const float* pose = clips[c].encoded_poses.data() + f * stride;
@@ -89,6 +107,8 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
       }
     }
   }
+  if (!pose_features.allFinite()) return absl::InvalidArgumentError("a clip's pose is not a finite number");
+  QuantizePoseFeatures(pose_features, &db->pose_features_, &db->pose_feature_step_);
   // The body the solver drives: the rig's offsets in metres.
   std::vector<Joint> body_joints = rig.skeleton.joints();
   const float metres = static_cast<float>(MetresPerUnit(rig.unit));
@@ -109,40 +129,39 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
           TravellingFrames(clip.features, options.frame_time, options.reversed_min_ground_speed);
       for (int f = frames - 1; f >= 0; --f) {
         if (!travelling[f]) continue;
-        db->frames_.push_back(reversed[frames - 1 - f]);
+        row_features.push_back(reversed[frames - 1 - f]);
         db->reversed_source_.push_back(clip_start + f);
       }
       clip_start += frames;
     }
-    // The copies' count was not known: give back what growth left over.
-    db->frames_.shrink_to_fit();
-    db->reversed_source_.shrink_to_fit();
+    db->reversed_source_.shrink_to_fit();  // the copies' count was not known
   }
-  const size_t rows = db->frames_.size();
+  const size_t rows = row_features.size();
   std::vector<float> lower_ankle(total);
   for (size_t r = 0; r < total; ++r) {
-    lower_ankle[r] = std::min(db->frames_[r].ankle_position[0][1], db->frames_[r].ankle_position[1][1]);
+    lower_ankle[r] = std::min(row_features[r].ankle_position[0][1], row_features[r].ankle_position[1][1]);
   }
   std::nth_element(lower_ankle.begin(), lower_ankle.begin() + total / 10, lower_ankle.end());
   db->planted_ankle_height_ = lower_ankle[total / 10];
   std::vector<std::span<const FrameFeatures>> clip_features;
   for (const DatabaseClip& clip : clips) clip_features.emplace_back(clip.features);
   db->motion_limits_ = MeasureMotionLimits(clip_features, options.frame_time);
-  if (absl::Status status = db->wrist_index_.Build(db->frames_, {.position_weight = position_weight}); !status.ok()) {
+  if (absl::Status status = db->wrist_index_.Build(row_features, {.position_weight = position_weight}); !status.ok()) {
     return status;
   }
   std::vector<float> points(rows * kWristAnkleFeatureDims);
   for (size_t r = 0; r < rows; ++r)
-    WristAnkleFeature(db->frames_[r], position_weight, points.data() + r * kWristAnkleFeatureDims);
+    WristAnkleFeature(row_features[r], position_weight, points.data() + r * kWristAnkleFeatureDims);
   if (absl::Status status = db->full_index_.Build(std::move(points), kWristAnkleFeatureDims); !status.ok())
     return status;
+  db->frames_ = ToDatabaseFrames(row_features);
   return std::shared_ptr<const ReconstructionDatabase>(std::move(db));
 }
 
 ReconstructionDatabase::MemoryUse ReconstructionDatabase::memory_use() const {
   MemoryUse use;
-  use.features = frames_.capacity() * sizeof(FrameFeatures);
-  use.pose_features = static_cast<size_t>(pose_features_.size()) * sizeof(float);
+  use.features = frames_.capacity() * sizeof(DatabaseFrame);
+  use.pose_features = static_cast<size_t>(pose_features_.size()) * sizeof(int16_t);
   use.row_maps = (reversed_source_.capacity() + clip_of_row_.capacity() + frame_of_row_.capacity()) * sizeof(int);
   use.wrist_index = wrist_index_.memory_bytes();
   use.full_index = full_index_.memory_bytes();

@@ -7,6 +7,7 @@
 // Thread safety: built once, then shared read-only (const) by any number of sessions.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "motion/core/kd_tree.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/body_model.h"
+#include "motion/reconstruct/database_frame.h"
 #include "motion/reconstruct/plausibility.h"
 #include "motion/reconstruct/wrist_feature_index.h"
 
@@ -61,12 +63,16 @@ class ReconstructionDatabase {
   // Captured frames (the clips' own), and every searchable row (with the reversed copies).
   int num_frames() const { return captured_frames_; }
   int num_rows() const { return static_cast<int>(frames_.size()); }
-  // A1 features of every row (a reversed row: its frame's, with the velocities the reversed
-  // motion measures).
-  const std::vector<FrameFeatures>& frames() const { return frames_; }
+  // What every row keeps of its A1 features: ankles and pelvis (a reversed row: its frame's, with
+  // the velocities the reversed motion measures).
+  const std::vector<DatabaseFrame>& frames() const { return frames_; }
   // Pose feature m of a row: θ, h, then the rotation vectors of every joint below the pelvis
-  // chain (the root-to-pelvis joints are the solver's z_R, not part of q).
-  auto pose_feature(int row) const { return pose_features_.row(clip_frame_row(row)); }
+  // chain (the root-to-pelvis joints are the solver's z_R, not part of q). Stored as 16-bit
+  // fixed point per column (as animation runtimes keep their clips): a rotation is off by at
+  // most π/65534 rad, 0.003°, and h by 1/65534 of the tallest pelvis.
+  auto pose_feature(int row) const {
+    return pose_features_.row(clip_frame_row(row)).cast<float>().cwiseProduct(pose_feature_step_);
+  }
   int pose_feature_size() const { return static_cast<int>(pose_features_.cols()); }
   const std::vector<int>& pose_joints() const { return pose_joints_; }  // joints of q, in order
   int clip_of(int row) const { return clip_of_row_[clip_frame_row(row)]; }
@@ -102,8 +108,9 @@ class ReconstructionDatabase {
   RigModel rig_;
   int captured_frames_ = 0;
   std::vector<int> reversed_source_;  // row num_frames() + i copies captured row reversed_source_[i]
-  std::vector<FrameFeatures> frames_;
-  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> pose_features_;
+  std::vector<DatabaseFrame> frames_;
+  Eigen::Matrix<int16_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> pose_features_;
+  Eigen::RowVectorXf pose_feature_step_;  // a column's value per unit of its stored integer
   std::vector<int> pose_joints_;
   std::vector<int> clip_of_row_, frame_of_row_;
   WristFeatureIndex wrist_index_;

@@ -27,7 +27,7 @@ double SecondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 // A database frame's pelvis placed in the query's wrist reference frame (A1: local coordinates
 // are comparable across frames).
-void PelvisInQueryFrame(const FrameFeatures& f, const ReferenceFrame& ref, SolvedPose* pose) {
+void PelvisInQueryFrame(const DatabaseFrame& f, const ReferenceFrame& ref, SolvedPose* pose) {
   const Eigen::Quaternionf ref_rotation(ref.rotation);
   pose->pelvis_position =
       ref.origin + ref.rotation * Eigen::Vector3f(f.pelvis_position[0], f.pelvis_position[1], f.pelvis_position[2]);

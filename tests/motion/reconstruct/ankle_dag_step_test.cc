@@ -120,6 +120,7 @@ TEST_P(AnkleDagStepTest, MatchesTheReferenceOnRealClouds) {
   ASSERT_FALSE(query.empty());
   WristFeatureIndex index;
   ASSERT_TRUE(index.Build(database).ok());
+  const std::vector<DatabaseFrame> rows = ToDatabaseFrames(database);
   auto clip = ReadBvhFile(query);
   ASSERT_TRUE(clip.ok());
   auto prepared = PrepareClip(*clip, *rig, {});
@@ -135,7 +136,7 @@ TEST_P(AnkleDagStepTest, MatchesTheReferenceOnRealClouds) {
   for (int f = 0; f < std::min(40, poses.num_frames()); ++f) {
     const SmoothedWrists wrists = smoother.Push(poses.position(f, l.left_wrist), poses.position(f, l.right_wrist));
     std::vector<AnkleCandidate> cloud;
-    ASSERT_TRUE(FindAnkleCloud(index, database, {}, wrists, 300, &heading, &cloud).ok());
+    ASSERT_TRUE(FindAnkleCloud(index, rows, {}, wrists, 300, &heading, &cloud).ok());
     cost = previous.empty() ? std::vector<float>(cloud.size(), 0.0f) : ExpectSameStep(previous, cost, cloud, options);
     previous = std::move(cloud);
   }

@@ -59,6 +59,7 @@ TEST(AnkleTrajectorySharedDataTest, DagBeatsNearestNeighbourOnHeldOutWalks) {
   }
   WristFeatureIndex index;
   ASSERT_TRUE(index.Build(database).ok());
+  const std::vector<DatabaseFrame> rows = ToDatabaseFrames(database);
   ASSERT_EQ(queries.size(), 3u);
 
   const BodyLandmarks& l = rig->topology.landmarks;
@@ -81,7 +82,7 @@ TEST(AnkleTrajectorySharedDataTest, DagBeatsNearestNeighbourOnHeldOutWalks) {
       const SmoothedWrists wrists =
           smoother.Push(poses.position(f, l.left_wrist) + jitter_left, poses.position(f, l.right_wrist) + jitter_right);
       std::vector<AnkleCandidate> cloud;
-      ASSERT_TRUE(FindAnkleCloud(index, database, {}, wrists, 200, &heading, &cloud).ok());
+      ASSERT_TRUE(FindAnkleCloud(index, rows, {}, wrists, 200, &heading, &cloud).ok());
       nearest.push_back({cloud[0].position[0], cloud[0].position[1]});
       clouds.push_back(std::move(cloud));
       truth.push_back({poses.position(f, l.left_ankle), poses.position(f, l.right_ankle)});

@@ -81,7 +81,7 @@ TEST(FootskateCleanupTest, ContactsCanComeFromTheChosenDatabaseFrame) {
   const ReconstructionDatabase& db = *setup.database;
   const FootskateOptions options;
   // A captured frame whose left foot rests on the ground and whose right foot swings.
-  FrameFeatures frame{};
+  DatabaseFrame frame{};
   frame.ankle_position[0][1] = db.planted_ankle_height();
   frame.ankle_velocity[0][0] = 0.05f;
   frame.ankle_position[1][1] = db.planted_ankle_height() + 0.01f;
