@@ -9,7 +9,7 @@
 // library; the lock states it where ThreadSanitizer and clang's -Wthread-safety can see it.)
 #pragma once
 
-#include "server/mutex.h"
+#include "motion/core/mutex.h"
 
 namespace mocap {
 

@@ -23,7 +23,7 @@
 #include <optional>
 #include <string>
 
-#include "server/mutex.h"
+#include "motion/core/mutex.h"
 #include "server/owned_reactor.h"
 #include "server/reconstruction_service.h"
 

@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "mocap/v1/reconstruction.grpc.pb.h"
-#include "server/mutex.h"
+#include "motion/core/mutex.h"
 #include "server/reconstruction_databases.h"
 #include "server/service_context.h"
 #include "server/session_driver.h"

@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 #include <utility>
-#include "server/mutex.h"
+#include "motion/core/mutex.h"
 
 namespace mocap {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "server/mutex.h"
+#include "motion/core/mutex.h"
 #include "storage/motion_store.h"
 
 namespace mocap {

@@ -11,7 +11,7 @@
 #include <memory>
 
 #include "absl/status/statusor.h"
-#include "server/mutex.h"
+#include "motion/core/mutex.h"
 #include "storage/motion_store.h"
 
 namespace mocap {

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "absl/status/statusor.h"
-#include "server/mutex.h"
+#include "motion/core/mutex.h"
 #include "storage/motion_store.h"
 
 namespace mocap {

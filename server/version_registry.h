@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "server/mutex.h"
+#include "motion/core/mutex.h"
 #include "server/store_pool.h"
 
 namespace mocap {

@@ -15,7 +15,7 @@
 #include <map>
 #include <thread>
 #include <vector>
-#include "server/mutex.h"
+#include "motion/core/mutex.h"
 
 namespace mocap {
 

@@ -8,7 +8,6 @@
 #include <deque>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <set>
 #include <thread>
 
@@ -16,6 +15,7 @@
 
 #include "motion/bvh/bvh_files.h"
 #include "motion/bvh/bvh_reader.h"
+#include "motion/core/mutex.h"
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "motion/preprocess/clip_labels.h"
@@ -47,15 +47,15 @@ class PreparePipeline {
   }
   ~PreparePipeline() {
     {
-      std::lock_guard lock(mutex_);
+      MutexLock lock(&mutex_);
       stopping_ = true;
     }
     changed_.notify_all();
     for (std::thread& worker : workers_) worker.join();
   }
   PreparedFile Take(size_t index) {
-    std::unique_lock lock(mutex_);
-    changed_.wait(lock, [&] { return results_[index].has_value(); });
+    MutexLock lock(&mutex_);
+    mutex_.Await(changed_, [&]() ABSL_NO_THREAD_SAFETY_ANALYSIS { return Prepared(index); });
     PreparedFile out = std::move(*results_[index]);
     results_[index].reset();
     consumed_ = index + 1;
@@ -64,12 +64,17 @@ class PreparePipeline {
   }
 
  private:
+  bool Prepared(size_t index) const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) { return results_[index].has_value(); }
+  // Stopping, out of files, or a file within the window ahead of the consumer.
+  bool CanTakeAFile() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
+    return stopping_ || next_ >= files_.size() || next_ < consumed_ + window_;
+  }
   void Work() {
     while (true) {
       size_t index;
       {
-        std::unique_lock lock(mutex_);
-        changed_.wait(lock, [&] { return stopping_ || next_ >= files_.size() || next_ < consumed_ + window_; });
+        MutexLock lock(&mutex_);
+        mutex_.Await(changed_, [&]() ABSL_NO_THREAD_SAFETY_ANALYSIS { return CanTakeAFile(); });
         if (stopping_ || next_ >= files_.size()) return;
         index = next_++;
       }
@@ -81,7 +86,7 @@ class PreparePipeline {
         prepared.status = bytes.status();
       }
       {
-        std::lock_guard lock(mutex_);
+        MutexLock lock(&mutex_);
         results_[index] = std::move(prepared);
       }
       changed_.notify_all();
@@ -91,13 +96,13 @@ class PreparePipeline {
   const std::vector<std::filesystem::path>& files_;
   const RigModel& rig_;
   const PreprocessOptions options_;
-  std::mutex mutex_;
+  mutable Mutex mutex_;
   std::condition_variable changed_;
-  std::vector<std::optional<PreparedFile>> results_;
-  size_t next_ = 0;
-  size_t consumed_ = 0;
-  size_t window_ = 8;
-  bool stopping_ = false;
+  std::vector<std::optional<PreparedFile>> results_ ABSL_GUARDED_BY(mutex_);
+  size_t next_ ABSL_GUARDED_BY(mutex_) = 0;
+  size_t consumed_ ABSL_GUARDED_BY(mutex_) = 0;
+  size_t window_ = 8;  // set before the workers start
+  bool stopping_ ABSL_GUARDED_BY(mutex_) = false;
   std::vector<std::thread> workers_;
 };
 

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <numeric>
 
 #include <Eigen/Eigenvalues>
 #include "motion/core/kd_tree.h"
+#include "motion/core/mutex.h"
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
@@ -66,8 +66,8 @@ struct PoseIndex::Impl {
     PoseSearchOptions options;
     NeighbourDistances distances;
   };
-  mutable std::mutex reference_mutex;
-  mutable std::vector<Reference> references;    // guarded by reference_mutex
+  mutable Mutex reference_mutex;
+  mutable std::vector<Reference> references ABSL_GUARDED_BY(reference_mutex);
   static constexpr size_t kMaxReferences = 16;  // weights are the caller's: a bounded cache
 
   int pose_points() const { return kNumBodyGroups * options.points_per_group; }
@@ -229,7 +229,7 @@ absl::StatusOr<NeighbourDistances> PoseIndex::NeighbourReference(const PoseSearc
            a.candidates == options.candidates && a.exact == options.exact;
   };
   {
-    std::lock_guard<std::mutex> lock(m.reference_mutex);
+    MutexLock lock(&m.reference_mutex);
     for (const Impl::Reference& reference : m.references) {
       if (same(reference.options)) return reference.distances;
     }
@@ -253,7 +253,7 @@ absl::StatusOr<NeighbourDistances> PoseIndex::NeighbourReference(const PoseSearc
     return distances[static_cast<size_t>(fraction * static_cast<double>(distances.size() - 1))];
   };
   NeighbourDistances result{at(0.5), std::max(at(0.95), kMinIsolatedDistance), static_cast<int>(distances.size())};
-  std::lock_guard<std::mutex> lock(m.reference_mutex);
+  MutexLock lock(&m.reference_mutex);
   if (m.references.size() >= Impl::kMaxReferences) m.references.erase(m.references.begin());  // oldest out
   m.references.push_back({options, result});
   return result;

@@ -1,4 +1,5 @@
-// The server's mutex: std::mutex with clang's lock annotations. ThreadSanitizer sees std::mutex
+// The project's mutex (server, storage, the algorithm library; the client SDK keeps to the standard
+// library): std::mutex with clang's lock annotations. ThreadSanitizer sees std::mutex
 // (libstdc++ calls pthreads, which TSan intercepts) but not Debian's abseil, which is built without
 // TSan, so absl::Mutex would hide every hand-off from it; clang's -Wthread-safety sees annotated
 // types only, which std::mutex is not. This type serves both: members it guards carry
