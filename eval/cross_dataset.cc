@@ -14,6 +14,7 @@
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/body_model.h"
 #include "motion/reconstruct/performer_scale.h"
+#include "motion/reconstruct/wrist_reach.h"
 #include "motion/skeleton/forward_kinematics.h"
 
 namespace mocap::eval {
@@ -162,11 +163,19 @@ float TruthScale(const SizeReference& reference, const LandmarkTruth& truth) {
   return (reference.body.leg + reference.body.arm) / (performer.leg + performer.arm);
 }
 
+// kService as the service resolves it: the reach estimate for a whole trajectory only.
+PerformerSize ServiceSize(const Experiment& experiment) {
+  if (experiment.size != PerformerSize::kService) return experiment.size;
+  const bool whole = experiment.options.mode == StreamMode::kSubInterval && experiment.options.window == 0;
+  return whole ? PerformerSize::kReach : PerformerSize::kDatabase;
+}
+
 float InputScale(PerformerSize size, const ReconstructionDatabase& database, const SizeReference& reference,
                  const LandmarkTruth& truth, const std::vector<WristSample>& wrists, unsigned declared_seed,
                  PerformerScaleEstimate* fit_out = nullptr) {
   switch (size) {
     case PerformerSize::kDatabase:
+    case PerformerSize::kService:  // resolved by the caller (ServiceSize)
       return 1.0f;
     case PerformerSize::kTruth:
       return TruthScale(reference, truth);
@@ -186,6 +195,10 @@ float InputScale(PerformerSize size, const ReconstructionDatabase& database, con
       std::vector<float> lower;
       for (const WristSample& s : wrists) lower.push_back(std::min(s.left.y(), s.right.y()));
       return std::clamp(reference.lower_wrist / Median(lower), 0.7f, 1.4f);
+    }
+    case PerformerSize::kReach: {
+      absl::StatusOr<ReachScale> reach = InputScaleFromReach(database.wrist_reach(), wrists);
+      return reach.ok() ? reach->input_scale : 1.0f;
     }
     case PerformerSize::kWalkingWrists: {
       std::vector<float> heights;
@@ -256,8 +269,8 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       std::vector<WristSample> wrists =
           DeviceSamples(truth, experiment.device, experiment.noise_cm, seed + static_cast<unsigned>(i));
       // The input is multiplied by it, the output divided.
-      const float scale =
-          InputScale(experiment.size, *database, reference, truth, wrists, seed + static_cast<unsigned>(i), &fits[i]);
+      const float scale = InputScale(ServiceSize(experiment), *database, reference, truth, wrists,
+                                     seed + static_cast<unsigned>(i), &fits[i]);
       input_scales[i] = scale;
       for (WristSample& sample : wrists) {
         sample.left *= scale;

@@ -8,12 +8,15 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   std::vector<Experiment> runs;
   auto add = [&](std::string name, std::string group, double x, ReconstructionOptions options, double noise,
                  bool captured_only = false) {
-    runs.push_back({.name = std::move(name),
-                    .group = std::move(group),
-                    .x = x,
-                    .options = options,
-                    .noise_cm = noise,
-                    .captured_only = captured_only});
+    runs.push_back(
+        {.name = std::move(name),
+         .group = std::move(group),
+         .x = x,
+         .options = options,
+         .noise_cm = noise,
+         // The baselines are a plain lookup (or pose model) at the database's size.
+         .size = options.method == ReconstructionMethod::kFull ? PerformerSize::kService : PerformerSize::kDatabase,
+         .captured_only = captured_only});
   };
   add("full", "main", 0, base, noise_cm);
   ReconstructionOptions nn = base;
@@ -60,6 +63,7 @@ std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base)
                       .options = e.options,
                       .noise_cm = 0.0,
                       .device = device,
+                      .size = e.size,
                       .captured_only = e.captured_only});
     }
   }

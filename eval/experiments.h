@@ -20,10 +20,16 @@ namespace mocap::eval {
 // input has less than a second of such frames.
 // kDatabaseFit: the factor that brings the input's wrist features nearest the database's
 // (motion/reconstruct/performer_scale.h).
+// kReach: one-sided, from how far the wrists reach (motion/reconstruct/wrist_reach.h): where they
+// spend a twentieth of the input further apart or higher than the database's bodies ever held
+// theirs, the performer is that much larger; otherwise the database's size.
+// kService: as the service sizes the body when no height is declared: kReach for a whole
+// trajectory (SessionConfig.estimate_performer_height, on by default in `mocap reconstruct`),
+// the database's in the streaming modes, whose frames leave before the input has shown its reach.
 // kDeclared: the service's SessionConfig.performer_height path, as a user who knows their height
 // uses it: the performer's height (told from the capture's legs as EstimatedStature tells the
 // database's) with a 3% error (σ, one draw per clip), against the database body's EstimatedStature.
-enum class PerformerSize { kDatabase, kTruth, kLowerWrist, kWalkingWrists, kDatabaseFit, kDeclared };
+enum class PerformerSize { kDatabase, kTruth, kLowerWrist, kWalkingWrists, kDatabaseFit, kDeclared, kReach, kService };
 
 struct Experiment {
   std::string name;
@@ -32,7 +38,7 @@ struct Experiment {
   ReconstructionOptions options;
   double noise_cm = 0.5;
   DeviceModel device;  // the input (landmark tests only; empty name: the lab's, noise_cm)
-  PerformerSize size = PerformerSize::kDatabase;
+  PerformerSize size = PerformerSize::kService;
   // Search the captured frames only, without the travelling frames played backwards (DatabaseBuildOptions):
   // the lookup baselines, and the ablation row of the method without them.
   bool captured_only = false;

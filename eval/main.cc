@@ -282,7 +282,8 @@ int main(int argc, char** argv) {
                                 {"full_size_lower_wrist", mocap::eval::PerformerSize::kLowerWrist},
                                 {"full_size_walking_wrists", mocap::eval::PerformerSize::kWalkingWrists},
                                 {"full_size_database_fit", mocap::eval::PerformerSize::kDatabaseFit},
-                                {"full_declared_height", mocap::eval::PerformerSize::kDeclared}}) {
+                                {"full_declared_height", mocap::eval::PerformerSize::kDeclared},
+                                {"full_database_size", mocap::eval::PerformerSize::kDatabase}}) {
         sized.name = name;
         sized.size = size;
         if (only_runs.empty() || std::find(only_runs.begin(), only_runs.end(), name) != only_runs.end())

@@ -4,6 +4,7 @@
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "motion/reconstruct/wrist_reach.h"
 
 namespace mocap {
 
@@ -21,6 +22,20 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
   driver->session_->SetCancelFlag(cancel);
   driver->config_ = config;
   driver->scale_ = scale;
+  if (config.estimate_performer_height() && config.performer_height() == 0.0f) {
+    if (options.mode != StreamMode::kSubInterval || options.window != 0) {
+      return absl::InvalidArgumentError(
+          "estimate_performer_height needs the whole trajectory at once (sub_interval with window_frames 0, the "
+          "default): in the streaming modes frames leave before the input has shown how far the wrists reach; "
+          "declare performer_height instead");
+    }
+    if (config.has_target_rig()) {
+      return absl::InvalidArgumentError(
+          "estimate_performer_height with a target_rig: the frames animate the target rig's own skeleton; declare "
+          "performer_height instead");
+    }
+    driver->estimate_height_ = true;
+  }
   driver->limits_ = limits;
   const FloorSpec& floor = input_frame.floor;
   driver->input_ = {input_frame, FrameTransform(input_frame.convention, floor.calibrate ? 0.0 : floor.height)};
@@ -100,16 +115,38 @@ absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* repl
       return absl::ResourceExhaustedError(StrCat("session length limit: samples span more than ",
                                                  limits_.max_session_seconds, " s; start a new session"));
     }
-    input.left /= scale_.scale;  // the performer's metres to the database performer's
-    input.right /= scale_.scale;
-    absl::Status pushed = session_->Push(input, &pending_);
-    if (absl::IsInvalidArgument(pushed)) {
-      MOCAP_RETURN_IF_ERROR(Reject(ready.index, input.time, std::string(pushed.message()), replies));
-    } else {
-      MOCAP_RETURN_IF_ERROR(pushed);
+    if (estimate_height_) {
+      held_.push_back(std::move(ready));  // sized when the input ends
+      continue;
     }
+    MOCAP_RETURN_IF_ERROR(PushScaled(ready, replies));
   }
   ready_.clear();
+  return absl::OkStatus();
+}
+
+absl::Status SessionDriver::PushScaled(MonitoredSample& ready, std::vector<v1::ReconstructResponse>* replies) {
+  WristSample& input = ready.sample;
+  input.left /= scale_.scale;  // the performer's metres to the database performer's
+  input.right /= scale_.scale;
+  absl::Status pushed = session_->Push(input, &pending_);
+  if (absl::IsInvalidArgument(pushed)) return Reject(ready.index, input.time, std::string(pushed.message()), replies);
+  return pushed;
+}
+
+absl::Status SessionDriver::SizeFromReach(std::vector<v1::ReconstructResponse>* replies) {
+  std::vector<WristSample> samples;
+  samples.reserve(held_.size());
+  for (const MonitoredSample& h : held_) samples.push_back(h.sample);
+  // The samples passed FromProto (finite); an error here is a database without frames: no estimate.
+  absl::StatusOr<ReachScale> reach = InputScaleFromReach(session_->database().wrist_reach(), samples);
+  if (reach.ok() && reach->input_scale < 1.0f) {
+    scale_.scale = 1.0f / reach->input_scale;
+    resized_ = true;
+  }
+  estimate_height_ = false;
+  for (MonitoredSample& h : held_) MOCAP_RETURN_IF_ERROR(PushScaled(h, replies));
+  std::vector<MonitoredSample>().swap(held_);
   return absl::OkStatus();
 }
 
@@ -136,6 +173,7 @@ absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies
   monitor_->Finish(&ready_, &warnings_);
   MOCAP_RETURN_IF_ERROR(ReportInput(replies));
   MOCAP_RETURN_IF_ERROR(PushReady(replies));
+  if (estimate_height_) MOCAP_RETURN_IF_ERROR(SizeFromReach(replies));
   MOCAP_RETURN_IF_ERROR(session_->Finish(&pending_));
   AppendFrames(replies);
   v1::SessionSummary* summary = replies->emplace_back().mutable_summary();
@@ -145,6 +183,8 @@ absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies
   summary->set_frames(frames_emitted_);
   summary->set_mean_reply_ms(latency_count_ > 0 ? latency_sum_ms_ / static_cast<double>(latency_count_) : 0.0);
   summary->set_max_reply_ms(latency_max_ms_);
+  summary->set_performer_height(scale_.database_height * scale_.scale);
+  summary->set_performer_height_estimated(resized_);
   return absl::OkStatus();
 }
 
@@ -160,6 +200,11 @@ void SessionDriver::AppendFrames(std::vector<v1::ReconstructResponse>* replies) 
     const size_t end = std::min(pending_.size(), start + kFramesPerReply);
     v1::ReconstructedFrames* frames = replies->emplace_back().mutable_frames();
     frames->mutable_frames()->Reserve(static_cast<int>(end - start));
+    if (resized_ && !resized_sent_) {  // the body was sized after `started`: its skeleton
+      ToProto(session_->database(), scale_, frames->mutable_skeleton());
+      if (output_transform_) ToCallerFrame(*output_transform_, frames->mutable_skeleton());
+      resized_sent_ = true;
+    }
     for (size_t i = start; i < end; ++i) {
       v1::Frame* frame = frames->add_frames();
       ToProto(pending_[i], scale_, config_.include_diagnostics(), frame);

@@ -72,12 +72,20 @@ class SessionDriver {
                       std::vector<v1::ReconstructResponse>* replies);
   // The monitor's released samples into the session, its findings into an InputReport.
   absl::Status PushReady(std::vector<v1::ReconstructResponse>* replies);
+  // One released sample into the session at the performer's scale.
+  absl::Status PushScaled(MonitoredSample& ready, std::vector<v1::ReconstructResponse>* replies);
+  // config.estimate_performer_height, at the end of the input: the body's size from the wrists'
+  // reach (wrist_reach.h), then the held samples into the session.
+  absl::Status SizeFromReach(std::vector<v1::ReconstructResponse>* replies);
   absl::Status ReportInput(std::vector<v1::ReconstructResponse>* replies);
 
   MetricsScope metrics_;
   v1::SessionConfig config_;
   std::unique_ptr<ReconstructionSession> session_;
   PerformerScale scale_;
+  bool estimate_height_ = false;                 // hold the input until it ends, then size the body by reach
+  std::vector<MonitoredSample> held_;            // while estimate_height_
+  bool resized_ = false, resized_sent_ = false;  // the estimate changed the skeleton; told the client
   InputConversion input_;
   std::unique_ptr<InputMonitor> monitor_;
   std::vector<MonitoredSample> ready_;  // released by the monitor, not yet pushed

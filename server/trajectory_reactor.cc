@@ -57,6 +57,9 @@ void TrajectoryReactor::Slice(int begin) {
   if (end < samples_.samples_size()) return PostSlice(end);
   for (v1::ReconstructResponse& reply : replies_) {
     if (reply.has_frames()) {
+      // The body sized at the end of the input: the response has one skeleton, the frames'.
+      if (reply.frames().has_skeleton())
+        response_->mutable_started()->mutable_skeleton()->Swap(reply.mutable_frames()->mutable_skeleton());
       for (v1::Frame& frame : *reply.mutable_frames()->mutable_frames()) response_->add_frames()->Swap(&frame);
     } else if (reply.has_rejected()) {
       response_->add_rejected()->Swap(reply.mutable_rejected());

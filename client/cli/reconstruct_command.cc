@@ -32,6 +32,7 @@ struct ReconstructOptions {
   int window = -1, lag = -1;
   int k1 = 0, k2 = 0;
   float performer_height = 0.0f;
+  bool estimate_height = true;  // the whole trajectory, no height declared, no target rig: by reach
   float min_confidence = 0.0f;
   bool diagnostics = false, strict = false, unary = false, realtime = false, quiet = false, recenter = false;
   int samples_per_message = 30;
@@ -59,6 +60,9 @@ absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
                                                 : o.foot_contacts == "both"   ? v1::FOOT_CONTACTS_BOTH
                                                                               : v1::FOOT_CONTACTS_ESTIMATED_ANKLES);
   config.set_performer_height(o.performer_height);
+  // The service sizes the body by the wrists' reach only when it has the whole input at once.
+  config.set_estimate_performer_height(o.estimate_height && o.performer_height == 0.0f && o.lag < 0 && o.window <= 0 &&
+                                       o.target_rig_text.empty());
   config.set_include_diagnostics(o.diagnostics);
   config.set_strict(o.strict);
   config.set_min_confidence(o.min_confidence);
@@ -83,6 +87,8 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
       absl::StatusOr<std::optional<v1::ReconstructResponse>> reply = (*stream)->Read();
       if (!reply.ok() || !*reply) break;
       for (const v1::Frame& frame : (*reply)->frames().frames()) *result.add_frames() = frame;
+      if ((*reply)->frames().has_skeleton())  // the body sized at the end of the input
+        *result.mutable_started()->mutable_skeleton() = (*reply)->frames().skeleton();
       if ((*reply)->has_rejected()) *result.add_rejected() = (*reply)->rejected();
       if ((*reply)->has_input_report()) {  // one report, as the unary call answers
         const v1::InputReport& report = (*reply)->input_report();
@@ -298,6 +304,12 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
             << "\n  per frame: cloud " << summary.cloud_ms_per_frame() << " ms, ankle path "
             << summary.path_ms_per_frame() << " ms, pose " << summary.pose_ms_per_frame() << " ms, cleanup "
             << summary.cleanup_ms_per_frame() << " ms\n";
+  if (summary.performer_height_estimated()) {
+    std::cout << std::fixed << std::setprecision(2)
+              << "  body sized by the wrists' reach: " << summary.performer_height()
+              << " m tall (the database performer " << result->started().database_height()
+              << " m; --performer-height to declare, --no-estimate-height to keep the database's)\n";
+  }
   if (plausibility) {
     const PlausibilityStats& p = plausibility->stats;
     std::cout << std::fixed << std::setprecision(2) << "  plausibility: pelvis at most " << p.pelvis_speed.max()
@@ -377,6 +389,9 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   command
       ->add_option("--performer-height", o->performer_height, "Performer's height in metres (scales input and output)")
       ->check(CLI::NonNegativeNumber);
+  command->add_flag("!--no-estimate-height", o->estimate_height,
+                    "Keep the database performer's size instead of sizing the body by how far the wrists reach "
+                    "(done for a whole trajectory without --performer-height or --target-rig)");
   AddInputFrameFlags(command, &o->input_frame);
   command
       ->add_option("--target-rig", o->target_rig,

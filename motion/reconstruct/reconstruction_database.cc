@@ -146,6 +146,7 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   std::vector<std::span<const FrameFeatures>> clip_features;
   for (const DatabaseClip& clip : clips) clip_features.emplace_back(clip.features);
   db->motion_limits_ = MeasureMotionLimits(clip_features, options.frame_time);
+  db->wrist_reach_ = MeasureWristReach(std::span<const FrameFeatures>(row_features.data(), total));
   if (absl::Status status = db->wrist_index_.Build(row_features, {.position_weight = position_weight}); !status.ok()) {
     return status;
   }

@@ -21,6 +21,7 @@
 #include "motion/reconstruct/database_frame.h"
 #include "motion/reconstruct/plausibility.h"
 #include "motion/reconstruct/wrist_feature_index.h"
+#include "motion/reconstruct/wrist_reach.h"
 
 namespace mocap {
 
@@ -88,6 +89,9 @@ class ReconstructionDatabase {
   // How fast the database's own bodies move (plausibility.h), measured when it is built: the
   // motion guard's bounds and the plausibility measures' reference.
   const MotionLimits& motion_limits() const { return motion_limits_; }
+  // The farthest its bodies held their wrists apart and up (wrist_reach.h): the performer's size
+  // bound.
+  const WristReach& wrist_reach() const { return wrist_reach_; }
   // K nearest frames by eq. 8 (exact kd-tree).
   absl::StatusOr<std::vector<Neighbour>> NearestByWristsAndAnkles(const float query[kWristAnkleFeatureDims],
                                                                   int k) const;
@@ -120,6 +124,7 @@ class ReconstructionDatabase {
   float planted_ankle_height_ = 0.0f;
   double frame_time_ = 1.0 / 30.0;
   MotionLimits motion_limits_;
+  WristReach wrist_reach_;
 };
 
 }  // namespace mocap

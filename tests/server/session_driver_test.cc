@@ -401,6 +401,83 @@ TEST_F(SessionDriverTest, ATallerPerformerGetsAScaledSkeleton) {
   EXPECT_EQ((*tall)->started().database_height(), (*plain)->started().database_height());
 }
 
+// estimate_performer_height (issue #22): a whole trajectory from a body larger than the
+// database's is answered by a body sized by the wrists' reach, its skeleton on the first frames
+// reply and its height in the summary; the database's own input keeps the database's body.
+TEST_F(SessionDriverTest, AWholeTrajectoryIsSizedByTheWristsReach) {
+  v1::SessionConfig config = Config(-1);
+  config.set_estimate_performer_height(true);
+  for (const double size : {1.0, 1.3}) {
+    auto driver = Create(config);
+    ASSERT_TRUE(driver.ok()) << driver.status();
+    std::vector<v1::ReconstructResponse> replies;
+    ASSERT_TRUE((*driver)->Push(WireSamples(kTestFrames, size), &replies).ok());
+    EXPECT_TRUE(replies.empty() || !replies.front().has_frames());  // frames only at the end
+    ASSERT_TRUE((*driver)->Finish(&replies).ok());
+    const Replies sorted = Sort(replies);
+    ASSERT_EQ(sorted.summaries.size(), 1u);
+    ASSERT_EQ(sorted.frames.size(), static_cast<size_t>(kTestFrames));
+    const v1::SessionSummary& summary = sorted.summaries.front();
+    const float database_height = (*driver)->started().database_height();
+    const v1::ReconstructedFrames* first = nullptr;
+    for (const v1::ReconstructResponse& reply : replies) {
+      if (!reply.has_frames()) continue;
+      if (first == nullptr) {
+        first = &reply.frames();
+      } else {
+        EXPECT_FALSE(reply.frames().has_skeleton());  // told once
+      }
+    }
+    ASSERT_NE(first, nullptr);
+    if (size == 1.0) {
+      EXPECT_FALSE(summary.performer_height_estimated());
+      EXPECT_FLOAT_EQ(summary.performer_height(), database_height);
+      EXPECT_FALSE(first->has_skeleton());
+      continue;
+    }
+    // The quantile of a stretched input is at most the stretched farthest: at most 1.3 times.
+    EXPECT_TRUE(summary.performer_height_estimated());
+    EXPECT_GT(summary.performer_height(), 1.05f * database_height);
+    EXPECT_LE(summary.performer_height(), 1.3f * database_height * 1.001f);
+    ASSERT_TRUE(first->has_skeleton());
+    const float ratio = summary.performer_height() / database_height;
+    const v1::Skeleton& started = (*driver)->started().skeleton();
+    ASSERT_EQ(first->skeleton().joints_size(), started.joints_size());
+    for (int j = 0; j < started.joints_size(); ++j)
+      EXPECT_NEAR(first->skeleton().joints(j).offset().y(), ratio * started.joints(j).offset().y(), 1e-4f) << j;
+  }
+}
+
+TEST_F(SessionDriverTest, SizingByReachNeedsTheWholeTrajectoryAndGivesWayToADeclaredHeight) {
+  for (const int lag : {0, 5}) {
+    v1::SessionConfig config = Config(lag);
+    config.set_estimate_performer_height(true);
+    auto driver = Create(config);
+    ASSERT_FALSE(driver.ok());
+    EXPECT_EQ(driver.status().code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_NE(driver.status().message().find("estimate_performer_height"), std::string::npos) << driver.status();
+  }
+  v1::SessionConfig windows = Config(-1);
+  windows.mutable_sub_interval()->set_window_frames(50);
+  windows.set_estimate_performer_height(true);
+  EXPECT_EQ(Create(windows).status().code(), absl::StatusCode::kInvalidArgument);
+  // A declared height is the performer's: no estimate, whatever the input.
+  v1::SessionConfig declared = Config(-1);
+  declared.set_estimate_performer_height(true);
+  auto probe = Create(Config(-1));
+  ASSERT_TRUE(probe.ok());
+  declared.set_performer_height(1.1f * (*probe)->started().database_height());
+  auto driver = Create(declared);
+  ASSERT_TRUE(driver.ok()) << driver.status();
+  std::vector<v1::ReconstructResponse> replies;
+  ASSERT_TRUE((*driver)->Push(WireSamples(kTestFrames, 1.3), &replies).ok());
+  ASSERT_TRUE((*driver)->Finish(&replies).ok());
+  const Replies sorted = Sort(replies);
+  ASSERT_EQ(sorted.summaries.size(), 1u);
+  EXPECT_FALSE(sorted.summaries.front().performer_height_estimated());
+  EXPECT_NEAR(sorted.summaries.front().performer_height(), declared.performer_height(), 1e-4f);
+}
+
 }  // namespace
 }  // namespace session_driver_test
 }  // namespace mocap
