@@ -12,6 +12,7 @@
 #include "motion/core/units.h"
 #include "motion/preprocess/clip_labels.h"
 #include "motion/reconstruct/reconstruction_export.h"
+#include "motion/reconstruct/wrist_reach.h"
 #include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
 
@@ -158,6 +159,22 @@ void ConfidenceSamplesOf(const ReconstructionDatabase& database, const GlobalPos
 }
 
 }  // namespace
+
+int ClipsSizedByReach(const ReconstructionDatabase& database, const std::vector<TestClip>& tests) {
+  const BodyLandmarks& l = database.rig().topology.landmarks;
+  int sized = 0;
+  for (const TestClip& test : tests) {
+    std::vector<WristSample> wrists(test.truth.num_frames());
+    for (int f = 0; f < test.truth.num_frames(); ++f) {
+      wrists[f] = {.time = f * test.clip.motion.frame_time,
+                   .left = test.truth.position(f, l.left_wrist),
+                   .right = test.truth.position(f, l.right_wrist)};
+    }
+    const absl::StatusOr<ReachScale> reach = InputScaleFromReach(database.wrist_reach(), wrists);
+    if (reach.ok() && reach->input_scale < 1.0f) ++sized;
+  }
+  return sized;
+}
 
 absl::StatusOr<std::vector<ExperimentResult>> RunEvaluation(const EvaluationDatabases& databases,
                                                             const std::vector<TestClip>& tests,

@@ -24,6 +24,10 @@ struct TestClip {
   GlobalPoses truth;
 };
 
+// How many of `tests` reach beyond the database's bodies (InputScaleFromReach < 1 on their clean
+// wrists): the clips the service would size larger as a whole trajectory.
+int ClipsSizedByReach(const ReconstructionDatabase& database, const std::vector<TestClip>& tests);
+
 struct ClipResult {
   std::string name;  // test file name
   std::string content;

@@ -328,6 +328,11 @@ int main(int argc, char** argv) {
   context["database_wrist_speed_max_m_per_s"] = motion_limits.wrist_speed_max;
   context["database_wrist_acceleration_max_m_per_s2"] = motion_limits.wrist_acceleration_max;
   context["test_clips"] = tests->size();
+  // Scored at the database's size (same rig, joint angles): how many test clips the service would
+  // have sized larger by their reach (wrist_reach.h) had they come as a whole trajectory.
+  context["test_clips_sized_by_reach"] = mocap::eval::ClipsSizedByReach(*database, *tests);
+  std::cerr << context["test_clips_sized_by_reach"] << " of " << tests->size()
+            << " test clips reach beyond the database's bodies (scored at the database's size)\n";
   context["seed"] = seed;
   context["noise_cm"] = noise_cm;
   context["k1"] = base.ankle_candidates;

@@ -64,9 +64,9 @@ TEST(WristReachTest, WristsHeldFartherApartOrHigherTellTheRatio) {
 }
 
 TEST(WristReachTest, AMomentsStretchOrAnOutlierIsNoEvidence) {
-  std::vector<WristSample> samples = Held(0.5f, 1.2f);  // 180 samples
+  std::vector<WristSample> samples = Held(0.5f, 1.2f);          // 180 samples
   for (int i = 0; i < 6; ++i) samples[40 + i].left.x() = 2.0f;  // 0.1 s arms out, 3% of the input
-  samples[100].right.y() = 5.0f;                               // a tracker's outlier
+  samples[100].right.y() = 5.0f;                                // a tracker's outlier
   const absl::StatusOr<ReachScale> scale = InputScaleFromReach(kDatabase, samples);
   ASSERT_TRUE(scale.ok()) << scale.status();
   EXPECT_EQ(scale->input_scale, 1.0f);
