@@ -116,7 +116,9 @@ absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* repl
                                                  limits_.max_session_seconds, " s; start a new session"));
     }
     if (estimate_height_) {
-      held_.push_back(std::move(ready));  // sized when the input ends
+      held_.push_back(std::move(ready));  // sized when the input ends, or once held this long
+      if (held_.back().sample.time - held_.front().sample.time > limits_.max_reach_hold_seconds)
+        MOCAP_RETURN_IF_ERROR(SizeFromReach(replies));
       continue;
     }
     MOCAP_RETURN_IF_ERROR(PushScaled(ready, replies));

@@ -32,6 +32,9 @@ struct SessionLimits {
   // Whole-trajectory sessions (window 0) solve their ankle path in windows of at most this many
   // frames, so a session's memory stays bounded (ReconstructionOptions::max_window_frames).
   int max_window_frames = 600;  // 20 s at 30 fps: ~20 MB of ankle clouds at K1 = 500
+  // estimate_performer_height holds the input until it ends to read its reach; past this span the
+  // body is sized on what is held and the rest streams on (48 bytes a sample: ~17 MB at 60 Hz).
+  double max_reach_hold_seconds = 600.0;
 };
 
 class SessionDriver {

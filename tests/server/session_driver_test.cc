@@ -448,6 +448,29 @@ TEST_F(SessionDriverTest, AWholeTrajectoryIsSizedByTheWristsReach) {
   }
 }
 
+// A long input is not held to its end: past max_reach_hold_seconds the body is sized on what is
+// held, and the rest streams on as any whole trajectory does (in windows of max_window_frames).
+TEST_F(SessionDriverTest, ALongInputIsSizedOnItsFirstPartAndStreamsOn) {
+  v1::SessionConfig config = Config(-1);
+  config.set_estimate_performer_height(true);
+  auto driver = Create(config, SessionLimits{.max_window_frames = 50, .max_reach_hold_seconds = 3.0});
+  ASSERT_TRUE(driver.ok()) << driver.status();
+  std::vector<v1::ReconstructResponse> replies;
+  ASSERT_TRUE((*driver)->Push(WireSamples(kTestFrames, 1.3), &replies).ok());
+  const size_t before_finish = Sort(replies).frames.size();
+  EXPECT_GT(before_finish, 0u);  // not held to the end
+  ASSERT_TRUE((*driver)->Finish(&replies).ok());
+  const Replies sorted = Sort(replies);
+  EXPECT_EQ(sorted.frames.size(), static_cast<size_t>(kTestFrames));
+  ASSERT_EQ(sorted.summaries.size(), 1u);
+  EXPECT_TRUE(sorted.summaries.front().performer_height_estimated());
+  for (const v1::ReconstructResponse& reply : replies) {
+    if (!reply.has_frames()) continue;
+    EXPECT_TRUE(reply.frames().has_skeleton());  // the first frames reply carries it
+    break;
+  }
+}
+
 TEST_F(SessionDriverTest, SizingByReachNeedsTheWholeTrajectoryAndGivesWayToADeclaredHeight) {
   for (const int lag : {0, 5}) {
     v1::SessionConfig config = Config(lag);
