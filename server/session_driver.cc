@@ -4,7 +4,6 @@
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
-#include "motion/reconstruct/wrist_reach.h"
 
 namespace mocap {
 
@@ -129,7 +128,8 @@ absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* repl
 
 absl::Status SessionDriver::PushScaled(MonitoredSample& ready, std::vector<v1::ReconstructResponse>* replies) {
   WristSample& input = ready.sample;
-  input.left /= scale_.scale;  // the performer's metres to the database performer's
+  reach_.Add(input).IgnoreError();  // FromProto refused non-finite samples
+  input.left /= scale_.scale;       // the performer's metres to the database performer's
   input.right /= scale_.scale;
   absl::Status pushed = session_->Push(input, &pending_);
   if (absl::IsInvalidArgument(pushed)) return Reject(ready.index, input.time, std::string(pushed.message()), replies);
@@ -137,11 +137,10 @@ absl::Status SessionDriver::PushScaled(MonitoredSample& ready, std::vector<v1::R
 }
 
 absl::Status SessionDriver::SizeFromReach(std::vector<v1::ReconstructResponse>* replies) {
-  std::vector<WristSample> samples;
-  samples.reserve(held_.size());
-  for (const MonitoredSample& h : held_) samples.push_back(h.sample);
-  // The samples passed FromProto (finite); an error here is a database without frames: no estimate.
-  absl::StatusOr<ReachScale> reach = InputScaleFromReach(session_->database().wrist_reach(), samples);
+  ReachHistogram held;
+  for (const MonitoredSample& h : held_) held.Add(h.sample).IgnoreError();  // FromProto refused non-finite ones
+  // An error here is a database without frames: no estimate.
+  absl::StatusOr<ReachScale> reach = held.Scale(session_->database().wrist_reach());
   if (reach.ok() && reach->input_scale < 1.0f) {
     scale_.scale = 1.0f / reach->input_scale;
     resized_ = true;
@@ -187,6 +186,8 @@ absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies
   summary->set_max_reply_ms(latency_max_ms_);
   summary->set_performer_height(scale_.database_height * scale_.scale);
   summary->set_performer_height_estimated(resized_);
+  absl::StatusOr<ReachScale> reach = reach_.Scale(session_->database().wrist_reach());
+  summary->set_reach_height(scale_.database_height / (reach.ok() ? reach->input_scale : 1.0f));
   return absl::OkStatus();
 }
 

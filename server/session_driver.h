@@ -21,6 +21,7 @@
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/frames/input_monitor.h"
 #include "motion/reconstruct/reconstruction_session.h"
+#include "motion/reconstruct/wrist_reach.h"
 #include "motion/retarget/retargeter.h"
 #include "server/reconstruction_convert.h"
 #include "server/server_metrics.h"
@@ -88,6 +89,7 @@ class SessionDriver {
   PerformerScale scale_;
   bool estimate_height_ = false;                 // hold the input until it ends, then size the body by reach
   std::vector<MonitoredSample> held_;            // while estimate_height_
+  ReachHistogram reach_;                         // every accepted sample, performer's metres
   bool resized_ = false, resized_sent_ = false;  // the estimate changed the skeleton; told the client
   InputConversion input_;
   std::unique_ptr<InputMonitor> monitor_;

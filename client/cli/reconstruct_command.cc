@@ -309,6 +309,10 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
               << "  body sized by the wrists' reach: " << summary.performer_height()
               << " m tall (the database performer " << result->started().database_height()
               << " m; --performer-height to declare, --no-estimate-height to keep the database's)\n";
+  } else if (summary.reach_height() > 1.02f * summary.performer_height()) {
+    std::cout << std::fixed << std::setprecision(2) << "  the wrists reached as far as a " << summary.reach_height()
+              << " m body's (this one is " << summary.performer_height() << " m): declare --performer-height "
+              << summary.reach_height() << " or more\n";
   }
   if (plausibility) {
     const PlausibilityStats& p = plausibility->stats;

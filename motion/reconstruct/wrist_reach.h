@@ -7,6 +7,7 @@
 // (docs/evaluation.md, the size rows).
 #pragma once
 
+#include <array>
 #include <span>
 
 #include "absl/status/statusor.h"
@@ -38,9 +39,26 @@ struct ReachScale {
   float separation = 0.0f, height = 0.0f;  // the input's reach (the quantile), metres
 };
 
+// An input's reach as it streams in: 5 mm bins up to 5 m of separation and height (8 kB, no
+// allocation), so a live session can tell at any time how large a body its wrists need.
 // Samples in metres, Y up, ground at y = 0 (as the session takes them). Separation counts samples
-// with both hands tracked, height every tracked hand. InvalidArgument for a non-finite tracked
-// position or an empty database reach.
+// with both hands tracked, height every tracked hand.
+class ReachHistogram {
+ public:
+  // InvalidArgument (and nothing added) for a non-finite tracked position.
+  absl::Status Add(const WristSample& sample);
+  // InvalidArgument for an empty database reach.
+  absl::StatusOr<ReachScale> Scale(const WristReach& database, const ReachScaleOptions& options = {}) const;
+
+ private:
+  static constexpr float kBinMetres = 0.005f;
+  static constexpr int kBins = 1000;
+  std::array<int, kBins> separation_{}, height_{};
+  long separation_count_ = 0, height_count_ = 0, samples_ = 0;
+  double first_time_ = 0.0, last_time_ = 0.0;
+};
+
+// The same over a whole input at once.
 absl::StatusOr<ReachScale> InputScaleFromReach(const WristReach& database, std::span<const WristSample> samples,
                                                const ReachScaleOptions& options = {});
 

@@ -429,6 +429,7 @@ TEST_F(SessionDriverTest, AWholeTrajectoryIsSizedByTheWristsReach) {
       }
     }
     ASSERT_NE(first, nullptr);
+    EXPECT_FLOAT_EQ(summary.reach_height(), summary.performer_height());  // what it was sized by
     if (size == 1.0) {
       EXPECT_FALSE(summary.performer_height_estimated());
       EXPECT_FLOAT_EQ(summary.performer_height(), database_height);
@@ -468,6 +469,29 @@ TEST_F(SessionDriverTest, ALongInputIsSizedOnItsFirstPartAndStreamsOn) {
     if (!reply.has_frames()) continue;
     EXPECT_TRUE(reply.frames().has_skeleton());  // the first frames reply carries it
     break;
+  }
+}
+
+// A stream cannot be resized, but its summary tells how large a body the wrists needed.
+TEST_F(SessionDriverTest, AStreamsSummaryTellsTheHeightItsReachShows) {
+  for (const double size : {1.0, 1.3}) {
+    auto driver = Create(Config(5));
+    ASSERT_TRUE(driver.ok()) << driver.status();
+    std::vector<v1::ReconstructResponse> replies;
+    ASSERT_TRUE((*driver)->Push(WireSamples(kTestFrames, size), &replies).ok());
+    ASSERT_TRUE((*driver)->Finish(&replies).ok());
+    const Replies sorted = Sort(replies);
+    ASSERT_EQ(sorted.summaries.size(), 1u);
+    const v1::SessionSummary& summary = sorted.summaries.front();
+    const float database_height = (*driver)->started().database_height();
+    EXPECT_FALSE(summary.performer_height_estimated());
+    EXPECT_FLOAT_EQ(summary.performer_height(), database_height);
+    if (size == 1.0) {
+      EXPECT_FLOAT_EQ(summary.reach_height(), database_height);
+    } else {
+      EXPECT_GT(summary.reach_height(), 1.05f * database_height);
+      EXPECT_LE(summary.reach_height(), 1.3f * database_height * 1.001f);
+    }
   }
 }
 
