@@ -114,6 +114,7 @@ absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* repl
       return absl::ResourceExhaustedError(StrCat("session length limit: samples span more than ",
                                                  limits_.max_session_seconds, " s; start a new session"));
     }
+    reach_.Add(ready.sample).IgnoreError();  // FromProto refused non-finite samples
     if (estimate_height_) {
       held_.push_back(std::move(ready));  // sized when the input ends, or once held this long
       if (held_.back().sample.time - held_.front().sample.time > limits_.max_reach_hold_seconds)
@@ -128,8 +129,7 @@ absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* repl
 
 absl::Status SessionDriver::PushScaled(MonitoredSample& ready, std::vector<v1::ReconstructResponse>* replies) {
   WristSample& input = ready.sample;
-  reach_.Add(input).IgnoreError();  // FromProto refused non-finite samples
-  input.left /= scale_.scale;       // the performer's metres to the database performer's
+  input.left /= scale_.scale;  // the performer's metres to the database performer's
   input.right /= scale_.scale;
   absl::Status pushed = session_->Push(input, &pending_);
   if (absl::IsInvalidArgument(pushed)) return Reject(ready.index, input.time, std::string(pushed.message()), replies);
@@ -137,10 +137,8 @@ absl::Status SessionDriver::PushScaled(MonitoredSample& ready, std::vector<v1::R
 }
 
 absl::Status SessionDriver::SizeFromReach(std::vector<v1::ReconstructResponse>* replies) {
-  ReachHistogram held;
-  for (const MonitoredSample& h : held_) held.Add(h.sample).IgnoreError();  // FromProto refused non-finite ones
-  // An error here is a database without frames: no estimate.
-  absl::StatusOr<ReachScale> reach = held.Scale(session_->database().wrist_reach());
+  // reach_ holds exactly the held samples yet. An error here is a database without frames: no estimate.
+  absl::StatusOr<ReachScale> reach = reach_.Scale(session_->database().wrist_reach());
   if (reach.ok() && reach->input_scale < 1.0f) {
     scale_.scale = 1.0f / reach->input_scale;
     resized_ = true;
