@@ -13,6 +13,7 @@
 #include "motion/preprocess/clip_labels.h"
 #include "motion/preprocess/clip_preprocessor.h"
 #include "motion/reconstruct/body_model.h"
+#include "motion/reconstruct/body_sizer.h"
 #include "motion/reconstruct/performer_scale.h"
 #include "motion/reconstruct/wrist_reach.h"
 #include "motion/skeleton/forward_kinematics.h"
@@ -163,11 +164,12 @@ float TruthScale(const SizeReference& reference, const LandmarkTruth& truth) {
   return (reference.body.leg + reference.body.arm) / (performer.leg + performer.arm);
 }
 
-// kService as the service resolves it: the reach estimate for a whole trajectory only.
+// kService as the service resolves it: the reach estimate for a whole trajectory, followed
+// online in the streaming modes.
 PerformerSize ServiceSize(const Experiment& experiment) {
   if (experiment.size != PerformerSize::kService) return experiment.size;
   const bool whole = experiment.options.mode == StreamMode::kSubInterval && experiment.options.window == 0;
-  return whole ? PerformerSize::kReach : PerformerSize::kDatabase;
+  return whole ? PerformerSize::kReach : PerformerSize::kOnline;
 }
 
 float InputScale(PerformerSize size, const ReconstructionDatabase& database, const SizeReference& reference,
@@ -175,6 +177,7 @@ float InputScale(PerformerSize size, const ReconstructionDatabase& database, con
                  PerformerScaleEstimate* fit_out = nullptr) {
   switch (size) {
     case PerformerSize::kDatabase:
+    case PerformerSize::kOnline:   // sized as the input streams in (BodySizer)
     case PerformerSize::kService:  // resolved by the caller (ServiceSize)
       return 1.0f;
     case PerformerSize::kTruth:
@@ -268,22 +271,22 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       const LandmarkTruth& truth = tests[i].truth;
       std::vector<WristSample> wrists =
           DeviceSamples(truth, experiment.device, experiment.noise_cm, seed + static_cast<unsigned>(i));
-      // The input is multiplied by it, the output divided.
-      const float scale = InputScale(ServiceSize(experiment), *database, reference, truth, wrists,
-                                     seed + static_cast<unsigned>(i), &fits[i]);
-      input_scales[i] = scale;
-      for (WristSample& sample : wrists) {
-        sample.left *= scale;
-        sample.right *= scale;
-      }
+      // The input is multiplied by it, the output divided; or sized as it streams in.
+      const PerformerSize size = ServiceSize(experiment);
+      const float scale =
+          InputScale(size, *database, reference, truth, wrists, seed + static_cast<unsigned>(i), &fits[i]);
+      BodySizer sizer(database->wrist_reach(), 1.0f / scale, {.online = size == PerformerSize::kOnline});
       const auto start = std::chrono::steady_clock::now();
-      absl::StatusOr<std::vector<ReconstructedFrame>> frames = ReconstructOffline(database, experiment.options, wrists);
+      std::vector<SizeMap> maps;
+      absl::StatusOr<std::vector<ReconstructedFrame>> frames =
+          ReconstructSized(database, experiment.options, wrists, sizer, &maps);
       if (!frames.ok())
         return absl::Status(frames.status().code(), StrCat(tests[i].name, ": ", frames.status().message()));
-      per_clip[i] = MeasureLandmarks(*database, truth, *frames, 1.0f / scale, &confidence[i]);
+      input_scales[i] = 1.0f / sizer.map().scale;  // where the size ended
+      per_clip[i] = MeasureLandmarks(*database, truth, *frames, maps, &confidence[i]);
       if (experiment.device.dropout_s > 0 || experiment.device.gap_every_s > 0 ||
           experiment.device.left_hand_lost_s > 0)
-        MeasureReentryJerk(*database, truth, *frames, wrists, 1.0f / scale, &per_clip[i]);
+        MeasureReentryJerk(*database, truth, *frames, wrists, maps, &per_clip[i]);
       for (ConfidenceSample& sample : confidence[i]) sample.clip = static_cast<int>(i);
       per_clip[i].seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return absl::OkStatus();

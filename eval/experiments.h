@@ -23,13 +23,26 @@ namespace mocap::eval {
 // kReach: one-sided, from how far the wrists reach (motion/reconstruct/wrist_reach.h): where they
 // spend a twentieth of the input further apart or higher than the database's bodies ever held
 // theirs, the performer is that much larger; otherwise the database's size.
-// kService: as the service sizes the body when no height is declared: kReach for a whole
-// trajectory (SessionConfig.estimate_performer_height, on by default in `mocap reconstruct`),
-// the database's in the streaming modes, whose frames leave before the input has shown its reach.
+// kOnline: the same bound as the input streams in (motion/reconstruct/body_sizer.h): the
+// database's size until the reach asks for more, then eased towards it.
+// kService: as the service sizes the body when no height is declared
+// (SessionConfig.estimate_performer_height, on by default in `mocap reconstruct`): kReach for a
+// whole trajectory, kOnline in the streaming modes, whose frames leave before the input has shown
+// its reach.
 // kDeclared: the service's SessionConfig.performer_height path, as a user who knows their height
 // uses it: the performer's height (told from the capture's legs as EstimatedStature tells the
 // database's) with a 3% error (σ, one draw per clip), against the database body's EstimatedStature.
-enum class PerformerSize { kDatabase, kTruth, kLowerWrist, kWalkingWrists, kDatabaseFit, kDeclared, kReach, kService };
+enum class PerformerSize {
+  kDatabase,
+  kTruth,
+  kLowerWrist,
+  kWalkingWrists,
+  kDatabaseFit,
+  kDeclared,
+  kReach,
+  kOnline,
+  kService
+};
 
 struct Experiment {
   std::string name;

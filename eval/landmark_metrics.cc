@@ -49,10 +49,15 @@ double TruthPelvisSpeedMax(const LandmarkTruth& truth, double database_frame_tim
   return fastest;
 }
 
+SizeMap MapOf(std::span<const SizeMap> maps, size_t frame) {
+  if (maps.empty()) return {};
+  return maps.size() == 1 ? maps.front() : maps[frame];
+}
+
 }  // namespace
 
 LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const LandmarkTruth& truth,
-                                 const std::vector<ReconstructedFrame>& frames, float output_scale,
+                                 const std::vector<ReconstructedFrame>& frames, std::span<const SizeMap> maps,
                                  std::vector<ConfidenceSample>* confidence) {
   LandmarkMetrics m;
   const std::array<int, kNumScoredLandmarks> joints = ScoredLandmarkJoints(database.rig().topology.landmarks);
@@ -65,7 +70,8 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
   std::vector<Eigen::Vector3f> positions;
   for (size_t i = 0; i < frames.size(); ++i) {
     database.body().WorldTransforms(frames[i].pose, &rotations, &positions);
-    for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = output_scale * positions[joints[k]];
+    const SizeMap map = MapOf(maps, i);
+    for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = map.ToPerformer(positions[joints[k]]);
     plausibility_frames.push_back(MakePlausibilityFrame(plausibility_rig, positions, frames[i].wrists, frames[i].time,
                                                         frames[i].segment, frames[i].implausible_input(),
                                                         frames[i].motion_limited));
@@ -95,7 +101,8 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
     const bool answered =
         frames[next - 1].segment == frames[next].segment || std::min(t - t0, t1 - t) <= 0.5 * database.frame_time();
     if (confidence && answered) {
-      AddConfidenceSamples(frames[w < 0.5f ? next - 1 : next], output_scale, at, truth.positions[f], confidence);
+      const size_t nearer = w < 0.5f ? next - 1 : next;
+      AddConfidenceSamples(frames[nearer], MapOf(maps, nearer).scale, at, truth.positions[f], confidence);
     }
     m.pose_error_m += pose / (kNumScoredLandmarks - 1);
     m.frames += 1;
@@ -132,7 +139,7 @@ double Jerk(const std::vector<std::array<Eigen::Vector3f, kNumScoredLandmarks>>&
 
 void MeasureReentryJerk(const ReconstructionDatabase& database, const LandmarkTruth& truth,
                         const std::vector<ReconstructedFrame>& frames, const std::vector<WristSample>& samples,
-                        float output_scale, LandmarkMetrics* metrics) {
+                        std::span<const SizeMap> maps, LandmarkMetrics* metrics) {
   if (samples.size() < 3 || frames.size() < 4 || truth.num_frames() < 2) return;
   std::vector<double> steps;
   for (size_t i = 1; i < samples.size(); ++i) steps.push_back(samples[i].time - samples[i - 1].time);
@@ -144,7 +151,8 @@ void MeasureReentryJerk(const ReconstructionDatabase& database, const LandmarkTr
   std::vector<std::array<Eigen::Vector3f, kNumScoredLandmarks>> output(frames.size()), captured(frames.size());
   for (size_t i = 0; i < frames.size(); ++i) {
     database.body().WorldTransforms(frames[i].pose, &rotations, &positions);
-    for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = output_scale * positions[joints[k]];
+    const SizeMap map = MapOf(maps, i);
+    for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = map.ToPerformer(positions[joints[k]]);
     captured[i] = LandmarksAt(truth, frames[i].time);
   }
   const double dt = database.frame_time();

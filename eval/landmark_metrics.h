@@ -6,11 +6,13 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "eval/clip_plausibility.h"
 #include "eval/confidence_calibration.h"
+#include "motion/reconstruct/body_sizer.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/reconstruction_session.h"
 #include "motion/skeleton/body_topology.h"
@@ -73,18 +75,19 @@ struct LandmarkMetrics : ClipPlausibility {
 // Scores `frames` (the database's rig, its rate, on the input's clock starting at time 0) at each
 // of the truth's frame times, the output's landmarks interpolated linearly between the two output
 // frames around that time. Truth frames outside the output's time span are not scored.
-// `output_scale`: the output's positions are multiplied by it first (a body reconstructed at the
-// database's size and scaled to the performer's).
+// `maps`: each frame's positions go to the performer's space through its map first (a body
+// reconstructed at the database's size, body_sizer.h): one per frame, or one for every frame, or
+// none (the output is the performer's).
 // `confidence`, when given, receives each scored frame's confidence pairs (the expected errors of
 // the output frame nearer in time, scaled as its positions).
 LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const LandmarkTruth& truth,
-                                 const std::vector<ReconstructedFrame>& frames, float output_scale = 1.0f,
+                                 const std::vector<ReconstructedFrame>& frames, std::span<const SizeMap> maps = {},
                                  std::vector<ConfidenceSample>* confidence = nullptr);
 
 // Adds to `metrics` the re-entry jerk of `frames` after each dropout of the input `samples` (a
 // step of more than 2.5 of its typical sample periods), against the truth's at the same times.
 void MeasureReentryJerk(const ReconstructionDatabase& database, const LandmarkTruth& truth,
                         const std::vector<ReconstructedFrame>& frames, const std::vector<WristSample>& samples,
-                        float output_scale, LandmarkMetrics* metrics);
+                        std::span<const SizeMap> maps, LandmarkMetrics* metrics);
 
 }  // namespace mocap::eval

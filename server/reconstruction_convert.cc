@@ -229,21 +229,23 @@ void ToProto(const LandmarkErrors& errors, float scale, v1::LandmarkErrors* out)
   for (int k = 0; k < kNumBodyLandmarks; ++k) reflection->SetFloat(out, descriptor->field(k), errors[k] * scale);
 }
 
-void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out) {
-  const float s = scale.scale;
+void ToProto(const ReconstructedFrame& frame, const SizeMap& map, float skeleton_scale, bool diagnostics,
+             v1::Frame* out) {
+  const float s = map.scale;
   out->set_index(frame.index);
   out->set_segment(frame.segment);
   out->set_frame_in_segment(frame.frame_in_segment);
   out->set_time(frame.time);
-  ToProto(frame.pose.root_position, s, out->mutable_root_position());
+  if (s != skeleton_scale) out->set_body_scale(s / skeleton_scale);
+  ToProto(map.ToPerformer(frame.pose.root_position), 1.0f, out->mutable_root_position());
   out->mutable_rotations()->Reserve(static_cast<int>(frame.pose.rotations.size()));
   for (const Eigen::Quaternionf& q : frame.pose.rotations) ToProto(q, out->add_rotations());
-  ToProto(frame.pelvis_position, s, out->mutable_pelvis_position());
+  ToProto(map.ToPerformer(frame.pelvis_position), 1.0f, out->mutable_pelvis_position());
   ToProto(frame.pelvis_rotation, out->mutable_pelvis_rotation());
-  ToProto(frame.ankles[0], s, out->mutable_left_ankle());
-  ToProto(frame.ankles[1], s, out->mutable_right_ankle());
-  ToProto(frame.wrists[0], s, out->mutable_left_wrist());
-  ToProto(frame.wrists[1], s, out->mutable_right_wrist());
+  ToProto(map.ToPerformer(frame.ankles[0]), 1.0f, out->mutable_left_ankle());
+  ToProto(map.ToPerformer(frame.ankles[1]), 1.0f, out->mutable_right_ankle());
+  ToProto(map.ToPerformer(frame.wrists[0]), 1.0f, out->mutable_left_wrist());
+  ToProto(map.ToPerformer(frame.wrists[1]), 1.0f, out->mutable_right_wrist());
   auto state = [](TrackingState t) {
     switch (t) {
       case TrackingState::kImplausible:

@@ -6,6 +6,7 @@
 
 #include "absl/status/statusor.h"
 #include "mocap/v1/reconstruction.pb.h"
+#include "motion/reconstruct/body_sizer.h"
 #include "motion/reconstruct/reconstruction_session.h"
 #include "motion/retarget/retarget_rig.h"
 #include "server/input_frame_convert.h"
@@ -49,7 +50,10 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
 void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out);
 // Expected landmark errors, metres × `scale` (the performer's size).
 void ToProto(const LandmarkErrors& errors, float scale, v1::LandmarkErrors* out);
-void ToProto(const ReconstructedFrame& frame, const PerformerScale& scale, bool diagnostics, v1::Frame* out);
+// `map`: the frame's input's way into the database body's space (body_sizer.h), taken back;
+// `skeleton_scale`: the scale of the skeleton the client animates (Frame.body_scale is the ratio).
+void ToProto(const ReconstructedFrame& frame, const SizeMap& map, float skeleton_scale, bool diagnostics,
+             v1::Frame* out);
 void ToProto(const SessionStatistics& statistics, v1::SessionSummary* out);
 
 // SessionConfig.target_rig (target_rig.proto) analysed into a rig to retarget onto.

@@ -21,20 +21,20 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
   driver->session_->SetCancelFlag(cancel);
   driver->config_ = config;
   driver->scale_ = scale;
+  bool size_online = false;
   if (config.estimate_performer_height() && config.performer_height() == 0.0f) {
-    if (options.mode != StreamMode::kSubInterval || options.window != 0) {
-      return absl::InvalidArgumentError(
-          "estimate_performer_height needs the whole trajectory at once (sub_interval with window_frames 0, the "
-          "default): in the streaming modes frames leave before the input has shown how far the wrists reach; "
-          "declare performer_height instead");
-    }
     if (config.has_target_rig()) {
       return absl::InvalidArgumentError(
           "estimate_performer_height with a target_rig: the frames animate the target rig's own skeleton; declare "
           "performer_height instead");
     }
-    driver->estimate_height_ = true;
+    // The whole trajectory is sized once, before it goes in; a stream follows the reach as it comes.
+    const bool whole = options.mode == StreamMode::kSubInterval && options.window == 0;
+    driver->estimate_height_ = whole;
+    size_online = !whole;
   }
+  driver->sizer_.emplace(database->wrist_reach(), scale.scale, BodySizerOptions{.online = size_online});
+  driver->skeleton_scale_ = scale.scale;
   driver->limits_ = limits;
   const FloorSpec& floor = input_frame.floor;
   driver->input_ = {input_frame, FrameTransform(input_frame.convention, floor.calibrate ? 0.0 : floor.height)};
@@ -114,7 +114,7 @@ absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* repl
       return absl::ResourceExhaustedError(StrCat("session length limit: samples span more than ",
                                                  limits_.max_session_seconds, " s; start a new session"));
     }
-    reach_.Add(ready.sample).IgnoreError();  // FromProto refused non-finite samples
+    sizer_->Count(ready.sample);  // FromProto refused non-finite samples
     if (estimate_height_) {
       held_.push_back(std::move(ready));  // sized when the input ends, or once held this long
       if (held_.back().sample.time - held_.front().sample.time > limits_.max_reach_hold_seconds)
@@ -128,19 +128,19 @@ absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* repl
 }
 
 absl::Status SessionDriver::PushScaled(MonitoredSample& ready, std::vector<v1::ReconstructResponse>* replies) {
-  WristSample& input = ready.sample;
-  input.left /= scale_.scale;  // the performer's metres to the database performer's
-  input.right /= scale_.scale;
+  const WristSample input = sizer_->Map(ready.sample);  // the performer's metres to the database body's
   absl::Status pushed = session_->Push(input, &pending_);
   if (absl::IsInvalidArgument(pushed)) return Reject(ready.index, input.time, std::string(pushed.message()), replies);
   return pushed;
 }
 
 absl::Status SessionDriver::SizeFromReach(std::vector<v1::ReconstructResponse>* replies) {
-  // reach_ holds exactly the held samples yet. An error here is a database without frames: no estimate.
-  absl::StatusOr<ReachScale> reach = reach_.Scale(session_->database().wrist_reach());
+  // The sizer has counted exactly the held samples yet. An error here is a database without
+  // frames: no estimate.
+  absl::StatusOr<ReachScale> reach = sizer_->reach().Scale(session_->database().wrist_reach());
   if (reach.ok() && reach->input_scale < 1.0f) {
     scale_.scale = 1.0f / reach->input_scale;
+    sizer_->SetScale(scale_.scale);
     resized_ = true;
   }
   estimate_height_ = false;
@@ -182,9 +182,9 @@ absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies
   summary->set_frames(frames_emitted_);
   summary->set_mean_reply_ms(latency_count_ > 0 ? latency_sum_ms_ / static_cast<double>(latency_count_) : 0.0);
   summary->set_max_reply_ms(latency_max_ms_);
-  summary->set_performer_height(scale_.database_height * scale_.scale);
-  summary->set_performer_height_estimated(resized_);
-  absl::StatusOr<ReachScale> reach = reach_.Scale(session_->database().wrist_reach());
+  summary->set_performer_height(scale_.database_height * sizer_->map().scale);
+  summary->set_performer_height_estimated(resized_ || sizer_->resizes() > 0);
+  absl::StatusOr<ReachScale> reach = sizer_->reach().Scale(session_->database().wrist_reach());
   summary->set_reach_height(scale_.database_height / (reach.ok() ? reach->input_scale : 1.0f));
   return absl::OkStatus();
 }
@@ -205,10 +205,11 @@ void SessionDriver::AppendFrames(std::vector<v1::ReconstructResponse>* replies) 
       ToProto(session_->database(), scale_, frames->mutable_skeleton());
       if (output_transform_) ToCallerFrame(*output_transform_, frames->mutable_skeleton());
       resized_sent_ = true;
+      skeleton_scale_ = scale_.scale;
     }
     for (size_t i = start; i < end; ++i) {
       v1::Frame* frame = frames->add_frames();
-      ToProto(pending_[i], scale_, config_.include_diagnostics(), frame);
+      ToProto(pending_[i], sizer_->MapAt(pending_[i].time), skeleton_scale_, config_.include_diagnostics(), frame);
       if (retargeter_) {
         retargeter_->Retarget(session_->database().body(), pending_[i].pose, &target_pose_);
         const int pelvis = retargeter_->target().topology.landmarks.pelvis;

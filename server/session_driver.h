@@ -20,8 +20,8 @@
 #include "absl/status/statusor.h"
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/frames/input_monitor.h"
+#include "motion/reconstruct/body_sizer.h"
 #include "motion/reconstruct/reconstruction_session.h"
-#include "motion/reconstruct/wrist_reach.h"
 #include "motion/retarget/retargeter.h"
 #include "server/reconstruction_convert.h"
 #include "server/server_metrics.h"
@@ -76,7 +76,7 @@ class SessionDriver {
                       std::vector<v1::ReconstructResponse>* replies);
   // The monitor's released samples into the session, its findings into an InputReport.
   absl::Status PushReady(std::vector<v1::ReconstructResponse>* replies);
-  // One released sample into the session at the performer's scale.
+  // One released sample into the session, through the sizer.
   absl::Status PushScaled(MonitoredSample& ready, std::vector<v1::ReconstructResponse>* replies);
   // config.estimate_performer_height, at the end of the input: the body's size from the wrists'
   // reach (wrist_reach.h), then the held samples into the session.
@@ -87,10 +87,12 @@ class SessionDriver {
   v1::SessionConfig config_;
   std::unique_ptr<ReconstructionSession> session_;
   PerformerScale scale_;
-  bool estimate_height_ = false;                 // hold the input until it ends, then size the body by reach
-  std::vector<MonitoredSample> held_;            // while estimate_height_
-  ReachHistogram reach_;                         // every accepted sample, performer's metres
+  bool estimate_height_ = false;       // hold the input until it ends, then size the body by reach
+  std::vector<MonitoredSample> held_;  // while estimate_height_
+  // Performer's space to the database body's and back; counts every accepted sample's reach.
+  std::optional<BodySizer> sizer_;
   bool resized_ = false, resized_sent_ = false;  // the estimate changed the skeleton; told the client
+  float skeleton_scale_ = 1.0f;                  // of the skeleton the client animates
   InputConversion input_;
   std::unique_ptr<InputMonitor> monitor_;
   std::vector<MonitoredSample> ready_;  // released by the monitor, not yet pushed

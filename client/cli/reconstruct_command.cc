@@ -60,9 +60,8 @@ absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
                                                 : o.foot_contacts == "both"   ? v1::FOOT_CONTACTS_BOTH
                                                                               : v1::FOOT_CONTACTS_ESTIMATED_ANKLES);
   config.set_performer_height(o.performer_height);
-  // The service sizes the body by the wrists' reach only when it has the whole input at once.
-  config.set_estimate_performer_height(o.estimate_height && o.performer_height == 0.0f && o.lag < 0 && o.window <= 0 &&
-                                       o.target_rig_text.empty());
+  // The body sized by the wrists' reach: once for the whole input, as it streams in otherwise.
+  config.set_estimate_performer_height(o.estimate_height && o.performer_height == 0.0f && o.target_rig_text.empty());
   config.set_include_diagnostics(o.diagnostics);
   config.set_strict(o.strict);
   config.set_min_confidence(o.min_confidence);
@@ -160,7 +159,9 @@ std::optional<Plausibility> PlausibilityOf(const v1::SessionStarted& started, co
       const v1::Quaternion& q = frames[f].rotations(j);
       const v1::Vec3& root = frames[f].root_position();
       motion.SetRotation(f, j, Eigen::Quaternionf(q.w(), q.x(), q.y(), q.z()).normalized());
-      motion.SetTranslation(f, j, j == 0 ? Eigen::Vector3f(root.x(), root.y(), root.z()) : skeleton.joint(j).offset);
+      motion.SetTranslation(f, j,
+                            j == 0 ? Eigen::Vector3f(root.x(), root.y(), root.z())
+                                   : BodyScale(frames[f]) * skeleton.joint(j).offset);  // as the body grew
     }
   }
   const GlobalPoses poses = ForwardKinematics(skeleton, motion);
@@ -395,7 +396,8 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
       ->check(CLI::NonNegativeNumber);
   command->add_flag("!--no-estimate-height", o->estimate_height,
                     "Keep the database performer's size instead of sizing the body by how far the wrists reach "
-                    "(done for a whole trajectory without --performer-height or --target-rig)");
+                    "(done without --performer-height or --target-rig: once for a whole trajectory, as the input "
+                    "streams in with --lag or --window)");
   AddInputFrameFlags(command, &o->input_frame);
   command
       ->add_option("--target-rig", o->target_rig,

@@ -2,6 +2,7 @@
 
 #include "motion/bvh/bvh_writer.h"
 #include "motion/reconstruct/reconstruction_export.h"
+#include "motion/skeleton/forward_kinematics.h"
 #include "motion/skeleton/local_motion.h"
 
 namespace mocap::cli {
@@ -9,17 +10,18 @@ namespace {
 
 Eigen::Vector3f FromProto(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-Skeleton SkeletonFromProto(const v1::Skeleton& skeleton) {
+// `scale`: every bone times it (Frame.body_scale).
+Skeleton SkeletonFromProto(const v1::Skeleton& skeleton, float scale) {
   using C = ChannelType;
   std::vector<Joint> joints;
   for (const v1::Joint& joint : skeleton.joints()) {
     Joint out;
     out.name = joint.name();
     out.parent = joint.parent();
-    out.offset = FromProto(joint.offset());
+    out.offset = scale * FromProto(joint.offset());
     out.channels = {C::kZrotation, C::kXrotation, C::kYrotation};
     if (out.parent < 0) out.channels.insert(out.channels.begin(), {C::kXposition, C::kYposition, C::kZposition});
-    if (joint.has_end_site()) out.end_site = FromProto(joint.end_site());
+    if (joint.has_end_site()) out.end_site = scale * FromProto(joint.end_site());
     joints.push_back(std::move(out));
   }
   // BVH readers expect every leaf to end in an End Site.
@@ -35,9 +37,14 @@ Skeleton SkeletonFromProto(const v1::Skeleton& skeleton) {
 
 }  // namespace
 
+float BodyScale(const v1::Frame& frame) { return frame.body_scale() > 0.0f ? frame.body_scale() : 1.0f; }
+
 absl::StatusOr<std::string> ReconstructionBvh(const v1::SessionStarted& started, const std::vector<v1::Frame>& frames) {
+  // A stream that learned the performer's size (Frame.body_scale) grew its bones on the way; a
+  // BVH has one skeleton: the size reached at the end.
+  const float final_scale = frames.empty() ? 1.0f : BodyScale(frames.back());
   BvhClip clip;
-  clip.skeleton = SkeletonFromProto(started.skeleton());
+  clip.skeleton = SkeletonFromProto(started.skeleton(), final_scale);
   if (absl::Status valid = clip.skeleton.Validate(); !valid.ok()) return valid;
   clip.frame_time = started.frame_rate() > 0 ? 1.0 / started.frame_rate() : 1.0 / 30.0;
   const int joints = clip.skeleton.num_joints();
@@ -62,6 +69,19 @@ absl::StatusOr<std::string> ReconstructionBvh(const v1::SessionStarted& started,
       const v1::Quaternion& q = frame.rotations(j);
       motion.SetRotation(f, j, Eigen::Quaternionf(q.w(), q.x(), q.y(), q.z()).normalized());
       motion.SetTranslation(f, j, j == 0 ? FromProto(frame.root_position()) : clip.skeleton.joint(j).offset);
+    }
+  }
+  // Frames made before the body reached that size keep their pelvis over the same ground point at
+  // its height in the final body's proportion, so the feet stay on the floor.
+  bool resized = false;
+  for (const v1::Frame& frame : frames) resized = resized || BodyScale(frame) != final_scale;
+  if (resized) {
+    const int placed = pelvis < joints ? pelvis : 0;
+    const GlobalPoses poses = ForwardKinematics(clip.skeleton, motion);
+    for (int f = 0; f < static_cast<int>(frames.size()); ++f) {
+      Eigen::Vector3f wanted = FromProto(frames[f].pelvis_position());
+      wanted.y() *= final_scale / BodyScale(frames[f]);
+      motion.SetTranslation(f, 0, motion.translation(f, 0) + wanted - poses.position(f, placed));
     }
   }
   if (hold_root && motion.num_frames() > 0) {

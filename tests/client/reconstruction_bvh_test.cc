@@ -175,6 +175,53 @@ TEST(ReconstructionBvhTest, AnExtraRootStaysStillOnTheFloorAndEveryJointIsWhereT
   for (size_t f = 0; f < root_track.size(); ++f) EXPECT_LT(root_track[f].norm(), 1e-3f) << "frame " << f;
 }
 
+// A stream that learned the performer's size (Frame.body_scale 1 → 1.2 over its frames): a BVH
+// has one skeleton, the size reached; the earlier frames keep their pelvis over the same ground
+// point at its height in that body's proportion, so a standing body's feet stay on the floor.
+TEST(ReconstructionBvhTest, ABodyThatGrewIsWrittenAtTheSizeItReachedWithItsFeetOnTheFloor) {
+  v1::SessionStarted started;
+  started.set_frame_rate(30.0);
+  v1::Skeleton* skeleton = started.mutable_skeleton();
+  AddJoint(skeleton, "Hips", -1, Eigen::Vector3f::Zero());
+  for (const float side : {1.0f, -1.0f}) {
+    const int hip = skeleton->joints_size();
+    AddJoint(skeleton, side > 0 ? "LeftUpLeg" : "RightUpLeg", 0, {0.1f * side, -0.05f, 0.0f});
+    AddJoint(skeleton, side > 0 ? "LeftLeg" : "RightLeg", hip, {0.0f, -0.42f, 0.0f});
+    SetVec3({0.0f, 0.0f, 0.12f},
+            AddJoint(skeleton, side > 0 ? "LeftFoot" : "RightFoot", hip + 1, {0.0f, -0.42f, 0.0f})->mutable_end_site());
+  }
+  skeleton->mutable_landmarks()->set_pelvis(0);
+  constexpr float kFinal = 1.2f;
+  std::vector<v1::Frame> frames;
+  for (int f = 0; f < 30; ++f) {
+    const float scale = f < 10 ? 1.0f : f < 20 ? 1.0f + (kFinal - 1.0f) * static_cast<float>(f - 10) / 10.0f : kFinal;
+    v1::Frame frame;
+    frame.set_index(f);
+    if (scale != 1.0f) frame.set_body_scale(scale);
+    const Eigen::Vector3f pelvis(0.03f * f, 0.89f * scale, 0.5f);  // standing straight, feet on the floor
+    SetVec3(pelvis, frame.mutable_root_position());
+    SetVec3(pelvis, frame.mutable_pelvis_position());
+    for (int j = 0; j < skeleton->joints_size(); ++j)
+      SetQuaternion(Eigen::Quaternionf::Identity(), frame.add_rotations());
+    frames.push_back(std::move(frame));
+  }
+  const absl::StatusOr<std::string> text = cli::ReconstructionBvh(started, frames);
+  ASSERT_TRUE(text.ok()) << text.status();
+  const absl::StatusOr<BvhClip> parsed = ParseBvh(*text, "grown.bvh");
+  ASSERT_TRUE(parsed.ok()) << parsed.status();
+  const int foot = parsed->skeleton.Find("LeftFoot");
+  ASSERT_GT(foot, 0);
+  EXPECT_NEAR(parsed->skeleton.joint(foot).offset.y(), -0.42f * kFinal, 1e-5f);  // the size reached
+  const GlobalPoses read =
+      ForwardKinematics(parsed->skeleton, MotionFromChannels(parsed->skeleton, parsed->channels, parsed->frame_time));
+  ASSERT_EQ(read.num_frames(), 30);
+  for (int f = 0; f < read.num_frames(); ++f) {
+    EXPECT_NEAR(read.position(f, foot).y(), 0.0f, 1e-4f) << "frame " << f;    // on the floor
+    EXPECT_NEAR(read.position(f, 0).x(), 0.03f * f, 1e-5f) << "frame " << f;  // over the same ground point
+    EXPECT_NEAR(read.position(f, 0).z(), 0.5f, 1e-5f) << "frame " << f;
+  }
+}
+
 // `mocap reconstruct --target-rig AVATAR.bvh` on a rig whose pelvis has no position channels
 // (cmu-cc's CC_Base_Hip under RL_BoneRoot; here the synthetic Z-up rig's Hips): the file gives the
 // pelvis position channels and holds the root at rest, instead of moving the root with the body.

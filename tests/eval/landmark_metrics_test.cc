@@ -99,7 +99,7 @@ TEST(LandmarkMetricsTest, AnUnansweredGapGivesNoConfidencePairs) {
     answered.push_back(frame);
   }
   std::vector<ConfidenceSample> pairs;
-  const LandmarkMetrics m = MeasureLandmarks(*setup.database, truth, answered, 1.0f, &pairs);
+  const LandmarkMetrics m = MeasureLandmarks(*setup.database, truth, answered, {}, &pairs);
   EXPECT_EQ(m.frames, size);  // every truth frame scored
   EXPECT_EQ(pairs.size(), static_cast<size_t>((size - 10) * kNumBodyLandmarks));
 }
@@ -162,21 +162,21 @@ TEST(ReentryJerkTest, AfterEachDropoutTheOutputsJerkAgainstTheCapturesAtTheSameT
     if (f < 20 || f >= 30) samples.push_back({.time = f * dt});
   }
   LandmarkMetrics same;
-  MeasureReentryJerk(*setup.database, truth, out.frames, samples, 1.0f, &same);
+  MeasureReentryJerk(*setup.database, truth, out.frames, samples, {}, &same);
   EXPECT_EQ(same.reentries, 1);
   EXPECT_GT(same.truth_reentry_jerk, 0.0);
   EXPECT_NEAR(same.reentry_jerk, same.truth_reentry_jerk, 1e-3 * same.truth_reentry_jerk);
   // The body jumps 10 cm where the input comes back: the output jerks, the capture does not.
   for (int f = 30; f < frames; ++f) out.frames[f].pose.root_position.x() += 0.1f;
   LandmarkMetrics jumped;
-  MeasureReentryJerk(*setup.database, truth, out.frames, samples, 1.0f, &jumped);
+  MeasureReentryJerk(*setup.database, truth, out.frames, samples, {}, &jumped);
   EXPECT_EQ(jumped.reentries, 1);
   EXPECT_GT(jumped.reentry_jerk, 3 * jumped.truth_reentry_jerk);
   // No dropout, no re-entry.
   std::vector<WristSample> steady;
   for (int f = 0; f < frames; ++f) steady.push_back({.time = f * dt});
   LandmarkMetrics none;
-  MeasureReentryJerk(*setup.database, truth, out.frames, steady, 1.0f, &none);
+  MeasureReentryJerk(*setup.database, truth, out.frames, steady, {}, &none);
   EXPECT_EQ(none.reentries, 0);
 }
 

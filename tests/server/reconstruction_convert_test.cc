@@ -372,10 +372,11 @@ TEST(FrameToProtoTest, LengthsAreScaledToThePerformerAndRotationsAreNot) {
   frame.diagnostics.ankle_source_row = 77;
   frame.diagnostics.contact = {true, false};
   frame.diagnostics.bridged = true;
-  const PerformerScale scale{.database_height = 1.7f, .scale = 2.0f};
+  const SizeMap scale{.scale = 2.0f};
 
   v1::Frame out;
-  ToProto(frame, scale, /*diagnostics=*/false, &out);
+  ToProto(frame, scale, /*skeleton_scale=*/2.0f, /*diagnostics=*/false, &out);
+  EXPECT_EQ(out.body_scale(), 0.0f);  // unset: the skeleton the client has
   EXPECT_EQ(out.index(), 12);
   EXPECT_EQ(out.segment(), 1);
   EXPECT_EQ(out.frame_in_segment(), 3);
@@ -390,7 +391,7 @@ TEST(FrameToProtoTest, LengthsAreScaledToThePerformerAndRotationsAreNot) {
   EXPECT_FLOAT_EQ(out.pelvis_rotation().x(), frame.pelvis_rotation.x());
   EXPECT_FALSE(out.has_diagnostics());
 
-  ToProto(frame, scale, /*diagnostics=*/true, &out);
+  ToProto(frame, scale, 2.0f, /*diagnostics=*/true, &out);
   ASSERT_TRUE(out.has_diagnostics());
   EXPECT_FLOAT_EQ(out.diagnostics().left_wrist_error(), 0.02f);
   EXPECT_FLOAT_EQ(out.diagnostics().right_ankle_error(), 0.08f);
@@ -398,6 +399,24 @@ TEST(FrameToProtoTest, LengthsAreScaledToThePerformerAndRotationsAreNot) {
   EXPECT_TRUE(out.diagnostics().left_foot_planted());
   EXPECT_FALSE(out.diagnostics().right_foot_planted());
   EXPECT_TRUE(out.diagnostics().bridged());
+}
+
+TEST(FrameToProtoTest, ABodyGrowingInAStreamCarriesItsScaleAndPositionsThroughItsMap) {
+  ReconstructedFrame frame;
+  frame.pose.rotations = {Eigen::Quaternionf::Identity()};
+  frame.pose.root_position = {1.0f, 0.9f, 2.0f};
+  frame.pelvis_position = {1.0f, 1.0f, 2.0f};
+  frame.wrists = {Eigen::Vector3f(1.3f, 0.8f, 2.0f), Eigen::Vector3f(0.7f, 0.8f, 2.0f)};
+  // Half-way through growing 1.0 → 1.2 about a performer standing near (5, 0, 7).
+  const SizeMap map{.scale = 1.1f, .offset = Eigen::Vector2f(1.0f - 5.0f / 1.1f, 2.0f - 7.0f / 1.1f)};
+  v1::Frame out;
+  ToProto(frame, map, /*skeleton_scale=*/1.0f, /*diagnostics=*/false, &out);
+  EXPECT_FLOAT_EQ(out.body_scale(), 1.1f);
+  EXPECT_NEAR(out.root_position().x(), 5.0f, 1e-5f);
+  EXPECT_NEAR(out.root_position().y(), 0.99f, 1e-5f);
+  EXPECT_NEAR(out.root_position().z(), 7.0f, 1e-5f);
+  EXPECT_NEAR(out.left_wrist().x(), 5.33f, 1e-5f);
+  EXPECT_NEAR(out.pelvis_position().y(), 1.1f, 1e-5f);
 }
 
 TEST(FrameToProtoTest, LandmarkErrorFieldsAreTheLandmarksInOrderScaledToThePerformer) {
@@ -410,7 +429,7 @@ TEST(FrameToProtoTest, LandmarkErrorFieldsAreTheLandmarksInOrderScaledToThePerfo
   frame.pose.rotations = {Eigen::Quaternionf::Identity()};
   for (int k = 0; k < kNumBodyLandmarks; ++k) frame.landmark_error[k] = 0.01f * (k + 1);
   v1::Frame out;
-  ToProto(frame, PerformerScale{.database_height = 1.7f, .scale = 1.5f}, /*diagnostics=*/false, &out);
+  ToProto(frame, SizeMap{.scale = 1.5f}, 1.5f, /*diagnostics=*/false, &out);
   ASSERT_TRUE(out.has_expected_error());
   EXPECT_FLOAT_EQ(out.expected_error().pelvis(), 0.015f);
   EXPECT_FLOAT_EQ(out.expected_error().left_wrist(), 0.105f);

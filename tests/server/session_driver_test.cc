@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <functional>
@@ -472,7 +473,8 @@ TEST_F(SessionDriverTest, ALongInputIsSizedOnItsFirstPartAndStreamsOn) {
   }
 }
 
-// A stream cannot be resized, but its summary tells how large a body the wrists needed.
+// Without estimate_performer_height a stream keeps its size, but its summary tells how large a
+// body the wrists needed.
 TEST_F(SessionDriverTest, AStreamsSummaryTellsTheHeightItsReachShows) {
   for (const double size : {1.0, 1.3}) {
     auto driver = Create(Config(5));
@@ -495,19 +497,56 @@ TEST_F(SessionDriverTest, AStreamsSummaryTellsTheHeightItsReachShows) {
   }
 }
 
-TEST_F(SessionDriverTest, SizingByReachNeedsTheWholeTrajectoryAndGivesWayToADeclaredHeight) {
-  for (const int lag : {0, 5}) {
-    v1::SessionConfig config = Config(lag);
-    config.set_estimate_performer_height(true);
-    auto driver = Create(config);
-    ASSERT_FALSE(driver.ok());
-    EXPECT_EQ(driver.status().code(), absl::StatusCode::kInvalidArgument);
-    EXPECT_NE(driver.status().message().find("estimate_performer_height"), std::string::npos) << driver.status();
-  }
+// In the streaming modes the body starts at the database's size and grows as the wrists' reach
+// shows it: each frame's body_scale against the started skeleton, never more than the ease allows
+// between frames, its positions without a jump, and the summary the height reached. Input the
+// database's size keeps it untouched.
+TEST_F(SessionDriverTest, AStreamGrowsItsBodyAsTheWristsReachShowsIt) {
   v1::SessionConfig windows = Config(-1);
   windows.mutable_sub_interval()->set_window_frames(50);
-  windows.set_estimate_performer_height(true);
-  EXPECT_EQ(Create(windows).status().code(), absl::StatusCode::kInvalidArgument);
+  for (v1::SessionConfig config : {Config(0), Config(5), windows}) {
+    config.set_estimate_performer_height(true);
+    for (const double size : {1.0, 1.3}) {
+      auto driver = Create(config);
+      ASSERT_TRUE(driver.ok()) << driver.status();
+      std::vector<v1::ReconstructResponse> replies;
+      const v1::WristSamples samples = WireSamples(kTestFrames, size);
+      ASSERT_TRUE((*driver)->Push(samples, &replies).ok());
+      ASSERT_TRUE((*driver)->Finish(&replies).ok());
+      const Replies sorted = Sort(replies);
+      ASSERT_EQ(sorted.summaries.size(), 1u);
+      const v1::SessionSummary& summary = sorted.summaries.front();
+      const float database_height = (*driver)->started().database_height();
+      ASSERT_GT(sorted.frames.size(), 100u);
+      float previous = 1.0f;
+      for (const v1::Frame& frame : sorted.frames) {
+        const float scale = frame.body_scale() == 0.0f ? 1.0f : frame.body_scale();
+        if (size == 1.0) {
+          EXPECT_EQ(frame.body_scale(), 0.0f) << frame.index();
+        }
+        // Never a pop: at most a second's ease of the whole change per frame (30 fps).
+        EXPECT_LE(std::abs(scale - previous), 0.3f / 30.0f + 1e-3f) << frame.index();
+        if (frame.time() < samples.samples(0).time() + 1.0) {
+          EXPECT_EQ(scale, 1.0f) << frame.index();  // the first second says nothing yet
+        }
+        previous = scale;
+      }
+      EXPECT_FALSE(std::any_of(replies.begin(), replies.end(),
+                               [](const v1::ReconstructResponse& r) { return r.frames().has_skeleton(); }));
+      if (size == 1.0) {
+        EXPECT_FALSE(summary.performer_height_estimated());
+        EXPECT_FLOAT_EQ(summary.performer_height(), database_height);
+        continue;
+      }
+      EXPECT_TRUE(summary.performer_height_estimated());
+      EXPECT_GT(summary.performer_height(), 1.05f * database_height);
+      EXPECT_NEAR(summary.performer_height(), summary.reach_height(), 0.02f * summary.reach_height());
+      EXPECT_NEAR(previous, summary.performer_height() / database_height, 1e-3f);  // the last frames' size
+    }
+  }
+}
+
+TEST_F(SessionDriverTest, SizingByReachGivesWayToADeclaredHeight) {
   // A declared height is the performer's: no estimate, whatever the input.
   v1::SessionConfig declared = Config(-1);
   declared.set_estimate_performer_height(true);
