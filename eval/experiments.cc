@@ -35,6 +35,9 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   add("wrists_only", "main", 0, wrists, noise_cm, true);
   if (!ablations) return runs;
   add("full_captured_only", "main", 0, base, noise_cm, true);  // without the reversed copies
+  ReconstructionOptions no_lean = base;
+  no_lean.reach_lean.max_angle = 0.0f;  // the arm IK alone, without the torso's lean
+  add("full_no_reach_lean", "main", 0, no_lean, noise_cm);
   for (int window : {10, 50, 100}) {
     ReconstructionOptions o = base;
     o.window = window;

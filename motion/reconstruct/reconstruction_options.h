@@ -6,6 +6,7 @@
 #include "motion/reconstruct/footskate_cleanup.h"
 #include "motion/reconstruct/motion_guard.h"
 #include "motion/reconstruct/pose_solver.h"
+#include "motion/reconstruct/reach_lean.h"
 #include "motion/reconstruct/wrist_smoother.h"
 
 namespace mocap {
@@ -62,6 +63,8 @@ struct ReconstructionOptions {
   // on their pins): the input smoothed by a centred Gaussian of this σ over the samples that have
   // arrived (zero phase where the lag allows, unlike A2's exponential smoothing); < 0 = off.
   float hand_target_sigma = 1.0f;
+  // Before the arm IK, input beyond an arm's reach turns the torso towards it (reach_lean.h).
+  ReachLeanOptions reach_lean;
 
   // Last: the output pelvis moves no faster, and accelerates no harder, than the database's
   // bodies; frames whose input jumps are flagged (issue #22).

@@ -103,7 +103,8 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
       resampler_(database_->frame_time(), options.max_gap_seconds),
       session_cost_(database_->frame_time()),
       motion_guard_(database_->motion_limits(), database_->frame_time(), options.motion_guard),
-      jump_detector_(database_->motion_limits(), database_->frame_time(), options.motion_guard) {
+      jump_detector_(database_->motion_limits(), database_->frame_time(), options.motion_guard),
+      reach_lean_(database_->body().skeleton(), database_->rig().topology.landmarks, options.reach_lean) {
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
   ankle_kernel_ = GaussianKernel(options_.ankle_path.smoothing_sigma_frames);
   joint_kernels_ = {GaussianKernel(options_.joint_smoothing_sigma)};
@@ -567,6 +568,11 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // Hands on the input: a local linear fit over the samples that have arrived, which is the
       // Gaussian average where the window is centred and has no lag where it is one-sided.
       const SmoothedWrists target = FitInput(s, e, hand_kernels_[level]);
+      // Input beyond an arm's reach: the torso leans towards it first (reach_lean.h).
+      reach_lean_.Apply(
+          body, {target.position[0], target.position[1]},
+          {frame.hand_state[0] == TrackingState::kTracked, frame.hand_state[1] == TrackingState::kTracked},
+          &frame.pose);
       for (int side = 0; side < 2; ++side) SolveLegIk(body, wrist_joints[side], target.position[side], &frame.pose);
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);

@@ -26,6 +26,7 @@
 #include "motion/reconstruct/landmark_confidence.h"
 #include "motion/reconstruct/motion_guard.h"
 #include "motion/reconstruct/one_hand_bridge.h"
+#include "motion/reconstruct/reach_lean.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/reconstruction_options.h"
 #include "motion/reconstruct/wrist_resampler.h"
@@ -174,6 +175,7 @@ class ReconstructionSession {
   InputJumpDetector jump_detector_;
   std::array<HandRestDetector, 2> hand_rest_;  // left, right
   OneHandBridge one_hand_bridge_;
+  ReachLean reach_lean_;
   SessionStatistics statistics_;
   const std::atomic<bool>* cancel_ = nullptr;
 };

@@ -1,0 +1,99 @@
+#include "motion/reconstruct/reach_lean.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
+namespace mocap {
+namespace {
+
+bool IsAncestor(const Skeleton& skeleton, int ancestor, int joint) {
+  for (int j = joint; j >= 0; j = skeleton.parent(j)) {
+    if (j == ancestor) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+ReachLean::ReachLean(const Skeleton& skeleton, const BodyLandmarks& landmarks, const ReachLeanOptions& options)
+    : options_(options) {
+  const int wrists[2] = {landmarks.left_wrist, landmarks.right_wrist};
+  for (int side = 0; side < 2; ++side) {
+    const int wrist = wrists[side];
+    const int elbow = wrist >= 0 ? skeleton.parent(wrist) : -1;
+    const int shoulder = elbow >= 0 ? skeleton.parent(elbow) : -1;
+    if (shoulder < 0) return;
+    arms_[side] = {shoulder, elbow, wrist};  // the joints the arm IK turns (SolveLegIk)
+  }
+  // The chest: the nearest joint above both arms; the pivot: its ancestor just above the pelvis.
+  int chest = arms_[0][0];
+  while (chest >= 0 && !IsAncestor(skeleton, chest, arms_[1][0])) chest = skeleton.parent(chest);
+  const int pelvis = landmarks.pelvis;
+  if (chest < 0 || pelvis < 0 || chest == pelvis || !IsAncestor(skeleton, pelvis, chest)) return;
+  int pivot = chest;
+  while (skeleton.parent(pivot) != pelvis) pivot = skeleton.parent(pivot);
+  pivot_ = pivot;
+}
+
+float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
+                       const std::array<bool, 2>& reach, BodyPose* pose) {
+  if (pivot_ < 0 || !(options_.max_angle > 0.0f) || (!reach[0] && !reach[1])) return 0.0f;
+  body.WorldTransforms(*pose, &rotations_, &positions_);
+  const Eigen::Vector3f pivot = positions_[pivot_];
+  std::array<Eigen::Vector3f, 2> shoulder;  // relative to the pivot
+  // A relaxed arm hangs straight, so the lean starts only where the input is beyond the arm's
+  // length (a lean that began a few centimetres before it bent the lab's standing bodies all the
+  // time: standard split 2.18 → 2.64 cm).
+  std::array<float, 2> arm{};
+  bool beyond = false;
+  for (int side = 0; side < 2; ++side) {
+    const auto [s, e, w] = arms_[side];
+    shoulder[side] = positions_[s] - pivot;
+    arm[side] = (positions_[e] - positions_[s]).norm() + (positions_[w] - positions_[e]).norm();
+    beyond = beyond || (reach[side] && (targets[side] - positions_[s]).norm() > arm[side]);
+  }
+  if (!beyond) return 0.0f;
+  // Gauss-Newton on the turn ω (world, at the pivot): residual per reaching hand, its shoulder's
+  // distance to the input past the arm's length; a small damping keeps the turn the least that
+  // reaches.
+  Eigen::Vector3f omega = Eigen::Vector3f::Zero();
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    const Eigen::AngleAxisf turn(omega.norm(), omega.norm() > 0 ? omega.normalized() : Eigen::Vector3f::UnitX());
+    Eigen::Matrix3f normal = 1e-4f * Eigen::Matrix3f::Identity();
+    Eigen::Vector3f gradient = Eigen::Vector3f::Zero();
+    bool any = false;
+    for (int side = 0; side < 2; ++side) {
+      if (!reach[side]) continue;
+      const Eigen::Vector3f a = turn * shoulder[side];
+      const Eigen::Vector3f to_target = targets[side] - pivot - a;
+      const float distance = to_target.norm();
+      const float residual = distance - arm[side];
+      if (residual <= 0.0f || distance <= 0.0f) continue;
+      // d(residual)/dδ for a further turn δ: the shoulder moves by δ × a.
+      const Eigen::Vector3f jacobian = -a.cross(to_target / distance);
+      normal += jacobian * jacobian.transpose();
+      gradient += jacobian * residual;
+      any = true;
+    }
+    if (!any) break;
+    const Eigen::Vector3f step = -normal.ldlt().solve(gradient);
+    const Eigen::AngleAxisf composed(Eigen::AngleAxisf(step.norm(), step.norm() > 0 ? step.normalized()
+                                                                                     : Eigen::Vector3f::UnitX()) *
+                                     turn);
+    omega = composed.angle() * composed.axis();
+    if (omega.norm() > options_.max_angle) omega *= options_.max_angle / omega.norm();
+  }
+  const float angle = omega.norm();
+  if (angle <= 0.0f) return 0.0f;
+  // The pivot's world rotation turned by ω: its local rotation against its parent's world one.
+  const Eigen::Quaternionf world_turn(Eigen::AngleAxisf(angle, omega / angle));
+  const int parent = body.skeleton().parent(pivot_);
+  pose->rotations[pivot_] =
+      (rotations_[parent].conjugate() * world_turn * rotations_[pivot_]).normalized();
+  return angle;
+}
+
+}  // namespace mocap

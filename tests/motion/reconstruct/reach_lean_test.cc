@@ -1,0 +1,117 @@
+// A body reaches further by leaning (motion/reconstruct/reach_lean.h): input within an arm's
+// reach changes nothing; input beyond it turns the torso at the lowest spine joint until the
+// shoulder is within an arm of it, never further than max_angle, and the pelvis and legs stay.
+#include "motion/reconstruct/reach_lean.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tests/support/synthetic_database.h"
+
+namespace mocap {
+namespace {
+
+class ReachLeanTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    setup_ = &testing::SharedSyntheticReconstructionSetup();
+    const BodyModel& body = setup_->database->body();
+    pose_.rotations.assign(body.skeleton().num_joints(), Eigen::Quaternionf::Identity());
+    pose_.root_position = Eigen::Vector3f(0.3f, 0.0f, -0.2f);
+    landmarks_ = setup_->database->rig().topology.landmarks;
+  }
+  const BodyModel& body() const { return setup_->database->body(); }
+  std::vector<Eigen::Vector3f> Positions(const BodyPose& pose) const {
+    std::vector<Eigen::Quaternionf> rotations;
+    std::vector<Eigen::Vector3f> positions;
+    body().WorldTransforms(pose, &rotations, &positions);
+    return positions;
+  }
+  // The joint the arm IK turns from (the wrist's grandparent) and the arm's length from it.
+  std::pair<int, float> Arm(int wrist) const {
+    const std::vector<Eigen::Vector3f> p = Positions(pose_);
+    const int elbow = body().skeleton().parent(wrist), shoulder = body().skeleton().parent(elbow);
+    return {shoulder, (p[elbow] - p[shoulder]).norm() + (p[wrist] - p[elbow]).norm()};
+  }
+
+  const testing::SyntheticReconstructionSetup* setup_ = nullptr;
+  BodyPose pose_;
+  BodyLandmarks landmarks_;
+};
+
+TEST_F(ReachLeanTest, InputWithinReachChangesNothing) {
+  ReachLean lean(body().skeleton(), landmarks_);
+  ASSERT_GE(lean.pivot(), 0);
+  const std::vector<Eigen::Vector3f> p = Positions(pose_);
+  BodyPose pose = pose_;
+  // Each wrist moved a third and a tenth of the way towards its shoulder (the rest pose's arms
+  // are straight).
+  const int left = Arm(landmarks_.left_wrist).first, right = Arm(landmarks_.right_wrist).first;
+  const std::array<Eigen::Vector3f, 2> targets{p[landmarks_.left_wrist] + 0.3f * (p[left] - p[landmarks_.left_wrist]),
+                                               p[landmarks_.right_wrist] + 0.1f * (p[right] - p[landmarks_.right_wrist])};
+  EXPECT_EQ(lean.Apply(body(), targets, {true, true}, &pose), 0.0f);
+  for (size_t j = 0; j < pose.rotations.size(); ++j) EXPECT_TRUE(pose.rotations[j].isApprox(pose_.rotations[j]));
+}
+
+TEST_F(ReachLeanTest, InputBeyondReachTurnsTheTorsoUntilTheShoulderIsWithinAnArm) {
+  ReachLean lean(body().skeleton(), landmarks_);
+  const auto [shoulder, arm] = Arm(landmarks_.left_wrist);
+  const std::vector<Eigen::Vector3f> before = Positions(pose_);
+  // 12 cm beyond the straight arm, forward and down from the shoulder.
+  const Eigen::Vector3f direction = Eigen::Vector3f(0.2f, -0.6f, 1.0f).normalized();
+  const Eigen::Vector3f target = before[shoulder] + (arm + 0.12f) * direction;
+  BodyPose pose = pose_;
+  const float angle = lean.Apply(body(), {target, before[landmarks_.right_wrist]}, {true, false}, &pose);
+  EXPECT_GT(angle, 0.0f);
+  EXPECT_LE(angle, ReachLeanOptions{}.max_angle + 1e-5f);
+  const std::vector<Eigen::Vector3f> after = Positions(pose);
+  EXPECT_LE((target - after[shoulder]).norm(), arm + 0.005f);
+  // The pelvis and the legs stay where they were.
+  for (int j : {landmarks_.pelvis, landmarks_.left_ankle, landmarks_.right_ankle, landmarks_.left_knee}) {
+    if (j >= 0) {
+      EXPECT_LT((after[j] - before[j]).norm(), 1e-5f) << j;
+    }
+  }
+  // A hand not asked to reach does not count: with the right hand's input well within its reach,
+  // the left's far target is ignored.
+  const int right = Arm(landmarks_.right_wrist).first;
+  const Eigen::Vector3f within = before[landmarks_.right_wrist] + 0.3f * (before[right] - before[landmarks_.right_wrist]);
+  BodyPose untouched = pose_;
+  EXPECT_EQ(lean.Apply(body(), {target, within}, {false, true}, &untouched), 0.0f);
+  // Just short of the arm's length (a relaxed arm hangs straight): no lean.
+  const Eigen::Vector3f near = before[shoulder] + (arm - 0.01f) * direction;
+  BodyPose straight = pose_;
+  EXPECT_EQ(lean.Apply(body(), {near, within}, {true, false}, &straight), 0.0f);
+}
+
+TEST_F(ReachLeanTest, ATargetFarBeyondReachTurnsNoFurtherThanMaxAngle) {
+  ReachLean lean(body().skeleton(), landmarks_, {.max_angle = 0.3f});
+  const auto [shoulder, arm] = Arm(landmarks_.left_wrist);
+  const std::vector<Eigen::Vector3f> before = Positions(pose_);
+  const Eigen::Vector3f target = before[shoulder] + Eigen::Vector3f(0.0f, -0.3f, arm + 1.5f);
+  BodyPose pose = pose_;
+  EXPECT_NEAR(lean.Apply(body(), {target, target}, {true, true}, &pose), 0.3f, 1e-4f);
+  ReachLean off(body().skeleton(), landmarks_, {.max_angle = 0.0f});
+  BodyPose still = pose_;
+  EXPECT_EQ(off.Apply(body(), {target, target}, {true, true}, &still), 0.0f);
+}
+
+TEST_F(ReachLeanTest, NoSpineBetweenPelvisAndShouldersNoLean) {
+  BodyLandmarks chest_as_pelvis = landmarks_;
+  // The arms' common ancestor as the pelvis: nothing between them to turn.
+  int chest = body().skeleton().parent(body().skeleton().parent(body().skeleton().parent(landmarks_.left_wrist)));
+  while (chest >= 0) {
+    int j = body().skeleton().parent(body().skeleton().parent(landmarks_.right_wrist));
+    while (j >= 0 && j != chest) j = body().skeleton().parent(j);
+    if (j == chest) break;
+    chest = body().skeleton().parent(chest);
+  }
+  ASSERT_GE(chest, 0);
+  chest_as_pelvis.pelvis = chest;
+  EXPECT_LT(ReachLean(body().skeleton(), chest_as_pelvis).pivot(), 0);
+}
+
+}  // namespace
+}  // namespace mocap
