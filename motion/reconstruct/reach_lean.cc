@@ -80,9 +80,8 @@ float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 
     }
     if (!any) break;
     const Eigen::Vector3f step = -normal.ldlt().solve(gradient);
-    const Eigen::AngleAxisf composed(Eigen::AngleAxisf(step.norm(), step.norm() > 0 ? step.normalized()
-                                                                                     : Eigen::Vector3f::UnitX()) *
-                                     turn);
+    const Eigen::AngleAxisf composed(
+        Eigen::AngleAxisf(step.norm(), step.norm() > 0 ? step.normalized() : Eigen::Vector3f::UnitX()) * turn);
     omega = composed.angle() * composed.axis();
     if (omega.norm() > options_.max_angle) omega *= options_.max_angle / omega.norm();
   }
@@ -91,8 +90,7 @@ float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 
   // The pivot's world rotation turned by ω: its local rotation against its parent's world one.
   const Eigen::Quaternionf world_turn(Eigen::AngleAxisf(angle, omega / angle));
   const int parent = body.skeleton().parent(pivot_);
-  pose->rotations[pivot_] =
-      (rotations_[parent].conjugate() * world_turn * rotations_[pivot_]).normalized();
+  pose->rotations[pivot_] = (rotations_[parent].conjugate() * world_turn * rotations_[pivot_]).normalized();
   return angle;
 }
 

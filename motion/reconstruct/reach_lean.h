@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -36,8 +37,8 @@ class ReachLean {
 
  private:
   ReachLeanOptions options_;
-  int pivot_ = -1;  // the lowest spine joint: the pelvis' child towards the shoulders
-  std::array<std::array<int, 3>, 2> arms_{};  // shoulder, elbow, wrist per side
+  int pivot_ = -1;                             // the lowest spine joint: the pelvis' child towards the shoulders
+  std::array<std::array<int, 3>, 2> arms_{};   // shoulder, elbow, wrist per side
   std::vector<Eigen::Quaternionf> rotations_;  // scratch
   std::vector<Eigen::Vector3f> positions_;
 };

@@ -49,8 +49,9 @@ TEST_F(ReachLeanTest, InputWithinReachChangesNothing) {
   // Each wrist moved a third and a tenth of the way towards its shoulder (the rest pose's arms
   // are straight).
   const int left = Arm(landmarks_.left_wrist).first, right = Arm(landmarks_.right_wrist).first;
-  const std::array<Eigen::Vector3f, 2> targets{p[landmarks_.left_wrist] + 0.3f * (p[left] - p[landmarks_.left_wrist]),
-                                               p[landmarks_.right_wrist] + 0.1f * (p[right] - p[landmarks_.right_wrist])};
+  const std::array<Eigen::Vector3f, 2> targets{
+      p[landmarks_.left_wrist] + 0.3f * (p[left] - p[landmarks_.left_wrist]),
+      p[landmarks_.right_wrist] + 0.1f * (p[right] - p[landmarks_.right_wrist])};
   EXPECT_EQ(lean.Apply(body(), targets, {true, true}, &pose), 0.0f);
   for (size_t j = 0; j < pose.rotations.size(); ++j) EXPECT_TRUE(pose.rotations[j].isApprox(pose_.rotations[j]));
 }
@@ -77,7 +78,8 @@ TEST_F(ReachLeanTest, InputBeyondReachTurnsTheTorsoUntilTheShoulderIsWithinAnArm
   // A hand not asked to reach does not count: with the right hand's input well within its reach,
   // the left's far target is ignored.
   const int right = Arm(landmarks_.right_wrist).first;
-  const Eigen::Vector3f within = before[landmarks_.right_wrist] + 0.3f * (before[right] - before[landmarks_.right_wrist]);
+  const Eigen::Vector3f within =
+      before[landmarks_.right_wrist] + 0.3f * (before[right] - before[landmarks_.right_wrist]);
   BodyPose untouched = pose_;
   EXPECT_EQ(lean.Apply(body(), {target, within}, {false, true}, &untouched), 0.0f);
   // Just short of the arm's length (a relaxed arm hangs straight): no lean.
