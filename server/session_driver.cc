@@ -34,7 +34,6 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
     size_online = !whole;
   }
   driver->sizer_.emplace(database->wrist_reach(), scale.scale, BodySizerOptions{.online = size_online});
-  driver->skeleton_scale_ = scale.scale;
   driver->limits_ = limits;
   const FloorSpec& floor = input_frame.floor;
   driver->input_ = {input_frame, FrameTransform(input_frame.convention, floor.calibrate ? 0.0 : floor.height)};
@@ -205,11 +204,11 @@ void SessionDriver::AppendFrames(std::vector<v1::ReconstructResponse>* replies) 
       ToProto(session_->database(), scale_, frames->mutable_skeleton());
       if (output_transform_) ToCallerFrame(*output_transform_, frames->mutable_skeleton());
       resized_sent_ = true;
-      skeleton_scale_ = scale_.scale;
     }
     for (size_t i = start; i < end; ++i) {
       v1::Frame* frame = frames->add_frames();
-      ToProto(pending_[i], sizer_->MapAt(pending_[i].time), skeleton_scale_, config_.include_diagnostics(), frame);
+      // The client animates scale_'s skeleton: `started`'s, or the one sent above before any frame.
+      ToProto(pending_[i], sizer_->MapAt(pending_[i].time), scale_.scale, config_.include_diagnostics(), frame);
       if (retargeter_) {
         retargeter_->Retarget(session_->database().body(), pending_[i].pose, &target_pose_);
         const int pelvis = retargeter_->target().topology.landmarks.pelvis;

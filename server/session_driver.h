@@ -92,7 +92,6 @@ class SessionDriver {
   // Performer's space to the database body's and back; counts every accepted sample's reach.
   std::optional<BodySizer> sizer_;
   bool resized_ = false, resized_sent_ = false;  // the estimate changed the skeleton; told the client
-  float skeleton_scale_ = 1.0f;                  // of the skeleton the client animates
   InputConversion input_;
   std::unique_ptr<InputMonitor> monitor_;
   std::vector<MonitoredSample> ready_;  // released by the monitor, not yet pushed

@@ -74,7 +74,6 @@ class BodySizer {
 
   const SizeMap& map() const { return map_; }
   const ReachHistogram& reach() const { return reach_; }
-  const WristReach& database_reach() const { return database_; }
   int resizes() const { return resizes_; }
 
  private:
