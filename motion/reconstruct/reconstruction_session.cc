@@ -13,7 +13,7 @@
 #include "motion/core/str_cat.h"
 #include "motion/reconstruct/ankle_cloud.h"
 #include "motion/reconstruct/frame_history.h"
-#include "motion/reconstruct/local_pose_model.h"
+#include "motion/reconstruct/pose_method.h"
 
 namespace mocap {
 namespace {
@@ -24,17 +24,6 @@ using Clock = std::chrono::steady_clock;
 constexpr float kPlantedFootReach = 0.05f;
 
 double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-// A database frame's pelvis placed in the query's wrist reference frame (A1: local coordinates
-// are comparable across frames).
-void PelvisInQueryFrame(const DatabaseFrame& f, const ReferenceFrame& ref, SolvedPose* pose) {
-  const Eigen::Quaternionf ref_rotation(ref.rotation);
-  pose->pelvis_position =
-      ref.origin + ref.rotation * Eigen::Vector3f(f.pelvis_position[0], f.pelvis_position[1], f.pelvis_position[2]);
-  pose->pelvis_rotation = (ref_rotation * Eigen::Quaternionf(f.pelvis_rotation[0], f.pelvis_rotation[1],
-                                                             f.pelvis_rotation[2], f.pelvis_rotation[3]))
-                              .normalized();
-}
 
 // Fixed-lag DP frame: a cloud, its path costs and best predecessors.
 struct DpFrame {
@@ -80,6 +69,13 @@ struct ReconstructionSession::Segment {
   std::deque<DpFrame> dp;  // fixed-lag mode: frames dp_first.. of the running DP
   int dp_first = 0;
   FrameHistory<AnklePair> ankles;  // decided and smoothed ankle controls
+  // Every per-frame history above, so that what holds for all of them is said once (a new
+  // history is one line here, and ForgetSettledFrames forgets it too).
+  template <typename F>
+  void ForEachHistory(F&& f) {
+    f(wrists), f(input), f(times), f(untracked), f(fading), f(bridged), f(wrist_distance);
+    f(raw), f(raw_rows), f(ankles);
+  }
   // A5–A7 state.
   std::optional<SolvedPose> previous, before_previous;
   FootskateCleaner cleaner;
@@ -104,7 +100,8 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
       session_cost_(database_->frame_time()),
       motion_guard_(database_->motion_limits(), database_->frame_time(), options.motion_guard),
       jump_detector_(database_->motion_limits(), database_->frame_time(), options.motion_guard),
-      reach_lean_(database_->body().skeleton(), database_->rig().topology.landmarks, options.reach_lean) {
+      reach_lean_(database_->body().skeleton(), database_->rig().topology.landmarks, options.reach_lean),
+      method_(MakePoseMethod(options)) {
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
   ankle_kernel_ = GaussianKernel(options_.ankle_path.smoothing_sigma_frames);
   joint_kernels_ = {GaussianKernel(options_.joint_smoothing_sigma)};
@@ -165,7 +162,7 @@ absl::StatusOr<std::unique_ptr<ReconstructionSession>> ReconstructionSession::Cr
 }
 
 int ReconstructionSession::latency_frames() const {
-  if (options_.method != ReconstructionMethod::kFull) return lookahead_ + joint_filter_lag_;
+  if (!method_->uses_ankles()) return lookahead_ + joint_filter_lag_;
   if (options_.mode == StreamMode::kFixedLag) return options_.lag;
   const int window = options_.window > 0 ? options_.window : options_.max_window_frames;
   return window > 0 ? lookahead_ + window - 1 + joint_filter_lag_ : -1;
@@ -269,7 +266,7 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
   } else {
     s.wrists.push_back(s.smoother.Push(s.input[t][0], s.input[t][1]));
   }
-  if (options_.method != ReconstructionMethod::kFull) {
+  if (!method_->uses_ankles()) {
     s.wrist_distance.push_back(0.0f);
     statistics_.cloud_seconds += SecondsSince(start);
     return SolveFrame(t, out);
@@ -358,7 +355,7 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   const ReconstructionDatabase& db = *database_;
   const double dt = db.frame_time();
   const SmoothedWrists& wrists = s.wrists[f];
-  const bool full = options_.method == ReconstructionMethod::kFull;
+  const bool full = method_->uses_ankles();
   const ReferenceFrame ref =
       WristReferenceFrame(wrists.position[0], wrists.position[1], s.pose_heading, &s.pose_heading);
   FrameFeatures query = WristQueryFeatures(ref, wrists);
@@ -374,63 +371,15 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
       query.ankle_velocity[side][axis] = av[axis];
     }
   }
-  std::vector<Neighbour> neighbours;
-  if (full) {
-    float feature[kWristAnkleFeatureDims];
-    WristAnkleFeature(query, db.position_weight(), feature);
-    MOCAP_ASSIGN_OR_RETURN(neighbours, db.NearestByWristsAndAnkles(feature, options_.pose_neighbours));
-  } else {
-    float feature[kWristFeatureDims];
-    WristFeature(query, {.position_weight = db.position_weight()}, feature);
-    const int k = options_.method == ReconstructionMethod::kNearestNeighbour ? 1
-                  : options_.method == ReconstructionMethod::kNearestAverage ? options_.average_neighbours
-                                                                             : options_.pose_neighbours;
-    MOCAP_ASSIGN_OR_RETURN(neighbours, db.wrist_index().Search(feature, k));
-    s.wrist_distance[f] = neighbours.front().distance;
-  }
+  MOCAP_ASSIGN_OR_RETURN(const std::vector<Neighbour> neighbours, method_->Neighbours(db, query));
+  if (!full) s.wrist_distance[f] = neighbours.front().distance;
   const int nearest = neighbours.front().row;
-  const bool lookup = options_.method == ReconstructionMethod::kNearestNeighbour ||
-                      options_.method == ReconstructionMethod::kNearestAverage;
-  SolvedPose solved;
-  if (lookup || !s.previous) {
-    solved.pose_feature = db.pose_feature(nearest).transpose();
-    PelvisInQueryFrame(db.frames()[nearest], ref, &solved);
-  }
-  if (options_.method == ReconstructionMethod::kNearestAverage) {
-    // The mean pose feature (joint rotation vectors about the rig's reference) and the mean
-    // pelvis, each neighbour placed in the query's wrist frame.
-    Eigen::Vector3f position = Eigen::Vector3f::Zero();
-    Eigen::Vector4f rotation = Eigen::Vector4f::Zero();
-    solved.pose_feature.setZero();
-    for (const Neighbour& n : neighbours) {
-      SolvedPose one;
-      PelvisInQueryFrame(db.frames()[n.row], ref, &one);
-      position += one.pelvis_position;
-      Eigen::Vector4f q = one.pelvis_rotation.coeffs();
-      if (q.dot(solved.pelvis_rotation.coeffs()) < 0) q = -q;
-      rotation += q;
-      solved.pose_feature += db.pose_feature(n.row).transpose();
-    }
-    const float count = static_cast<float>(neighbours.size());
-    solved.pose_feature /= count;
-    solved.pelvis_position = position / count;
-    solved.pelvis_rotation = Eigen::Quaternionf(rotation.normalized());
-  }
-  if (!lookup) {
-    Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_feature_size());
-    for (size_t i = 0; i < neighbours.size(); ++i)
-      examples.row(static_cast<Eigen::Index>(i)) = db.pose_feature(neighbours[i].row);
-    MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, options_.pose_components));
-    ControlTargets targets = {wrists.position[0], wrists.position[1], ankles[0], ankles[1]};
-    PoseSolverOptions solver_options = options_.solver;
-    if (!full) {
-      solver_options.control_ankles = false;
-      targets[kLeftAnkle] = targets[kRightAnkle] = Eigen::Vector3f::Zero();
-    }
-    const SolvedPose& initial = s.previous ? *s.previous : solved;
-    const SolvedPose* before = s.before_previous ? &*s.before_previous : nullptr;
-    MOCAP_ASSIGN_OR_RETURN(solved, SolvePose(db.body(), model, targets, initial, s.previous ? &*s.previous : nullptr,
-                                             before, solver_options));
+  const ControlTargets targets = {wrists.position[0], wrists.position[1], ankles[0], ankles[1]};
+  MOCAP_ASSIGN_OR_RETURN(SolvedPose solved,
+                         method_->Pose(db, neighbours, ref, targets,
+                                       {.previous = s.previous ? &*s.previous : nullptr,
+                                        .before_previous = s.before_previous ? &*s.before_previous : nullptr}));
+  if (method_->solves()) {
     s.before_previous = std::move(s.previous);
     s.previous = solved;
   }
@@ -623,16 +572,7 @@ void ReconstructionSession::ForgetSettledFrames() {
       static_cast<int>(std::max({wrist_kernel_.size(), hand_kernels_.back().size(), ankle_kernel_.size()})) / 2;
   const int keep_from = s.emitted - reach - 1;
   if (keep_from <= 0) return;
-  s.input.ForgetBefore(keep_from);
-  s.wrists.ForgetBefore(keep_from);
-  s.times.ForgetBefore(keep_from);
-  s.untracked.ForgetBefore(keep_from);
-  s.fading.ForgetBefore(keep_from);
-  s.bridged.ForgetBefore(keep_from);
-  s.wrist_distance.ForgetBefore(keep_from);
-  s.raw.ForgetBefore(keep_from);
-  s.raw_rows.ForgetBefore(keep_from);
-  s.ankles.ForgetBefore(keep_from);
+  s.ForEachHistory([keep_from](auto& history) { history.ForgetBefore(keep_from); });
 }
 
 absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* out) {
@@ -641,7 +581,7 @@ absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* 
   while (s.wrists.size() < s.input.size()) MOCAP_RETURN_IF_ERROR(ProcessFrame(out));  // one-sided A2 window at the end
   const auto start = Clock::now();
   const float dt = static_cast<float>(database_->frame_time());
-  if (options_.method == ReconstructionMethod::kFull) {
+  if (method_->uses_ankles()) {
     if (options_.mode == StreamMode::kSubInterval && !s.window.empty()) {
       MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved,
                              SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));

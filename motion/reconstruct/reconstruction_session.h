@@ -33,6 +33,8 @@
 
 namespace mocap {
 
+class PoseMethod;
+
 struct FrameDiagnostics {
   float wrist_neighbour_distance = 0;  // eq. 2 value of the nearest database frame
   int ankle_source_row = -1;           // database frame whose ankles the A4 path chose
@@ -176,6 +178,7 @@ class ReconstructionSession {
   std::array<HandRestDetector, 2> hand_rest_;  // left, right
   OneHandBridge one_hand_bridge_;
   ReachLean reach_lean_;
+  std::unique_ptr<const PoseMethod> method_;  // the options' method: neighbours and pose (pose_method.h)
   SessionStatistics statistics_;
   const std::atomic<bool>* cancel_ = nullptr;
 };

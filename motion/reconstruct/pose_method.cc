@@ -1,0 +1,168 @@
+#include "motion/reconstruct/pose_method.h"
+
+#include "motion/core/status_macros.h"
+#include "motion/reconstruct/local_pose_model.h"
+
+namespace mocap {
+namespace {
+
+// A database frame's pelvis placed in the query's wrist reference frame.
+void PelvisInQueryFrame(const DatabaseFrame& f, const ReferenceFrame& ref, SolvedPose* pose) {
+  const Eigen::Quaternionf ref_rotation(ref.rotation);
+  pose->pelvis_position =
+      ref.origin + ref.rotation * Eigen::Vector3f(f.pelvis_position[0], f.pelvis_position[1], f.pelvis_position[2]);
+  pose->pelvis_rotation = (ref_rotation * Eigen::Quaternionf(f.pelvis_rotation[0], f.pelvis_rotation[1],
+                                                             f.pelvis_rotation[2], f.pelvis_rotation[3]))
+                              .normalized();
+}
+
+absl::StatusOr<std::vector<Neighbour>> NearestByWrists(const ReconstructionDatabase& db, const FrameFeatures& query,
+                                                       int count) {
+  float feature[kWristFeatureDims];
+  WristFeature(query, {.position_weight = db.position_weight()}, feature);
+  return db.wrist_index().Search(feature, count);
+}
+
+// A5–A6: the local linear model of the neighbours' poses, solved against the targets; a
+// segment's first frame starts from the nearest database pose.
+absl::StatusOr<SolvedPose> SolveLocalModel(const ReconstructionDatabase& db, std::span<const Neighbour> neighbours,
+                                           const ReferenceFrame& ref, const ControlTargets& targets,
+                                           const PoseHistory& history, int components,
+                                           const PoseSolverOptions& solver) {
+  Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_feature_size());
+  for (size_t i = 0; i < neighbours.size(); ++i)
+    examples.row(static_cast<Eigen::Index>(i)) = db.pose_feature(neighbours[i].row);
+  MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, components));
+  const SolvedPose initial =
+      history.previous ? *history.previous : DatabasePoseInQueryFrame(db, neighbours.front().row, ref);
+  return SolvePose(db.body(), model, targets, initial, history.previous, history.before_previous, solver);
+}
+
+// A2–A7: the pose model of the frames nearest by wrists and the estimated ankles (eq. 8),
+// driven by both.
+class FullMethod final : public PoseMethod {
+ public:
+  explicit FullMethod(const ReconstructionOptions& options)
+      : neighbours_(options.pose_neighbours), components_(options.pose_components), solver_(options.solver) {}
+  bool uses_ankles() const override { return true; }
+  bool solves() const override { return true; }
+  absl::StatusOr<std::vector<Neighbour>> Neighbours(const ReconstructionDatabase& db,
+                                                    const FrameFeatures& query) const override {
+    float feature[kWristAnkleFeatureDims];
+    WristAnkleFeature(query, db.position_weight(), feature);
+    return db.NearestByWristsAndAnkles(feature, neighbours_);
+  }
+  absl::StatusOr<SolvedPose> Pose(const ReconstructionDatabase& db, std::span<const Neighbour> neighbours,
+                                  const ReferenceFrame& ref, const ControlTargets& targets,
+                                  const PoseHistory& history) const override {
+    return SolveLocalModel(db, neighbours, ref, targets, history, components_, solver_);
+  }
+
+ private:
+  int neighbours_, components_;
+  PoseSolverOptions solver_;
+};
+
+// Baseline (patent §5): the same pose model, of the frames nearest by wrists, driven by the wrists
+// alone.
+class WristsOnlyMethod final : public PoseMethod {
+ public:
+  explicit WristsOnlyMethod(const ReconstructionOptions& options)
+      : neighbours_(options.pose_neighbours), components_(options.pose_components), solver_(options.solver) {
+    solver_.control_ankles = false;
+  }
+  bool uses_ankles() const override { return false; }
+  bool solves() const override { return true; }
+  absl::StatusOr<std::vector<Neighbour>> Neighbours(const ReconstructionDatabase& db,
+                                                    const FrameFeatures& query) const override {
+    return NearestByWrists(db, query, neighbours_);
+  }
+  absl::StatusOr<SolvedPose> Pose(const ReconstructionDatabase& db, std::span<const Neighbour> neighbours,
+                                  const ReferenceFrame& ref, const ControlTargets& targets,
+                                  const PoseHistory& history) const override {
+    ControlTargets wrists = targets;
+    wrists[kLeftAnkle] = wrists[kRightAnkle] = Eigen::Vector3f::Zero();
+    return SolveLocalModel(db, neighbours, ref, wrists, history, components_, solver_);
+  }
+
+ private:
+  int neighbours_, components_;
+  PoseSolverOptions solver_;
+};
+
+// Baseline: the database pose nearest by eq. 2, a plain motion-matching lookup.
+class NearestNeighbourMethod final : public PoseMethod {
+ public:
+  bool uses_ankles() const override { return false; }
+  bool solves() const override { return false; }
+  absl::StatusOr<std::vector<Neighbour>> Neighbours(const ReconstructionDatabase& db,
+                                                    const FrameFeatures& query) const override {
+    return NearestByWrists(db, query, 1);
+  }
+  absl::StatusOr<SolvedPose> Pose(const ReconstructionDatabase& db, std::span<const Neighbour> neighbours,
+                                  const ReferenceFrame& ref, const ControlTargets&, const PoseHistory&) const override {
+    return DatabasePoseInQueryFrame(db, neighbours.front().row, ref);
+  }
+};
+
+// Baseline: the mean of the `average_neighbours` poses nearest by eq. 2 (joint rotation vectors
+// about the rig's reference, and the pelvis, each neighbour placed in the query's wrist frame).
+class NearestAverageMethod final : public PoseMethod {
+ public:
+  explicit NearestAverageMethod(int count) : count_(count) {}
+  bool uses_ankles() const override { return false; }
+  bool solves() const override { return false; }
+  absl::StatusOr<std::vector<Neighbour>> Neighbours(const ReconstructionDatabase& db,
+                                                    const FrameFeatures& query) const override {
+    return NearestByWrists(db, query, count_);
+  }
+  absl::StatusOr<SolvedPose> Pose(const ReconstructionDatabase& db, std::span<const Neighbour> neighbours,
+                                  const ReferenceFrame& ref, const ControlTargets&, const PoseHistory&) const override {
+    SolvedPose mean = DatabasePoseInQueryFrame(db, neighbours.front().row, ref);
+    Eigen::Vector3f position = Eigen::Vector3f::Zero();
+    Eigen::Vector4f rotation = Eigen::Vector4f::Zero();
+    mean.pose_feature.setZero();
+    for (const Neighbour& n : neighbours) {
+      SolvedPose one;
+      PelvisInQueryFrame(db.frames()[n.row], ref, &one);
+      position += one.pelvis_position;
+      Eigen::Vector4f q = one.pelvis_rotation.coeffs();
+      if (q.dot(mean.pelvis_rotation.coeffs()) < 0) q = -q;  // the nearest's hemisphere
+      rotation += q;
+      mean.pose_feature += db.pose_feature(n.row).transpose();
+    }
+    const float count = static_cast<float>(neighbours.size());
+    mean.pose_feature /= count;
+    mean.pelvis_position = position / count;
+    mean.pelvis_rotation = Eigen::Quaternionf(rotation.normalized());
+    return mean;
+  }
+
+ private:
+  int count_;
+};
+
+}  // namespace
+
+SolvedPose DatabasePoseInQueryFrame(const ReconstructionDatabase& db, int row, const ReferenceFrame& ref) {
+  SolvedPose pose;
+  pose.pose_feature = db.pose_feature(row).transpose();
+  PelvisInQueryFrame(db.frames()[row], ref, &pose);
+  return pose;
+}
+
+std::unique_ptr<PoseMethod> MakePoseMethod(const ReconstructionOptions& options) {
+  switch (options.method) {
+    case ReconstructionMethod::kFull:
+      return std::make_unique<FullMethod>(options);
+    case ReconstructionMethod::kWristsOnly:
+      return std::make_unique<WristsOnlyMethod>(options);
+    case ReconstructionMethod::kNearestNeighbour:
+      return std::make_unique<NearestNeighbourMethod>();
+    case ReconstructionMethod::kNearestAverage:
+      return std::make_unique<NearestAverageMethod>(options.average_neighbours);
+  }
+  return std::make_unique<FullMethod>(options);
+}
+
+}  // namespace mocap
