@@ -40,6 +40,10 @@ int Serve(const ServeOptions& options) {
   std::cout << "listening on " << WithPort(options.listen, (*server)->port()) << std::endl;
   spdlog::info("serving store {} on {} ({})", options.store.string(), WithPort(options.listen, (*server)->port()),
                options.tls_cert.empty() ? "plaintext" : "TLS");
+  if (!options.metrics_listen.empty()) {
+    spdlog::info("serving metrics on http://{}/metrics (Prometheus text; every tenant's counters, no key)",
+                 WithPort(options.metrics_listen, (*server)->metrics_port()));
+  }
 
   std::thread waiter([&signals, &server, &options] {
     int signal = 0;
@@ -79,6 +83,12 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
                     "mount): imports and deletions answer FAILED_PRECONDITION");
   command->add_option("--listen", options->listen, "Address to listen on; port 0 picks a free port (printed)")
       ->capture_default_str();
+  command
+      ->add_option("--metrics-listen", options->metrics_listen,
+                   "Also serve GET /metrics (Prometheus text: the server's and every tenant's counters, no key) over "
+                   "HTTP on this address: keep it on loopback or an admin network; port 0 picks a free port (logged). "
+                   "Off by default")
+      ->type_name("HOST:PORT");
   auto* cert =
       command->add_option("--tls-cert", options->tls_cert, "TLS certificate chain (PEM)")->check(CLI::ExistingFile);
   auto* key = command->add_option("--tls-key", options->tls_key, "TLS private key (PEM)")->check(CLI::ExistingFile);

@@ -10,6 +10,7 @@
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "server/metrics_http.h"
 #include "server/motion_store_service.h"
 #include "server/pose_search_service.h"
 #include "server/server_status_service.h"
@@ -52,6 +53,7 @@ struct MocapServer::State {
   std::unique_ptr<ReconstructionService> reconstruction;
   std::unique_ptr<PoseSearchService> pose_search;  // uses reconstruction's compute pool
   std::unique_ptr<grpc::Server> server;
+  std::unique_ptr<MetricsHttpServer> metrics_http;  // reads `metrics`; stopped first
   std::chrono::milliseconds drain_timeout{0};
   std::once_flag shutdown_once;
 };
@@ -82,6 +84,12 @@ absl::StatusOr<std::unique_ptr<MocapServer>> MocapServer::Start(const ServeOptio
   state->pose_search = std::make_unique<PoseSearchService>(*state->context, state->reconstruction->compute(),
                                                            options.reconstruction.max_cached_databases);
   state->drain_timeout = options.drain_timeout;
+  if (!options.metrics_listen.empty()) {
+    const ServerMetrics& metrics = state->metrics;
+    MOCAP_ASSIGN_OR_RETURN(state->metrics_http, MetricsHttpServer::Start(options.metrics_listen, [&metrics] {
+                             return metrics.PrometheusTextWithTenants();
+                           }));
+  }
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -98,16 +106,22 @@ absl::StatusOr<std::unique_ptr<MocapServer>> MocapServer::Start(const ServeOptio
   if (!state->server || port == 0) {
     return absl::UnavailableError(StrCat("cannot listen on ", options.listen));
   }
+  const int metrics_port = state->metrics_http ? state->metrics_http->port() : 0;
   auto server = std::unique_ptr<MocapServer>(new MocapServer(std::move(state)));
   server->port_ = port;
+  server->metrics_port_ = metrics_port;
   return server;
 }
 
 void MocapServer::Shutdown() {
   std::call_once(state_->shutdown_once, [this] {
     spdlog::info("shutting down: draining calls for up to {} ms", state_->drain_timeout.count());
+    // The metrics endpoint takes no new scrapes from here on; the ones in progress end while the
+    // calls drain (within the socket timeouts, about 2 s).
+    if (state_->metrics_http) state_->metrics_http->Stop();
     state_->reconstruction->Drain();
     state_->server->Shutdown(std::chrono::system_clock::now() + state_->drain_timeout);
+    if (state_->metrics_http) state_->metrics_http->Wait();
     spdlog::info("all calls finished");
   });
 }

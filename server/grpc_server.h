@@ -1,5 +1,5 @@
 // MocapServer: the gRPC server of `mocapd serve` — MotionStore, Reconstruction, PoseSearch and ServerStatus services,
-// health checking, reflection, TLS, limits — over one store file.
+// health checking, reflection, TLS, limits — over one store file, and the operator's HTTP metrics endpoint.
 #pragma once
 
 #include <chrono>
@@ -23,6 +23,9 @@ struct ServeOptions {
   ServerLimits limits;
   ReconstructionLimits reconstruction;
   std::chrono::milliseconds drain_timeout{10000};  // on shutdown, calls get this long to finish
+  // host:port of the operator's HTTP endpoint GET /metrics (every tenant's counters, no key:
+  // loopback or an admin network); port 0 picks a free one; empty: none (the default).
+  std::string metrics_listen;
 };
 
 class MocapServer {
@@ -32,6 +35,8 @@ class MocapServer {
   ~MocapServer();
 
   int port() const { return port_; }
+  // The metrics endpoint's port; 0 when ServeOptions::metrics_listen is empty.
+  int metrics_port() const { return metrics_port_; }
   // Stops accepting calls, lets running ones finish until the drain timeout, cancels the rest.
   // Thread-safe; returns when every call has finished.
   void Shutdown();
@@ -43,6 +48,7 @@ class MocapServer {
   explicit MocapServer(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;
   int port_ = 0;
+  int metrics_port_ = 0;
 };
 
 }  // namespace mocap

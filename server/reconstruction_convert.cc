@@ -59,18 +59,6 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
     if (auto s = CheckRange("sub_interval.window_frames", options.window, 0, kMaxWindowFrames); !s.ok()) return s;
   }
   const v1::MethodOverrides& o = config.overrides();
-  if (o.has_ankle_candidates()) options.ankle_candidates = o.ankle_candidates();
-  if (o.has_pose_neighbours()) options.pose_neighbours = o.pose_neighbours();
-  if (o.has_pose_components()) options.pose_components = o.pose_components();
-  if (o.has_wrist_smoothing()) options.smoothing.smoothing = o.wrist_smoothing();
-  if (o.has_ankle_smoothing_frames()) options.ankle_path.smoothing_sigma_frames = o.ankle_smoothing_frames();
-  if (o.has_joint_smoothing_frames()) options.joint_smoothing_sigma = o.joint_smoothing_frames();
-  if (o.has_footskate_cleanup()) options.footskate.enabled = o.footskate_cleanup();
-  if (o.has_max_gap_seconds()) options.max_gap_seconds = o.max_gap_seconds();
-  if (o.has_wrist_fit_frames()) options.smoothing.local_linear_sigma = o.wrist_fit_frames();
-  if (o.has_wrist_lookahead_frames()) options.smoothing.lookahead = o.wrist_lookahead_frames();
-  if (o.has_hand_target_frames()) options.hand_target_sigma = o.hand_target_frames();
-  if (o.has_ankle_data_weight()) options.ankle_path.data_weight = o.ankle_data_weight();
   switch (o.foot_contacts()) {
     case v1::FOOT_CONTACTS_ESTIMATED_ANKLES:
       options.footskate.contact_source = ContactSource::kEstimatedAnkles;
@@ -85,22 +73,8 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
       return absl::InvalidArgumentError(
           StrCat("overrides.foot_contacts: unknown value ", static_cast<int>(o.foot_contacts())));
   }
-  for (const absl::Status& s : {
-           CheckRange("overrides.ankle_candidates", options.ankle_candidates, 1, kMaxAnkleCandidates),
-           CheckRange("overrides.pose_neighbours", options.pose_neighbours, 2, kMaxPoseNeighbours),
-           CheckRange("overrides.pose_components", options.pose_components, 1, 64),
-           CheckRange("overrides.wrist_smoothing", options.smoothing.smoothing, 0, 1),
-           CheckRange("overrides.ankle_smoothing_frames", options.ankle_path.smoothing_sigma_frames, 0, 30),
-           CheckRange("overrides.joint_smoothing_frames", options.joint_smoothing_sigma, 0, 30),
-           CheckRange("overrides.max_gap_seconds", options.max_gap_seconds, 1e-3, 10),
-           CheckRange("overrides.wrist_fit_frames", options.smoothing.local_linear_sigma, 0, 10),
-           CheckRange("overrides.wrist_lookahead_frames", options.smoothing.lookahead, 0, 30),
-           CheckRange("overrides.hand_target_frames", options.hand_target_sigma, -1e9, 10),
-           CheckRange("overrides.ankle_data_weight", options.ankle_path.data_weight, 0, 100),
-           CheckRange("min_confidence", config.min_confidence(), 0, 1),
-       }) {
-    if (!s.ok()) return s;
-  }
+  if (auto s = ApplyMethodOverrides(o, &options); !s.ok()) return s;
+  if (auto s = CheckRange("min_confidence", config.min_confidence(), 0, 1); !s.ok()) return s;
   // An unknown value (a newer client, or 7, -1) is refused, not silently taken as the default.
   if (!v1::OutputFrame_IsValid(config.output_frame())) {
     return absl::InvalidArgumentError(StrCat("output_frame: unknown value ", static_cast<int>(config.output_frame()),
@@ -116,19 +90,7 @@ v1::SessionConfig EffectiveConfig(const v1::SessionConfig& config, const Reconst
   } else {
     out.mutable_sub_interval()->set_window_frames(options.window);
   }
-  v1::MethodOverrides* o = out.mutable_overrides();
-  o->set_ankle_candidates(options.ankle_candidates);
-  o->set_pose_neighbours(options.pose_neighbours);
-  o->set_pose_components(options.pose_components);
-  o->set_wrist_smoothing(options.smoothing.smoothing);
-  o->set_ankle_smoothing_frames(options.ankle_path.smoothing_sigma_frames);
-  o->set_joint_smoothing_frames(options.joint_smoothing_sigma);
-  o->set_footskate_cleanup(options.footskate.enabled);
-  o->set_max_gap_seconds(options.max_gap_seconds);
-  o->set_wrist_fit_frames(options.smoothing.local_linear_sigma);
-  o->set_wrist_lookahead_frames(options.smoothing.lookahead);
-  o->set_hand_target_frames(options.hand_target_sigma);
-  o->set_ankle_data_weight(options.ankle_path.data_weight);
+  WriteMethodOverrides(options, out.mutable_overrides());
   return out;
 }
 

@@ -9,13 +9,13 @@
 #include "motion/reconstruct/body_sizer.h"
 #include "motion/reconstruct/reconstruction_session.h"
 #include "motion/retarget/retarget_rig.h"
+#include "proto/convert/method_overrides.h"
 #include "server/input_frame_convert.h"
 
 namespace mocap {
 
-// Server-side caps on the method's parameters (a K1 of 10⁵ would be 10¹⁰ edges per frame).
-inline constexpr int kMaxAnkleCandidates = 5000;
-inline constexpr int kMaxPoseNeighbours = 2000;
+// Server-side caps on the method's parameters (a K1 of 10⁵ would be 10¹⁰ edges per frame; the
+// tunables' ranges, kMaxAnkleCandidates among them, are in proto/convert/method_overrides.h).
 inline constexpr int kMaxWindowFrames = 3000;
 
 // The session options a config asks for: defaults, then the config's mode and overrides.

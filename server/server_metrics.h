@@ -1,6 +1,7 @@
 // Server-wide counters, and the same counters per tenant, rendered in the Prometheus text format
-// (ServerStatus.GetMetrics: a tenant is answered its own, the operator's default tenant the
-// server's). Thread-safe.
+// (version 0.0.4). ServerStatus.GetMetrics answers a tenant its own and the operator's default
+// tenant the server's; only the operator's HTTP endpoint (`mocapd serve --metrics-listen`,
+// server/metrics_http.h) shows every tenant's, labelled by name. Thread-safe.
 #pragma once
 
 #include <array>
@@ -9,10 +10,15 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include "motion/core/mutex.h"
 
 namespace mocap {
+
+// A label value as the Prometheus text format writes it between its quotes: backslash, double
+// quote and line feed escaped (\\, \", \n).
+std::string PrometheusLabelValue(std::string_view value);
 
 class ServerMetrics {
  public:
@@ -37,13 +43,30 @@ class ServerMetrics {
   void SamplesRejected(std::int64_t samples) { samples_rejected_.fetch_add(samples); }
   void ReplyLatency(double seconds);
 
+  // These counters as `mocap_*` series (GetMetrics' answer).
   std::string PrometheusText() const;
+  // The operator's view (the metrics HTTP endpoint, never a tenant's key): the server's series as
+  // PrometheusText gives them, then the same counters of every tenant that has made a call, as
+  // `mocap_tenant_*` series labelled tenant="NAME" (own names, so that a sum over the tenant
+  // series never counts a call twice with the server's).
+  std::string PrometheusTextWithTenants() const;
 
   // The counters of one tenant's calls alone: made on first use, kept for the server's life (a
-  // tenant's counters must not restart while the server runs).
-  ServerMetrics& OfTenant(std::int64_t tenant);
+  // tenant's counters must not restart while the server runs). `name` labels them in
+  // PrometheusTextWithTenants (tenant names are unique in a store and never change); an empty
+  // name keeps the one known.
+  ServerMetrics& OfTenant(std::int64_t tenant, std::string_view name = {});
+
+  // Every counter's value at one moment (what the text is rendered from).
+  struct Snapshot;
 
  private:
+  struct TenantEntry {
+    std::string name;
+    std::unique_ptr<ServerMetrics> metrics;
+  };
+  Snapshot Take() const;
+
   std::atomic<std::int64_t> in_flight_{0};
   std::atomic<std::int64_t> imported_files_{0};
   std::atomic<std::int64_t> imported_frames_{0};
@@ -60,7 +83,7 @@ class ServerMetrics {
   std::array<std::int64_t, 8> latency_buckets_ ABSL_GUARDED_BY(mutex_){};  // ≤ kLatencyBounds[i], then +Inf
   double latency_sum_ ABSL_GUARDED_BY(mutex_) = 0.0;
   std::int64_t latency_count_ ABSL_GUARDED_BY(mutex_) = 0;
-  std::map<std::int64_t, std::unique_ptr<ServerMetrics>> tenants_ ABSL_GUARDED_BY(mutex_);
+  std::map<std::int64_t, TenantEntry> tenants_ ABSL_GUARDED_BY(mutex_);
 };
 
 // Where one call's work counts: the server's counters and, once the call's tenant is known, that

@@ -91,7 +91,7 @@ absl::Status CallScope::BeginUnguarded(TenantAdmission* admission, const char* l
     return tenant.status();
   }
   tenant_ = std::move(*tenant);
-  tenant_metrics_ = &service_.metrics.OfTenant(tenant_.id);
+  tenant_metrics_ = &service_.metrics.OfTenant(tenant_.id, tenant_.name);
   tenant_metrics_->CallStarted();
   absl::StatusOr<TenantAdmission::Ticket> ticket = (admission ? *admission : service_.admission).Admit(tenant_.id);
   if (!ticket.ok()) {

@@ -15,8 +15,10 @@
 #include "client/cli/refusal_summary.h"
 #include "client/cli/target_rig_file.h"
 #include "client/wrist_input/wrist_source.h"
+#include "motion/core/str_cat.h"
 #include "motion/reconstruct/plausibility.h"
 #include "motion/skeleton/forward_kinematics.h"
+#include "proto/convert/method_overrides.h"
 #include "tools/command_line/progress_bar.h"
 
 namespace mocap::cli {
@@ -30,7 +32,8 @@ struct ReconstructOptions {
   std::string method = "full";
   std::string foot_contacts = "estimated";
   int window = -1, lag = -1;
-  int k1 = 0, k2 = 0;
+  // Tunables asked for by flag (proto/convert/method_overrides.h), in the order given.
+  std::vector<std::pair<const MethodTunable*, double>> tunables;
   float performer_height = 0.0f;
   bool estimate_height = true;  // the whole trajectory, no height declared, no target rig: by reach
   float min_confidence = 0.0f;
@@ -54,8 +57,7 @@ absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
   }
   if (o.lag >= 0) config.mutable_fixed_lag()->set_lag_frames(o.lag);
   if (o.window >= 0) config.mutable_sub_interval()->set_window_frames(o.window);
-  if (o.k1 > 0) config.mutable_overrides()->set_ankle_candidates(o.k1);
-  if (o.k2 > 0) config.mutable_overrides()->set_pose_neighbours(o.k2);
+  for (const auto& [tunable, value] : o.tunables) SetMethodOverride(*tunable, value, config.mutable_overrides());
   config.mutable_overrides()->set_foot_contacts(o.foot_contacts == "database" ? v1::FOOT_CONTACTS_DATABASE_FRAME
                                                 : o.foot_contacts == "both"   ? v1::FOOT_CONTACTS_BOTH
                                                                               : v1::FOOT_CONTACTS_ESTIMATED_ANKLES);
@@ -384,8 +386,16 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   auto* lag = command->add_option("--lag", o->lag, "Fixed lag D in frames (frame t-D leaves when t arrives)")
                   ->check(CLI::NonNegativeNumber);
   window->excludes(lag);
-  command->add_option("--k1", o->k1, "Ankle candidates K1 (server default 500)")->check(CLI::PositiveNumber);
-  command->add_option("--k2", o->k2, "Pose neighbours K2 (server default 50)")->check(CLI::PositiveNumber);
+  // The method's tunables that have a flag, from the one table the server checks them by.
+  const ReconstructionOptions defaults;
+  for (const MethodTunable& tunable : MethodTunables()) {
+    if (tunable.flag.empty()) continue;
+    command
+        ->add_option_function<double>(
+            std::string(tunable.flag), [o, &tunable](double value) { o->tunables.emplace_back(&tunable, value); },
+            StrCat(tunable.help, " (", tunable.min, "..", tunable.max, "; server default ", tunable.get(defaults), ")"))
+        ->check(CLI::Range(tunable.min, tunable.max));
+  }
   command
       ->add_option("--foot-contacts", o->foot_contacts,
                    "A7 foot contacts: estimated (most accurate), database (least skating) or both")

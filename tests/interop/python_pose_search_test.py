@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """The PoseSearch service from Python's grpcio, checked against the C++ SDK (`mocap similar`).
 
-  python_pose_search_test.py --stubs DIR --address HOST:PORT --key KEY --database NAME \
+  python_pose_search_test.py --address HOST:PORT --key KEY --database NAME \
       --query CLIP.bvh --frames A:B --step N --top K --cxx-json CXX.json
 
+Run with a Python that has mocap_client installed (its generated stubs, on a bare grpcio channel).
 CXX.json is what `mocap similar --database NAME --query CLIP.bvh --frames A:B --step N --top K
 --json` printed. Checks:
   - FindSimilarPoses from Python (the BVH text, the same frames, top K) answers the same query
@@ -27,7 +28,7 @@ GROUPS = ("spine", "head", "left_arm", "right_arm", "left_leg", "right_leg")
 
 def parse_args():
     parser = argparse.ArgumentParser()
-    for name in ("--stubs", "--address", "--key", "--database", "--query", "--frames", "--cxx-json"):
+    for name in ("--address", "--key", "--database", "--query", "--frames", "--cxx-json"):
         parser.add_argument(name, required=True)
     parser.add_argument("--step", type=int, required=True)
     parser.add_argument("--top", type=int, required=True)
@@ -35,11 +36,10 @@ def parse_args():
 
 
 args = parse_args()
-sys.path.insert(0, args.stubs)
 
 import grpc  # noqa: E402
-from mocap.v1 import pose_search_pb2 as ppb  # noqa: E402
-from mocap.v1 import pose_search_pb2_grpc as pgrpc  # noqa: E402
+from mocap_client.v1 import pose_search_pb2 as ppb  # noqa: E402
+from mocap_client.v1 import pose_search_pb2_grpc as pgrpc  # noqa: E402
 from interop_checks import check, expect_error, failures, reflected_services, verdict  # noqa: E402
 
 metadata = (("authorization", f"Bearer {args.key}"),)
