@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # The README and the guides in docs/ link to each other by relative paths and heading anchors; a
 # renamed file or heading otherwise leaves a dead link that no test notices. Checks every relative
-# link and image in README.md, docs/*.md, client/README.md and viewer/README.md: the file exists,
-# and a #fragment names a heading of that file (anchors as GitHub makes them: lower case,
-# punctuation dropped, spaces to hyphens, -1, -2... for repeats).
+# link and image in README.md, docs/**/*.md (subfolders such as docs/devices/ too),
+# client/README.md and viewer/README.md: the file exists, and a #fragment names a heading of that
+# file (anchors as GitHub makes them: lower case, punctuation dropped, spaces to hyphens, -1, -2...
+# for repeats).
 #   usage: tests/check_docs.sh SOURCE_DIR
 set -euo pipefail
 cd "$1"
-python3 - README.md docs/*.md client/README.md viewer/README.md <<'EOF'
+shopt -s globstar
+python3 - README.md docs/**/*.md client/README.md viewer/README.md <<'EOF'
 import os, re, sys
 
 def anchors(path):

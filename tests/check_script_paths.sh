@@ -16,7 +16,7 @@ while IFS=: read -r file path; do
     echo "$file names $path, which the build does not make"
     status=1
   fi
-done < <(grep -o -E 'build/[a-z_-]+/mocap[a-z_-]*' README.md docs/*.md client/README.md viewer/README.md \
+done < <(grep -o -E 'build/[a-z_-]+/mocap[a-z_-]*' README.md docs/*.md docs/*/*.md client/README.md viewer/README.md \
   scripts/*.sh benchmarks/*.sh docker/* .ci/run 2>/dev/null |
   sort -u)
 echo "checked $checked program paths"

@@ -351,7 +351,7 @@ class ConverterTest(unittest.TestCase):
 
 class DeviceDocsTest(unittest.TestCase):
     """docs/devices: a page per source, linked from the index; every relative link resolves
-    (tests/check_docs.sh covers docs/*.md, not this folder)."""
+    (as tests/check_docs.sh also checks, for every guide)."""
 
     def anchors(self, path):
         found, seen = set(), {}
