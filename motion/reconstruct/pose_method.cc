@@ -16,6 +16,15 @@ void PelvisInQueryFrame(const DatabaseFrame& f, const ReferenceFrame& ref, Solve
                               .normalized();
 }
 
+// A database frame's pose placed in the query's wrist reference frame (A1: local coordinates are
+// comparable across frames): its pose feature, its pelvis moved into `ref`.
+SolvedPose DatabasePoseInQueryFrame(const ReconstructionDatabase& db, int row, const ReferenceFrame& ref) {
+  SolvedPose pose;
+  pose.pose_feature = db.pose_feature(row).transpose();
+  PelvisInQueryFrame(db.frames()[row], ref, &pose);
+  return pose;
+}
+
 absl::StatusOr<std::vector<Neighbour>> NearestByWrists(const ReconstructionDatabase& db, const FrameFeatures& query,
                                                        int count) {
   float feature[kWristFeatureDims];
@@ -23,31 +32,24 @@ absl::StatusOr<std::vector<Neighbour>> NearestByWrists(const ReconstructionDatab
   return db.wrist_index().Search(feature, count);
 }
 
-// A5–A6: the local linear model of the neighbours' poses, solved against the targets; a
-// segment's first frame starts from the nearest database pose.
-absl::StatusOr<SolvedPose> SolveLocalModel(const ReconstructionDatabase& db, std::span<const Neighbour> neighbours,
-                                           const ReferenceFrame& ref, const ControlTargets& targets,
-                                           const PoseHistory& history, int components,
-                                           const PoseSolverOptions& solver) {
-  Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_feature_size());
-  for (size_t i = 0; i < neighbours.size(); ++i)
-    examples.row(static_cast<Eigen::Index>(i)) = db.pose_feature(neighbours[i].row);
-  MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, components));
-  const SolvedPose initial =
-      history.previous ? *history.previous : DatabasePoseInQueryFrame(db, neighbours.front().row, ref);
-  return SolvePose(db.body(), model, targets, initial, history.previous, history.before_previous, solver);
-}
-
-// A2–A7: the pose model of the frames nearest by wrists and the estimated ankles (eq. 8),
-// driven by both.
-class FullMethod final : public PoseMethod {
+// A5–A6: the local linear model of the neighbours' poses, solved against the targets; a segment's
+// first frame starts from the nearest database pose. The full method (A2–A7) takes the frames
+// nearest by wrists and the estimated ankles (eq. 8) and is driven by both; the wrists-only
+// baseline (patent §5) takes the frames nearest by wrists and is driven by the wrists alone.
+class LocalModelMethod final : public PoseMethod {
  public:
-  explicit FullMethod(const ReconstructionOptions& options)
-      : neighbours_(options.pose_neighbours), components_(options.pose_components), solver_(options.solver) {}
-  bool uses_ankles() const override { return true; }
+  LocalModelMethod(const ReconstructionOptions& options, bool ankles)
+      : ankles_(ankles),
+        neighbours_(options.pose_neighbours),
+        components_(options.pose_components),
+        solver_(options.solver) {
+    if (!ankles_) solver_.control_ankles = false;
+  }
+  bool uses_ankles() const override { return ankles_; }
   bool solves() const override { return true; }
   absl::StatusOr<std::vector<Neighbour>> Neighbours(const ReconstructionDatabase& db,
                                                     const FrameFeatures& query) const override {
+    if (!ankles_) return NearestByWrists(db, query, neighbours_);
     float feature[kWristAnkleFeatureDims];
     WristAnkleFeature(query, db.position_weight(), feature);
     return db.NearestByWristsAndAnkles(feature, neighbours_);
@@ -55,39 +57,19 @@ class FullMethod final : public PoseMethod {
   absl::StatusOr<SolvedPose> Pose(const ReconstructionDatabase& db, std::span<const Neighbour> neighbours,
                                   const ReferenceFrame& ref, const ControlTargets& targets,
                                   const PoseHistory& history) const override {
-    return SolveLocalModel(db, neighbours, ref, targets, history, components_, solver_);
+    Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_feature_size());
+    for (size_t i = 0; i < neighbours.size(); ++i)
+      examples.row(static_cast<Eigen::Index>(i)) = db.pose_feature(neighbours[i].row);
+    MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, components_));
+    const SolvedPose initial =
+        history.previous ? *history.previous : DatabasePoseInQueryFrame(db, neighbours.front().row, ref);
+    return SolvePose(db.body(), model, targets, initial, history.previous, history.before_previous, solver_);
   }
 
  private:
+  bool ankles_;
   int neighbours_, components_;
-  PoseSolverOptions solver_;
-};
-
-// Baseline (patent §5): the same pose model, of the frames nearest by wrists, driven by the wrists
-// alone.
-class WristsOnlyMethod final : public PoseMethod {
- public:
-  explicit WristsOnlyMethod(const ReconstructionOptions& options)
-      : neighbours_(options.pose_neighbours), components_(options.pose_components), solver_(options.solver) {
-    solver_.control_ankles = false;
-  }
-  bool uses_ankles() const override { return false; }
-  bool solves() const override { return true; }
-  absl::StatusOr<std::vector<Neighbour>> Neighbours(const ReconstructionDatabase& db,
-                                                    const FrameFeatures& query) const override {
-    return NearestByWrists(db, query, neighbours_);
-  }
-  absl::StatusOr<SolvedPose> Pose(const ReconstructionDatabase& db, std::span<const Neighbour> neighbours,
-                                  const ReferenceFrame& ref, const ControlTargets& targets,
-                                  const PoseHistory& history) const override {
-    ControlTargets wrists = targets;
-    wrists[kLeftAnkle] = wrists[kRightAnkle] = Eigen::Vector3f::Zero();
-    return SolveLocalModel(db, neighbours, ref, wrists, history, components_, solver_);
-  }
-
- private:
-  int neighbours_, components_;
-  PoseSolverOptions solver_;
+  PoseSolverOptions solver_;  // without the ankles' E_ctrl where the method has none
 };
 
 // Baseline: the database pose nearest by eq. 2, a plain motion-matching lookup.
@@ -144,25 +126,18 @@ class NearestAverageMethod final : public PoseMethod {
 
 }  // namespace
 
-SolvedPose DatabasePoseInQueryFrame(const ReconstructionDatabase& db, int row, const ReferenceFrame& ref) {
-  SolvedPose pose;
-  pose.pose_feature = db.pose_feature(row).transpose();
-  PelvisInQueryFrame(db.frames()[row], ref, &pose);
-  return pose;
-}
-
 std::unique_ptr<PoseMethod> MakePoseMethod(const ReconstructionOptions& options) {
   switch (options.method) {
     case ReconstructionMethod::kFull:
-      return std::make_unique<FullMethod>(options);
+      return std::make_unique<LocalModelMethod>(options, /*ankles=*/true);
     case ReconstructionMethod::kWristsOnly:
-      return std::make_unique<WristsOnlyMethod>(options);
+      return std::make_unique<LocalModelMethod>(options, /*ankles=*/false);
     case ReconstructionMethod::kNearestNeighbour:
       return std::make_unique<NearestNeighbourMethod>();
     case ReconstructionMethod::kNearestAverage:
       return std::make_unique<NearestAverageMethod>(options.average_neighbours);
   }
-  return std::make_unique<FullMethod>(options);
+  return std::make_unique<LocalModelMethod>(options, /*ankles=*/true);
 }
 
 }  // namespace mocap

@@ -43,8 +43,4 @@ class PoseMethod {
 
 std::unique_ptr<PoseMethod> MakePoseMethod(const ReconstructionOptions& options);
 
-// A database frame's pose placed in the query's wrist reference frame (A1: local coordinates are
-// comparable across frames): its pose feature, its pelvis moved into `ref`.
-SolvedPose DatabasePoseInQueryFrame(const ReconstructionDatabase& db, int row, const ReferenceFrame& ref);
-
 }  // namespace mocap

@@ -364,7 +364,7 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   const ReferenceFrame ref =
       WristReferenceFrame(wrists.position[0], wrists.position[1], s.pose_heading, &s.pose_heading);
   FrameFeatures query = WristQueryFeatures(ref, wrists);
-  AnklePair ankles{};
+  AnklePair ankles = {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};  // zero where the method estimates none
   for (int side = 0; side < 2 && full; ++side) {
     ankles[side] = s.ankles[f][side];
     const Eigen::Vector3f velocity =
