@@ -46,13 +46,23 @@ void ReconstructReactor::Authenticate() {
   pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
   MutexLock lock(&mutex_);
   stream_ticket_ = *std::move(stream);
-  authenticated_ = true;
+  AdvanceTo(Phase::kConfiguring);  // ignored when the call completed meanwhile
+}
+
+ReconstructReactor::TaskToken::TaskToken(ReconstructReactor& reactor) : reactor_(&reactor) { ++reactor.tasks_; }
+
+ReconstructReactor::TaskToken::~TaskToken() {
+  if (reactor_ == nullptr) return;  // moved from
+  MutexLock lock(&reactor_->mutex_);
+  --reactor_->tasks_;
+  reactor_->PumpLocked();  // may Finish: the reactor is not touched after the lock is released
 }
 
 void ReconstructReactor::Post(std::function<void()> work) {
   // Called with mutex_ held.
-  ++tasks_;
-  state_.compute.Post(pool_key_.load(), [this, work = std::move(work)] {
+  auto token = std::make_shared<TaskToken>(TaskToken(*this));
+  state_.compute.Post(pool_key_.load(), [this, token, work = std::move(work)] {
+    const TaskToken task = std::move(*token);  // released last, when this task returns or throws
     absl::Status failed;
     try {
       work();
@@ -61,10 +71,10 @@ void ReconstructReactor::Post(std::function<void()> work) {
     } catch (...) {
       failed = absl::InternalError("reconstruction failed");
     }
-    MutexLock lock(&mutex_);
-    if (!failed.ok()) CompleteLocked(failed, true);
-    --tasks_;
-    PumpLocked();
+    if (!failed.ok()) {
+      MutexLock lock(&mutex_);
+      CompleteLocked(failed, true);
+    }
   });
 }
 
@@ -88,25 +98,27 @@ void ReconstructReactor::OnReadDone(bool ok) {
   MutexLock lock(&mutex_);
   reading_ = false;
   last_read_ = arrival;
-  if (completing_ || input_done_) return PumpLocked();
+  if (phase_ >= Phase::kInputDone) return PumpLocked();
+  // Reads start only once authenticated, so the phase is kConfiguring or kStreaming here.
+  const bool configured = phase_ == Phase::kStreaming;
   if (!ok) {  // the client half-closed (or went away: OnCancel says so)
-    input_done_ = true;
-    if (!configured_) {
+    if (!configured) {
       CompleteLocked(absl::InvalidArgumentError("the stream ended before its config message"), false);
       return PumpLocked();
     }
+    AdvanceTo(Phase::kInputDone);
     return Post([this] { EndInput(absl::OkStatus()); });
   }
   switch (request_.kind_case()) {
     case v1::ReconstructRequest::kConfig:
-      if (configured_) {
+      if (configured) {
         CompleteLocked(absl::InvalidArgumentError("config sent twice: one session per stream"), false);
         return PumpLocked();
       }
-      configured_ = true;
+      AdvanceTo(Phase::kStreaming);
       return Post([this, config = request_.config()] { HandleConfig(config); });
     case v1::ReconstructRequest::kSamples:
-      if (!configured_) {
+      if (!configured) {
         CompleteLocked(absl::InvalidArgumentError("samples before the config: send SessionConfig first"), false);
         return PumpLocked();
       }
@@ -115,11 +127,11 @@ void ReconstructReactor::OnReadDone(bool ok) {
       samples_arrival_ = arrival;
       return PumpLocked();
     case v1::ReconstructRequest::kFinish:
-      input_done_ = true;
-      if (!configured_) {
+      if (!configured) {
         CompleteLocked(absl::InvalidArgumentError("finish before the config message"), false);
         return PumpLocked();
       }
+      AdvanceTo(Phase::kInputDone);
       return Post([this] { EndInput(absl::OkStatus()); });
     default:
       CompleteLocked(absl::InvalidArgumentError("empty request: set config, samples or finish"), false);
@@ -128,12 +140,15 @@ void ReconstructReactor::OnReadDone(bool ok) {
 }
 
 void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
+  std::shared_ptr<TaskToken> wait;  // the database wait; AcquireSessionDatabase always answers
   {
     MutexLock lock(&mutex_);
-    ++tasks_;  // the database wait; AcquireSessionDatabase always answers
+    wait = std::make_shared<TaskToken>(TaskToken(*this));
   }
   AcquireSessionDatabase(
-      state_, call_, config.database(), [this, config](absl::StatusOr<ReconstructionDatabases::Database> database) {
+      state_, call_, config.database(),
+      [this, config, wait](absl::StatusOr<ReconstructionDatabases::Database> database) {
+        const TaskToken waited = std::move(*wait);  // released last, after Deliver
         Replies replies;
         absl::Status status = database.status();
         if (status.ok()) {
@@ -163,9 +178,6 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
           }
         }
         Deliver(std::move(replies), status);
-        MutexLock lock(&mutex_);
-        --tasks_;
-        PumpLocked();
       });
 }
 
@@ -195,7 +207,7 @@ void ReconstructReactor::EndInput(absl::Status final_status) {
     }
   }
   MutexLock lock(&mutex_);
-  if (!completing_) {
+  if (phase_ < Phase::kCompleting) {
     for (v1::ReconstructResponse& reply : replies) outbox_.push_back(std::move(reply));
   }
   CompleteLocked(status, false);
@@ -203,16 +215,14 @@ void ReconstructReactor::EndInput(absl::Status final_status) {
 
 void ReconstructReactor::Deliver(Replies replies, const absl::Status& status) {
   MutexLock lock(&mutex_);
-  if (completing_) return;  // the call's outcome is decided: later replies are not sent
+  if (phase_ >= Phase::kCompleting) return;  // the call's outcome is decided: later replies are not sent
   for (v1::ReconstructResponse& reply : replies) outbox_.push_back(std::move(reply));
   if (!status.ok()) CompleteLocked(status, false);
 }
 
 void ReconstructReactor::CompleteLocked(const absl::Status& status, bool discard_replies) {
   if (discard_replies) outbox_.clear();
-  if (completing_) return;
-  completing_ = true;
-  input_done_ = true;
+  if (!AdvanceTo(Phase::kCompleting)) return;  // the first outcome stands
   samples_.reset();
   // A normal end (half-close, finish, shutdown) still computes the remaining frames: EndInput
   // runs before this. Anything else stops the session's compute now.
@@ -220,19 +230,25 @@ void ReconstructReactor::CompleteLocked(const absl::Status& status, bool discard
   final_status_ = call_.End(status);
 }
 
+bool ReconstructReactor::AdvanceTo(Phase phase) {
+  if (phase <= phase_) return false;
+  phase_ = phase;
+  return true;
+}
+
 void ReconstructReactor::PumpLocked() {
-  if (finished_) return;
+  if (phase_ == Phase::kFinished) return;
   if (!writing_ && !outbox_.empty()) {
     writing_message_ = std::move(outbox_.front());
     outbox_.pop_front();
     writing_ = true;
     StartWrite(&writing_message_);
   }
-  if (completing_) {
+  if (phase_ == Phase::kCompleting) {
     // Compute tasks refer to this reactor: finish only when none is left and every queued reply
     // is written. A read still outstanding completes with ok = false after Finish.
     if (!writing_ && tasks_ == 0) {
-      finished_ = true;
+      AdvanceTo(Phase::kFinished);
       Finish(final_status_);
     }
     return;
@@ -243,7 +259,8 @@ void ReconstructReactor::PumpLocked() {
     if (tasks_ == 0 && outbox_.size() < kMaxQueuedReplies) PostSliceLocked();
     return;
   }
-  if (authenticated_ && !writing_ && outbox_.empty() && !reading_ && !input_done_ && tasks_ == 0) {
+  const bool reads = phase_ == Phase::kConfiguring || phase_ == Phase::kStreaming;
+  if (reads && !writing_ && outbox_.empty() && !reading_ && tasks_ == 0) {
     reading_ = true;
     last_read_ = Clock::now();
     StartRead(&request_);
@@ -270,7 +287,7 @@ void ReconstructReactor::OnCancel() {
 
 bool ReconstructReactor::IdleSince(Clock::time_point cutoff) {
   MutexLock lock(&mutex_);
-  return reading_ && !completing_ && last_read_ < cutoff;
+  return reading_ && phase_ < Phase::kCompleting && last_read_ < cutoff;
 }
 
 void ReconstructReactor::EndIdle() {
@@ -284,14 +301,15 @@ void ReconstructReactor::EndIdle() {
 
 void ReconstructReactor::EndForShutdown() {
   MutexLock lock(&mutex_);
-  if (completing_) return;
+  if (phase_ >= Phase::kCompleting) return;
   const absl::Status status =
       absl::UnavailableError("the server is shutting down: frames sent so far stand; connect again");
-  if (!configured_ || input_done_) {
-    if (!input_done_) CompleteLocked(status, false);
+  if (phase_ != Phase::kStreaming) {
+    // Before the config there is no session to finish; after the input it is being finished.
+    if (phase_ < Phase::kStreaming) CompleteLocked(status, false);
     return PumpLocked();
   }
-  input_done_ = true;
+  AdvanceTo(Phase::kInputDone);
   samples_.reset();  // the rest of a message in progress is dropped: frames sent so far stand
   Post([this, status] { EndInput(status); });
 }

@@ -1,11 +1,15 @@
 // The Reconstruct stream of one session (reconstruction_service.h): a state machine with at most
-// one read, one write and one compute task outstanding.
+// one read, one write and one compute task outstanding. Its phase (Phase) only moves forward:
 //
-//   open → [compute] authenticate, admit the tenant's session (nothing is read before)
-//   read config → [compute] find the database, wait for its index → write `started`
-//   read samples → [compute] SessionDriver::Push of a few samples → write their frames → [compute]
-//                  the next few ... → read next message
-//   half-close or `finish` → [compute] SessionDriver::Finish → write frames, summary → Finish(OK)
+//   kAuthenticating  open → [compute] authenticate, admit the tenant's session (nothing is read before)
+//   kConfiguring     read config → [compute] find the database, wait for its index → write `started`
+//   kStreaming       read samples → [compute] SessionDriver::Push of a few samples → write their frames →
+//                    [compute] the next few ... → read next message
+//   kInputDone       half-close, `finish` or drain → [compute] SessionDriver::Finish → frames, summary
+//   kCompleting      the final status is decided: the queued replies are written, compute tasks drain
+//   kFinished        Finish(status) called
+// Any phase before kCompleting jumps to it when the call's outcome is decided (an error, a cancel,
+// the idle limit, a refusal); the first outcome stands.
 // A samples message is cut into tasks of kSamplesPerTask samples, posted under the tenant's key
 // of the fair compute pool: a large message is answered incrementally and cannot hold a compute
 // thread, and another tenant's task waits for at most one task per thread. The next slice is
@@ -13,7 +17,7 @@
 // replies to the previous one have been written, so a slow reader slows its own session and
 // nothing queues without bound. Once the call's outcome is decided (cancelled, idle, deadline,
 // error) the session's cancel flag stops its compute within one frame. The reactor finishes only
-// when no compute task refers to it.
+// when no compute task refers to it: each holds a TaskToken.
 #pragma once
 
 #include <atomic>
@@ -22,6 +26,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "motion/core/mutex.h"
 #include "server/owned_reactor.h"
@@ -51,6 +56,34 @@ class ReconstructReactor
   static constexpr int kSamplesPerTask = 4;
   static constexpr size_t kMaxQueuedReplies = 8;  // replies waiting to be written before a slice
 
+  // The stream's lifecycle, in order (the file comment); it only moves forward (AdvanceTo).
+  enum class Phase {
+    kAuthenticating,  // the key is checked and the tenant admitted (a compute task); nothing is read yet
+    kConfiguring,     // reads may start; the first message must be the config
+    kStreaming,       // config received: samples are read, computed and answered
+    kInputDone,       // half-close, `finish` or drain: no more reads, the remaining frames are computed
+    kCompleting,      // the final status is decided: queued replies are written, no new work starts
+    kFinished,        // Finish called
+  };
+
+  // One compute task (or the database wait) that refers to this reactor: counted in tasks_ while
+  // it lives. Made with mutex_ held; released (destroyed, not moved from) with mutex_ NOT held, it
+  // takes mutex_, drops the count and pumps the stream, which finishes the call once the last task
+  // of a completing call is gone. Move-only. std::function (WorkPool::Post, AcquireSessionDatabase)
+  // needs a copyable callable, so a token travels in a shared_ptr and the task that runs moves it
+  // out first: the count drops when that task returns, however many copies of the callable remain
+  // and wherever they are destroyed.
+  class TaskToken {
+   public:
+    explicit TaskToken(ReconstructReactor& reactor) ABSL_EXCLUSIVE_LOCKS_REQUIRED(reactor.mutex_);
+    TaskToken(TaskToken&& other) noexcept : reactor_(std::exchange(other.reactor_, nullptr)) {}
+    TaskToken& operator=(TaskToken&&) = delete;
+    ~TaskToken();
+
+   private:
+    ReconstructReactor* reactor_;  // null once moved from
+  };
+
   // Runs `work` on the compute pool under this session's tenant; the reactor stays alive until
   // it has returned. An exception ends the call with INTERNAL.
   void Post(std::function<void()> work) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
@@ -72,6 +105,10 @@ class ReconstructReactor
   void CompleteLocked(const absl::Status& status, bool discard_replies) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   // Starts the next write, read or Finish, whichever is due.
   void PumpLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Moves the phase forward to `phase`; a move to the current or an earlier phase is ignored (a
+  // later phase stands: e.g. authentication that ends after the call was cancelled). True when
+  // the phase changed.
+  bool AdvanceTo(Phase phase) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   ReconstructionState& state_;
   CallScope call_;
@@ -86,15 +123,14 @@ class ReconstructReactor
   std::atomic<WorkPool::Key> pool_key_{WorkPool::kSharedKey};  // the tenant, once authenticated
 
   // Guarded by the base's mutex_ (owned_reactor.h).
+  Phase phase_ ABSL_GUARDED_BY(mutex_) = Phase::kAuthenticating;
+  // The gRPC operations in flight stay two booleans beside the phase, not part of it: they are
+  // orthogonal to it and to each other (one read and one write at a time; a write overlaps compute
+  // and reads, and a read may still be outstanding when the call completes: it ends with ok = false).
   bool reading_ ABSL_GUARDED_BY(mutex_) = false;
   bool writing_ ABSL_GUARDED_BY(mutex_) = false;
-  bool authenticated_ ABSL_GUARDED_BY(mutex_) = false;            // key checked, session admitted: reads may start
   StreamCapacity::Ticket stream_ticket_ ABSL_GUARDED_BY(mutex_);  // one of the server's live streams, until deleted
-  int tasks_ ABSL_GUARDED_BY(mutex_) = 0;            // compute tasks queued or running, and a database wait
-  bool configured_ ABSL_GUARDED_BY(mutex_) = false;  // config received
-  bool input_done_ ABSL_GUARDED_BY(mutex_) = false;  // half-close, `finish`, or drain: no more reads
-  bool completing_ ABSL_GUARDED_BY(mutex_) = false;  // the final status is decided
-  bool finished_ ABSL_GUARDED_BY(mutex_) = false;    // Finish called
+  int tasks_ ABSL_GUARDED_BY(mutex_) = 0;  // live TaskTokens: compute tasks queued or running, and a database wait
   grpc::Status final_status_ ABSL_GUARDED_BY(mutex_);
   std::deque<v1::ReconstructResponse> outbox_ ABSL_GUARDED_BY(mutex_);
   v1::ReconstructResponse writing_message_ ABSL_GUARDED_BY(mutex_);
