@@ -8,13 +8,22 @@
 #           the server takes them
 #   reopen  64 sessions at 1 kHz, each cancelled after 1 s and opened again
 #   mixed   22 rate + 21 big + 21 reopen sessions at once
+#   search  SEARCHES (2) clients each asking again and again for exact window-61 pose searches of
+#           20 query frames on the same database (every database frame compared per query frame,
+#           seconds of work each)
+#   rigs    RIG_SESSIONS (8) clients each reconstructing a whole walk (10 s) again and again,
+#           retargeted onto a 1,022-joint target rig (a human rig with RIG_JOINTS = 1,000 extra
+#           joints; each session's setup analyses it; RIG_JOINTS=0: the database's own rig)
+#   imports IMPORTS (2) clients each importing 40 clips into a database of their own, deleting
+#           it and starting again
 # The victim's p99 frame latency must stay <= 50 ms.
 #
 # One machine plays server, victim and flood. The flood's generator (64 client threads writing at
 # 1 kHz) would steal the server's cores, which a remote tenant's client cannot, so it runs at
 # nice 19 (FLOOD_NICE=0 measures the co-located case as well).
 #   usage: benchmarks/fairness_flood.sh
-#   env: SECONDS_PER_RUN (20), FLOOD_NICE (19), SHAPES ("rate big reopen mixed"), K1 (the server's)
+#   env: SECONDS_PER_RUN (20), FLOOD_NICE (19), SHAPES ("rate big reopen mixed search rigs imports"),
+#        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS
 # Builds its own store in build/fairness (two tenants, each with the standard split's database).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
@@ -72,6 +81,78 @@ flood() {  # $1: label, $2: streams, $3: seconds before each session is cancelle
 flood_rate() { flood "rate${2:-}" "$1" $((seconds + 10)) --rate 1000; }
 flood_big() { flood "big${2:-}" "$1" $((seconds + 10)) --rate 1000 --samples-per-message 80000 --unpaced; }
 flood_reopen() { flood "reopen${2:-}" "$1" 1 --rate 1000; }
+mocap="$repo/build/client/mocap"
+# Loops a CLI command as the flood tenant until the victim is done; counts the runs and failures.
+flood_loop() {  # $1: label, then the mocap command line
+  local label=$1
+  shift
+  (
+    end=$((SECONDS + seconds + 5)) runs=0 failed=0 cut=0
+    while [ $SECONDS -lt $end ]; do
+      # Cut when the victim is done: the server must stop the call's work within a slice.
+      MOCAP_API_KEY=$flood_key timeout $((end - SECONDS + 1)) nice -n "$flood_nice" "$mocap" --address "$address" "$@" \
+        >/dev/null 2>>"$out/flood-$label.err" && rc=0 || rc=$?
+      case $rc in
+        0) runs=$((runs + 1)) ;;
+        124) cut=$((cut + 1)) ;;
+        *) failed=$((failed + 1)) ;;
+      esac
+    done
+    echo "{\"runs\": $runs, \"failed\": $failed, \"cut\": $cut}" >"$out/flood-$label.json"
+  ) &
+  flood_pids+=($!)
+}
+flood_search() {
+  local i
+  for ((i = 0; i < ${SEARCHES:-2}; i++)); do
+    flood_loop "search$i" similar --database walks --query "$clip" --frames 0:19 --window 61 --exact
+  done
+}
+rig=()
+if [ "${RIG_JOINTS:-1000}" -gt 0 ]; then
+  python3 "$repo/benchmarks/make_big_rig.py" "$clip" "${RIG_JOINTS:-1000}" >"$out/big-rig.bvh"
+  rig=(--target-rig "$out/big-rig.bvh")
+fi
+flood_rigs() {
+  local i
+  for ((i = 0; i < ${RIG_SESSIONS:-8}; i++)); do
+    flood_loop "rigs$i" reconstruct --database walks --bvh "$clip" "${rig[@]}" -o "$out/rig-$i.bvh"
+  done
+}
+import_files=()
+while IFS= read -r -d '' file; do import_files+=("$file"); done \
+  < <(find "$data/bandai-namco-2" -name '*3.bvh' -print0 | sort -z | head -z -n 40)
+flood_imports() {
+  local i
+  for ((i = 0; i < ${IMPORTS:-2}; i++)); do
+    (
+      end=$((SECONDS + seconds + 5)) runs=0 failed=0 cut=0
+      while [ $SECONDS -lt $end ]; do
+        MOCAP_API_KEY=$flood_key timeout $((end - SECONDS + 1)) nice -n "$flood_nice" "$mocap" --address "$address" \
+          import --database "imports$i" "${import_files[@]}" >/dev/null 2>>"$out/flood-imports$i.err" && rc=0 || rc=$?
+        case $rc in
+          0) runs=$((runs + 1)) ;;
+          124) cut=$((cut + 1)) ;;
+          *) failed=$((failed + 1)) ;;
+        esac
+        MOCAP_API_KEY=$flood_key "$mocap" --address "$address" databases delete "imports$i" >/dev/null 2>&1 || true
+      done
+      echo "{\"runs\": $runs, \"failed\": $failed, \"cut\": $cut}" >"$out/flood-imports$i.json"
+    ) &
+    flood_pids+=($!)
+  done
+}
+loop_report() {  # $1: label, $2: count
+  local i
+  for ((i = 0; i < $2; i++)); do
+    python3 - "$out/flood-$1$i.json" "$1$i" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+print(f'  flood {sys.argv[2]:9s}: {r["runs"]} runs completed, {r["cut"]} cut when the victim was done, {r["failed"]} failed')
+PY
+  done
+}
+
 flood_report() {  # $1: label
   python3 - "$out/flood-$1.json" "$1" <<'PY'
 import json, sys
@@ -82,21 +163,26 @@ print(f'  flood {sys.argv[2]:9s}: {r["streams"]} streams, {r["sessions"]} sessio
 PY
 }
 
-for shape in ${SHAPES:-rate big reopen mixed}; do
+for shape in ${SHAPES:-rate big reopen mixed search rigs imports}; do
   case $shape in
     rate) flood_rate 64 ;;
     big) flood_big 64 ;;
     reopen) flood_reopen 64 ;;
     mixed) flood_rate 22 -mixed; flood_big 21 -mixed; flood_reopen 21 -mixed ;;
+    search) flood_search ;;
+    rigs) flood_rigs ;;
+    imports) flood_imports ;;
     *) echo "unknown shape $shape" >&2; exit 2 ;;
   esac
   sleep 5  # the flood is running at full strength
   victim "beside-$shape"
   wait "${flood_pids[@]}" || true
   flood_pids=()
-  if [ "$shape" = mixed ]; then
-    for part in rate big reopen; do flood_report "$part-mixed"; done
-  else
-    flood_report "$shape"
-  fi
+  case $shape in
+    mixed) for part in rate big reopen; do flood_report "$part-mixed"; done ;;
+    search) loop_report search "${SEARCHES:-2}" ;;
+    rigs) loop_report rigs "${RIG_SESSIONS:-8}" ;;
+    imports) loop_report imports "${IMPORTS:-2}" ;;
+    *) flood_report "$shape" ;;
+  esac
 done

@@ -78,6 +78,7 @@ void PoseSearchCall::AcquireIndex(size_t index) {
   if (index == versions_.size()) {
     return Post([this] {
       if (absl::Status status = query_->Prepare(databases_, points_); !status.ok()) return Complete(status);
+      StartReferences();
       Searchable();
     });
   }
@@ -104,16 +105,41 @@ absl::Status PoseSearchCall::CheckCancelled() const {
   return absl::OkStatus();
 }
 
+void PoseSearchCall::StartReferences() {
+  for (const SearchDatabasePtr& database : databases_) {
+    if (database->index.CachedNeighbourReference(options_)) continue;
+    // A database of one clip has no yardstick: its matches get no novelty (MatchNovelty).
+    absl::StatusOr<PoseIndex::ReferenceRun> reference = database->index.StartNeighbourReference(options_);
+    if (reference.ok()) references_.push_back(std::move(*reference));
+  }
+}
+
 absl::Status PoseSearchCall::SearchSlice(v1::FindSimilarPosesResponse* out) {
   MOCAP_RETURN_IF_ERROR(CheckCancelled());
-  // An exact query frame compares every database frame (~150 ms on 300,000): one per task.
-  const size_t per_task = options_.exact ? 1 : 8;
-  const size_t end = std::min(query_->frames().size(), next_ + per_task);
+  const auto deadline = std::chrono::steady_clock::now() + kSliceTime;
+  const auto spent = [&] { return std::chrono::steady_clock::now() >= deadline; };
   out->set_window(options_.window);
   out->set_exact(options_.exact);
-  for (; next_ < end; ++next_) {
-    MOCAP_ASSIGN_OR_RETURN(std::vector<FoundPose> found, query_->Search(next_, options_));
-    ToProto(query_->frames()[next_], found, MatchNovelty(found, options_), out->add_results());
+  for (; next_reference_ < references_.size(); ++next_reference_) {
+    PoseIndex::ReferenceRun& reference = references_[next_reference_];
+    while (!reference.Step(kRowsPerStep)) {
+      if (spent()) return absl::OkStatus();
+    }
+    (void)reference.Result();  // kept by the index; a database without one gives no novelty
+  }
+  while (next_ < query_->frames().size()) {
+    if (!run_) {
+      MOCAP_ASSIGN_OR_RETURN(SimilarSearchRun run, query_->StartSearch(next_, options_));
+      run_ = std::move(run);
+    }
+    while (!run_->Step(kRowsPerStep)) {
+      if (spent()) return absl::OkStatus();
+    }
+    const std::vector<FoundPose> found = run_->Matches();
+    run_.reset();
+    ToProto(query_->frames()[next_], found, MatchNovelty(found, options_, /*measure=*/false), out->add_results());
+    ++next_;
+    if (spent()) break;
   }
   return absl::OkStatus();
 }

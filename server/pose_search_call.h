@@ -2,11 +2,16 @@
 // call's scope (key, admission), every request check and the query's parsing (no search work
 // before the request is known good), the tenant's databases (NOT_FOUND for another tenant's);
 // then each database's pose index from the registry (built once per version); then the search
-// itself on the fair compute pool under the caller's tenant, a few query frames per task, so a
-// long query cannot hold a compute thread and a cancelled call stops within one task.
+// itself on the fair compute pool under the caller's tenant in slices of at most kSliceTime of
+// comparisons (the fair pool charges a tenant what its slices cost: issue #24), so neither a
+// long query nor one exact window-61 frame (seconds on a large database) holds a compute thread,
+// and a cancelled call stops within one slice. Each database's novelty yardstick
+// (PoseIndex::NeighbourReference: 256 searches) is measured in the same slices, first.
 #pragma once
 
 #include <atomic>
+#include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -49,7 +54,8 @@ class PoseSearchCall {
   // Ends the call with `status` (once; from any pool thread).
   virtual void Complete(absl::Status status) = 0;
 
-  // Searches the next query frames (one task's worth) into `out`.
+  // Searches for up to kSliceTime: the query frames finished meanwhile go into `out` (none when
+  // the slice ends inside a frame's search or a yardstick's).
   absl::Status SearchSlice(v1::FindSimilarPosesResponse* out);
   bool done() const { return next_ >= query_->frames().size(); }
   // Runs `task` on the compute pool under the caller's tenant; an exception ends the call INTERNAL.
@@ -59,8 +65,13 @@ class PoseSearchCall {
   grpc::Status End(const absl::Status& status) { return call_.End(status); }
 
  private:
+  static constexpr std::chrono::microseconds kSliceTime{5000};
+  static constexpr std::int64_t kRowsPerStep = 32;  // comparisons between looks at the clock
+
   void Begin();
   void AcquireIndex(size_t index);
+  // Starts measuring the yardsticks the databases do not have yet.
+  void StartReferences();
 
   PoseSearchState& state_;
   CallScope call_;
@@ -73,7 +84,11 @@ class PoseSearchCall {
   std::optional<SimilarQuery> query_;
   std::vector<DatabaseVersion> versions_;
   std::vector<SearchDatabasePtr> databases_;
-  size_t next_ = 0;  // next query frame; tasks run one after another, so no lock guards it
+  // Tasks run one after another, so no lock guards what follows.
+  std::vector<PoseIndex::ReferenceRun> references_;  // yardsticks still to measure
+  size_t next_reference_ = 0;
+  std::optional<SimilarSearchRun> run_;  // the search of query frame next_, when started
+  size_t next_ = 0;                      // next query frame
 };
 
 }  // namespace mocap

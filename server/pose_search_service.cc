@@ -29,9 +29,9 @@ class FindReactor final : public OwnedReactor<grpc::ServerUnaryReactor>, private
   v1::FindSimilarPosesResponse* response_;
 };
 
-// StreamSimilarPoses: one response per slice of query frames, one write in flight; the next
-// slice is searched when the previous one has been written (a client that stops reading pauses
-// the search).
+// StreamSimilarPoses: one response per slice that finished query frames, one write in flight;
+// the next slice is searched when the previous response has been written (a client that stops
+// reading pauses the search once the transport holds what its flow-control window allows).
 class StreamReactor final : public OwnedReactor<grpc::ServerWriteReactor<v1::FindSimilarPosesResponse>>,
                             private PoseSearchCall {
  public:
@@ -53,7 +53,10 @@ class StreamReactor final : public OwnedReactor<grpc::ServerWriteReactor<v1::Fin
     MutexLock lock(&mutex_);
     part_.Clear();
     if (absl::Status status = SearchSlice(&part_); !status.ok()) return Complete(status);
-    StartWrite(&part_);
+    if (part_.results_size() > 0) return StartWrite(&part_);
+    // The slice ended inside a frame's search: the next one goes on (nothing to write yet).
+    if (done()) return Complete(absl::OkStatus());
+    Post([this] { Searchable(); });
   }
   void Complete(absl::Status status) override { Finish(End(status)); }
   v1::FindSimilarPosesResponse part_;

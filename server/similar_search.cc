@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
@@ -92,7 +93,7 @@ absl::Status SimilarQuery::Prepare(const std::vector<SearchDatabasePtr>& databas
   return absl::OkStatus();
 }
 
-std::optional<float> MatchNovelty(const std::vector<FoundPose>& found, const PoseSearchOptions& options) {
+std::optional<float> MatchNovelty(const std::vector<FoundPose>& found, const PoseSearchOptions& options, bool measure) {
   // `found` is best first, so each database's first match is its best: one reference per database
   // (isolated is at least kMinIsolatedDistance, never 0).
   std::optional<float> novelty;
@@ -100,16 +101,21 @@ std::optional<float> MatchNovelty(const std::vector<FoundPose>& found, const Pos
   for (const FoundPose& pose : found) {
     if (std::find(seen.begin(), seen.end(), pose.database) != seen.end()) continue;
     seen.push_back(pose.database);
-    const absl::StatusOr<NeighbourDistances> reference = pose.database->index.NeighbourReference(options);
-    if (!reference.ok()) continue;
+    std::optional<NeighbourDistances> reference = pose.database->index.CachedNeighbourReference(options);
+    if (!reference && measure) {
+      absl::StatusOr<NeighbourDistances> measured = pose.database->index.NeighbourReference(options);
+      if (measured.ok()) reference = *measured;
+    }
+    if (!reference) continue;
     const float ratio = pose.match.distance.total / reference->isolated;
     if (!novelty || ratio < *novelty) novelty = ratio;
   }
   return novelty;
 }
 
-absl::StatusOr<std::vector<FoundPose>> SimilarQuery::Search(size_t index, const PoseSearchOptions& options) const {
-  std::vector<FoundPose> merged;
+absl::StatusOr<SimilarSearchRun> SimilarQuery::StartSearch(size_t index, const PoseSearchOptions& options) const {
+  SimilarSearchRun run;
+  run.top_k_ = options.top_k;
   for (size_t d = 0; d < databases_.size(); ++d) {
     const SearchDatabase& database = *databases_[d];
     const ClipPoints* points = nullptr;
@@ -122,18 +128,43 @@ absl::StatusOr<std::vector<FoundPose>> SimilarQuery::Search(size_t index, const 
     } else {
       points = &pose_points_[frames_[index]];
     }
-    MOCAP_ASSIGN_OR_RETURN(std::vector<PoseMatch> matches, database.index.Search(*points, frame, options));
-    for (const PoseMatch& match : matches) {
-      const ClipSummary& clip = database.clips[match.clip];
-      const double source_frame = match.frame / database.summary.frame_rate * clip.source_frame_rate;
-      merged.push_back({&database, match, static_cast<int>(std::lround(source_frame))});
+    MOCAP_ASSIGN_OR_RETURN(PoseIndex::Run part, database.index.StartSearch(*points, frame, options));
+    run.parts_.push_back({&database, std::move(part)});
+  }
+  return run;
+}
+
+bool SimilarSearchRun::Step(std::int64_t max_rows) {
+  while (max_rows > 0 && !done()) {
+    PoseIndex::Run& run = parts_[next_part_].run;
+    const std::int64_t before = run.compared();
+    const bool part_done = run.Step(max_rows);
+    max_rows -= std::max<std::int64_t>(1, run.compared() - before);
+    if (part_done) ++next_part_;
+  }
+  return done();
+}
+
+std::vector<FoundPose> SimilarSearchRun::Matches() const {
+  std::vector<FoundPose> merged;
+  for (const Part& part : parts_) {
+    for (const PoseMatch& match : part.run.Matches()) {
+      const ClipSummary& clip = part.database->clips[match.clip];
+      const double source_frame = match.frame / part.database->summary.frame_rate * clip.source_frame_rate;
+      merged.push_back({part.database, match, static_cast<int>(std::lround(source_frame))});
     }
   }
   std::stable_sort(merged.begin(), merged.end(), [](const FoundPose& a, const FoundPose& b) {
     return a.match.distance.total < b.match.distance.total;
   });
-  if (static_cast<int>(merged.size()) > options.top_k) merged.resize(options.top_k);
+  if (static_cast<int>(merged.size()) > top_k_) merged.resize(top_k_);
   return merged;
+}
+
+absl::StatusOr<std::vector<FoundPose>> SimilarQuery::Search(size_t index, const PoseSearchOptions& options) const {
+  MOCAP_ASSIGN_OR_RETURN(SimilarSearchRun run, StartSearch(index, options));
+  run.Step(std::numeric_limits<std::int64_t>::max());
+  return run.Matches();
 }
 
 }  // namespace mocap

@@ -39,6 +39,27 @@ struct FoundPose {
   int source_frame = 0;  // the match's frame in its clip's own numbering (source frame rate)
 };
 
+// One query frame's search over every database of a query, run a step at a time
+// (PoseIndex::Run): the service cuts long searches into slices of bounded time (issue #24).
+class SimilarSearchRun {
+ public:
+  // Compares up to about `max_rows` more candidates; true once every database is searched.
+  bool Step(std::int64_t max_rows);
+  bool done() const { return next_part_ >= parts_.size(); }
+  // The top_k matches over the databases, best first; all must have been searched.
+  std::vector<FoundPose> Matches() const;
+
+ private:
+  friend class SimilarQuery;
+  struct Part {
+    const SearchDatabase* database = nullptr;
+    PoseIndex::Run run;
+  };
+  std::vector<Part> parts_;
+  size_t next_part_ = 0;
+  int top_k_ = 0;
+};
+
 // A query: frames of a BVH clip on any rig, or poses given as named joint positions.
 // Thread safety: Prepare once, then Search is const.
 class SimilarQuery {
@@ -58,6 +79,8 @@ class SimilarQuery {
   absl::Status Prepare(const std::vector<SearchDatabasePtr>& databases, const BodyPointOptions& points);
   // The top_k matches of query frame frames()[index] over every prepared database, best first.
   absl::StatusOr<std::vector<FoundPose>> Search(size_t index, const PoseSearchOptions& options) const;
+  // The same search, to be run in steps; valid while the query lives.
+  absl::StatusOr<SimilarSearchRun> StartSearch(size_t index, const PoseSearchOptions& options) const;
 
  private:
   SimilarQuery() = default;
@@ -71,7 +94,10 @@ class SimilarQuery {
 
 // The novelty of a query frame's matches (NeighbourDistances): the smallest match distance
 // against its database's isolated-frame distance under `options`; nullopt when no match's
-// database has two clips (nothing to compare with).
-std::optional<float> MatchNovelty(const std::vector<FoundPose>& found, const PoseSearchOptions& options);
+// database has two clips (nothing to compare with). With `measure` false, only references
+// already measured are used (PoseIndex::CachedNeighbourReference): the service measures them in
+// slices before searching.
+std::optional<float> MatchNovelty(const std::vector<FoundPose>& found, const PoseSearchOptions& options,
+                                  bool measure = true);
 
 }  // namespace mocap

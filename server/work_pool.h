@@ -2,11 +2,18 @@
 // parsing and compute work here, so no gRPC thread blocks and no call owns a thread while it
 // waits for its client.
 //
-// Fair sharing: every task is posted under a queue key (the reconstruction service uses the
-// tenant). Each key has its own FIFO queue and the threads take one task from each non-empty
-// queue in turn (round robin), so a key with 64 busy sessions gets no more of the pool than a key
-// with one. Long work must therefore be cut into short tasks (a reconstruction runs a few
-// samples per task): fairness is per task, not per second.
+// Fair sharing by cost (issue #24): every task is posted under a queue key (the services use the
+// tenant). A key is charged the time its tasks run, measured, not counted: a tenant whose tasks
+// take 100 ms each gets one for every hundred 1 ms tasks of another tenant, where turns by task
+// gave it half the pool. This is start-time fair queueing: each key has a virtual finish time
+// (what it has been charged); a free thread starts the head task of the key whose finish time,
+// plus what its running tasks have used so far, is least, never below the pool's virtual time
+// (the tag of the last task started), so a key that was idle banks no credit and a key that
+// over-spent waits until the others have caught up. Ties go to the task posted first; every
+// task is charged at least kMinimumCharge, so cheap tasks of several keys take turns one each.
+// Within a key, first in first out. A task still holds its thread until it returns: long work
+// must be cut into short tasks (a reconstruction runs a few samples per task, a pose search a few
+// milliseconds of comparisons), which bounds how long another key waits for a thread.
 #pragma once
 
 #include <cstdint>
@@ -23,8 +30,11 @@ class WorkPool {
  public:
   using Key = std::uint64_t;
   static constexpr Key kSharedKey = 0;  // work not attributed to a tenant (yet)
+  // Nanoseconds of a monotonic clock; tests pass a clock their tasks advance.
+  using Clock = std::function<std::int64_t()>;
+  static constexpr std::int64_t kMinimumCharge = 50'000;  // ns
 
-  explicit WorkPool(int threads);
+  explicit WorkPool(int threads, Clock clock = SteadyNanoseconds);
   // Runs the queued tasks, then joins the threads.
   ~WorkPool();
   WorkPool(const WorkPool&) = delete;
@@ -37,13 +47,33 @@ class WorkPool {
   // Tasks queued and not yet started, over all keys.
   size_t queued() const;
 
+  static std::int64_t SteadyNanoseconds();
+
  private:
+  struct Queued {
+    std::uint64_t sequence;  // posting order, over all keys
+    std::function<void()> task;
+  };
+  struct KeyState {
+    std::deque<Queued> queue;
+    std::int64_t finish = 0;            // virtual time: what the key's finished tasks were charged
+    std::vector<std::int64_t> running;  // start times of its tasks running now
+  };
+
   void Work();
-  bool HasWorkOrStopping() const ABSL_SHARED_LOCKS_REQUIRED(mutex_) { return stopping_ || !turn_.empty(); }
+  bool HasWorkOrStopping() const ABSL_SHARED_LOCKS_REQUIRED(mutex_) { return stopping_ || queued_ > 0; }
+  // The key whose head task starts next (queued_ > 0), and its start tag.
+  std::map<Key, KeyState>::iterator PickLocked(std::int64_t now, std::int64_t* tag)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Charges a finished task that started at `started` and forgets idle keys with nothing owed.
+  void FinishedLocked(Key key, std::int64_t started, std::int64_t now) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+
+  const Clock clock_;
   mutable Mutex mutex_;
-  std::condition_variable ready_;  // a task was queued, or the pool is stopping
-  std::map<Key, std::deque<std::function<void()>>> queues_ ABSL_GUARDED_BY(mutex_);  // only non-empty queues
-  std::deque<Key> turn_ ABSL_GUARDED_BY(mutex_);  // keys with queued tasks, in the order they are served
+  std::condition_variable ready_;                         // a task was queued, or the pool is stopping
+  std::map<Key, KeyState> keys_ ABSL_GUARDED_BY(mutex_);  // keys with queued or running tasks, or owing time
+  std::int64_t virtual_time_ ABSL_GUARDED_BY(mutex_) = 0;
+  std::uint64_t next_sequence_ ABSL_GUARDED_BY(mutex_) = 0;
   size_t queued_ ABSL_GUARDED_BY(mutex_) = 0;
   bool stopping_ ABSL_GUARDED_BY(mutex_) = false;
   std::vector<std::thread> threads_;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
+#include <optional>
 
 #include <Eigen/Eigenvalues>
 #include "motion/core/kd_tree.h"
@@ -154,8 +156,7 @@ absl::Status PoseIndex::Build() {
   return absl::OkStatus();
 }
 
-absl::StatusOr<std::vector<PoseMatch>> PoseIndex::Search(const ClipPoints& query, int frame,
-                                                         const PoseSearchOptions& options) const {
+absl::Status PoseIndex::CheckQuery(const ClipPoints& query, int frame, const PoseSearchOptions& options) const {
   const Impl& m = *impl_;
   if (!m.built) return absl::FailedPreconditionError("pose index is not built");
   if (frame < 0 || frame >= query.points.rows()) {
@@ -169,47 +170,93 @@ absl::StatusOr<std::vector<PoseMatch>> PoseIndex::Search(const ClipPoints& query
         StrCat("window must be an odd number of frames from 1 to 61, not ", options.window));
   }
   if (options.top_k < 1) return absl::InvalidArgumentError("top_k must be at least 1");
+  return absl::OkStatus();
+}
 
-  const int cloud_points = m.pose_points() * options.window;
-  std::vector<float> query_cloud(3 * cloud_points), candidate_cloud(3 * cloud_points);
-  m.WindowCloud(query, frame, options.window, query_cloud.data());
-
-  std::vector<std::int64_t> rows;
+absl::StatusOr<PoseIndex::Run> PoseIndex::MakeRun(const ClipPoints& query, int frame,
+                                                  const PoseSearchOptions& options) const {
+  const Impl& m = *impl_;
+  Run run;
+  run.index_ = &m;
+  run.options_ = options;
+  run.cloud_points_ = m.pose_points() * options.window;
+  run.query_cloud_.resize(3 * run.cloud_points_);
+  run.candidate_cloud_.resize(3 * run.cloud_points_);
+  m.WindowCloud(query, frame, options.window, run.query_cloud_.data());
   if (options.exact) {
-    rows.resize(m.rows);
-    std::iota(rows.begin(), rows.end(), 0);
+    run.total_ = m.rows;
   } else {
     const int reduced_dims = static_cast<int>(m.basis.cols());
     std::vector<float> reduced(reduced_dims);
     m.Reduce(query.points.row(frame).data(), reduced.data());
     const int count = static_cast<int>(std::min<std::int64_t>(std::max(options.candidates, options.top_k), m.rows));
-    absl::StatusOr<std::vector<Neighbour>> candidates = m.kd_tree.Search(reduced.data(), count);
-    if (!candidates.ok()) return candidates.status();
-    for (const Neighbour& candidate : *candidates) rows.push_back(candidate.row);
+    MOCAP_ASSIGN_OR_RETURN(std::vector<Neighbour> candidates, m.kd_tree.Search(reduced.data(), count));
+    for (const Neighbour& candidate : candidates) run.rows_.push_back(candidate.row);
+    run.total_ = static_cast<std::int64_t>(run.rows_.size());
   }
+  // The greedy suppression below keeps top_k matches among at most top_k (2 s + 1) best
+  // candidates (each kept match suppresses at most 2 s frames of its clip), so only those are
+  // kept while comparing: memory and the final sort do not grow with the database.
+  run.keep_ =
+      static_cast<size_t>(options.top_k) * (2 * static_cast<size_t>(std::max(0, options.suppress_within_frames)) + 1);
+  run.best_.reserve(std::min<std::int64_t>(static_cast<std::int64_t>(run.keep_) + 1, run.total_ + 1));
+  return run;
+}
 
-  std::vector<PoseMatch> matches;
-  matches.reserve(rows.size());
-  for (std::int64_t row : rows) {
+absl::StatusOr<PoseIndex::Run> PoseIndex::StartSearch(const ClipPoints& query, int frame,
+                                                      const PoseSearchOptions& options) const {
+  MOCAP_RETURN_IF_ERROR(CheckQuery(query, frame, options));
+  return MakeRun(query, frame, options);
+}
+
+namespace {
+// Best first; equal distances in database order, so the result does not depend on the steps.
+bool Better(const PoseMatch& a, std::int64_t a_row, const PoseMatch& b, std::int64_t b_row) {
+  if (a.distance.total != b.distance.total) return a.distance.total < b.distance.total;
+  return a_row < b_row;
+}
+}  // namespace
+
+bool PoseIndex::Run::Step(std::int64_t max_rows) {
+  const Impl& m = *index_;
+  const auto worse_on_top = [](const Candidate& a, const Candidate& b) {
+    return Better(a.match, a.row, b.match, b.row);
+  };
+  const std::int64_t end = std::min(total_, next_ + max_rows);
+  for (; next_ < end; ++next_) {
+    const std::int64_t row = rows_.empty() ? next_ : rows_[next_];
     const auto [clip, candidate_frame] = m.Locate(row);
-    if (clip == options.exclude_clip) continue;
-    m.WindowCloud(m.clips[clip], candidate_frame, options.window, candidate_cloud.data());
-    PoseMatch match;
-    match.clip = clip;
-    match.frame = candidate_frame;
-    match.distance = ComparePoses(query_cloud.data(), candidate_cloud.data(), cloud_points, m.options.points_per_group,
-                                  options.weights);
-    matches.push_back(match);
+    if (clip == options_.exclude_clip) continue;
+    m.WindowCloud(m.clips[clip], candidate_frame, options_.window, candidate_cloud_.data());
+    Candidate candidate;
+    candidate.row = row;
+    candidate.match.clip = clip;
+    candidate.match.frame = candidate_frame;
+    candidate.match.distance = ComparePoses(query_cloud_.data(), candidate_cloud_.data(), cloud_points_,
+                                            m.options.points_per_group, options_.weights);
+    if (best_.size() == keep_ && !worse_on_top(candidate, best_.front())) continue;
+    best_.push_back(candidate);
+    std::push_heap(best_.begin(), best_.end(), worse_on_top);
+    if (best_.size() > keep_) {
+      std::pop_heap(best_.begin(), best_.end(), worse_on_top);
+      best_.pop_back();
+    }
   }
-  std::sort(matches.begin(), matches.end(),
-            [](const PoseMatch& a, const PoseMatch& b) { return a.distance.total < b.distance.total; });
+  return done();
+}
+
+std::vector<PoseMatch> PoseIndex::Run::Matches() const {
+  std::vector<Candidate> sorted = best_;
+  std::sort(sorted.begin(), sorted.end(),
+            [](const Candidate& a, const Candidate& b) { return Better(a.match, a.row, b.match, b.row); });
   std::vector<PoseMatch> top;
-  for (const PoseMatch& match : matches) {
-    if (static_cast<int>(top.size()) >= options.top_k) break;
+  for (const Candidate& candidate : sorted) {
+    const PoseMatch& match = candidate.match;
+    if (static_cast<int>(top.size()) >= options_.top_k) break;
     bool suppressed = false;
-    if (options.suppress_within_frames > 0) {
+    if (options_.suppress_within_frames > 0) {
       for (const PoseMatch& kept : top) {
-        if (kept.clip == match.clip && std::abs(kept.frame - match.frame) <= options.suppress_within_frames) {
+        if (kept.clip == match.clip && std::abs(kept.frame - match.frame) <= options_.suppress_within_frames) {
           suppressed = true;
           break;
         }
@@ -220,43 +267,104 @@ absl::StatusOr<std::vector<PoseMatch>> PoseIndex::Search(const ClipPoints& query
   return top;
 }
 
-absl::StatusOr<NeighbourDistances> PoseIndex::NeighbourReference(const PoseSearchOptions& options) const {
-  const Impl& m = *impl_;
-  if (!m.built) return absl::FailedPreconditionError("pose index is not built");
-  if (m.clips.size() < 2) return absl::FailedPreconditionError("a single clip has no other clip to be near");
-  const auto same = [&](const PoseSearchOptions& a) {
-    return a.weights.weight == options.weights.weight && a.window == options.window &&
-           a.candidates == options.candidates && a.exact == options.exact;
-  };
-  {
-    MutexLock lock(&m.reference_mutex);
-    for (const Impl::Reference& reference : m.references) {
-      if (same(reference.options)) return reference.distances;
-    }
-  }
-  // Computed outside the lock: two first callers may both measure (the same figures).
+absl::StatusOr<std::vector<PoseMatch>> PoseIndex::Search(const ClipPoints& query, int frame,
+                                                         const PoseSearchOptions& options) const {
+  MOCAP_ASSIGN_OR_RETURN(Run run, StartSearch(query, frame, options));
+  run.Step(run.total_);
+  return run.Matches();
+}
+
+namespace {
+// The options a neighbour reference is measured and kept under: one best match, no suppression,
+// and the prefilter even for exact searches (256 exact window searches of a large database would
+// take minutes; the prefilter's nearest is the exact one for nearly every frame).
+PoseSearchOptions ReferenceOptions(const PoseSearchOptions& options) {
   PoseSearchOptions search = options;
   search.top_k = 1;
   search.suppress_within_frames = 0;
-  const std::int64_t samples = std::min<std::int64_t>(kNeighbourReferenceFrames, m.rows);
-  std::vector<float> distances;
-  for (std::int64_t i = 0; i < samples; ++i) {
-    const std::int64_t row = (2 * i + 1) * m.rows / (2 * samples);  // evenly, away from the ends
-    const auto [clip, frame] = m.Locate(row);
-    search.exclude_clip = clip;
-    MOCAP_ASSIGN_OR_RETURN(std::vector<PoseMatch> best, Search(m.clips[clip], frame, search));
-    if (!best.empty()) distances.push_back(best.front().distance.total);
-  }
-  if (distances.empty()) return absl::FailedPreconditionError("no frame has a neighbour in another clip");
-  std::sort(distances.begin(), distances.end());
-  const auto at = [&](double fraction) {
-    return distances[static_cast<size_t>(fraction * static_cast<double>(distances.size() - 1))];
-  };
-  NeighbourDistances result{at(0.5), std::max(at(0.95), kMinIsolatedDistance), static_cast<int>(distances.size())};
+  search.exclude_clip = -1;
+  search.exact = false;
+  return search;
+}
+bool SameReference(const PoseSearchOptions& a, const PoseSearchOptions& b) {
+  return a.weights.weight == b.weights.weight && a.window == b.window && a.candidates == b.candidates;
+}
+}  // namespace
+
+std::optional<NeighbourDistances> PoseIndex::CachedNeighbourReference(const PoseSearchOptions& options) const {
+  const Impl& m = *impl_;
   MutexLock lock(&m.reference_mutex);
+  for (const Impl::Reference& reference : m.references) {
+    if (SameReference(reference.options, options)) return reference.distances;
+  }
+  return std::nullopt;
+}
+
+absl::StatusOr<PoseIndex::ReferenceRun> PoseIndex::StartNeighbourReference(const PoseSearchOptions& options) const {
+  const Impl& m = *impl_;
+  if (!m.built) return absl::FailedPreconditionError("pose index is not built");
+  if (m.clips.size() < 2) return absl::FailedPreconditionError("a single clip has no other clip to be near");
+  ReferenceRun run;
+  run.index_ = this;
+  run.options_ = ReferenceOptions(options);
+  run.samples_ = std::min<std::int64_t>(kNeighbourReferenceFrames, m.rows);
+  MOCAP_RETURN_IF_ERROR(CheckQuery(m.clips[0], 0, run.options_));
+  return run;
+}
+
+bool PoseIndex::ReferenceRun::Step(std::int64_t max_rows) {
+  const Impl& m = *index_->impl_;
+  while (max_rows > 0 && next_sample_ < samples_) {
+    if (!sample_) {
+      const std::int64_t row = (2 * next_sample_ + 1) * m.rows / (2 * samples_);  // evenly, away from the ends
+      const auto [clip, frame] = m.Locate(row);
+      PoseSearchOptions search = options_;
+      search.exclude_clip = clip;
+      absl::StatusOr<Run> sample = index_->MakeRun(m.clips[clip], frame, search);
+      if (!sample.ok()) {
+        status_ = sample.status();
+        next_sample_ = samples_;
+        break;
+      }
+      sample_ = std::move(*sample);
+    }
+    const std::int64_t before = sample_->compared();
+    const bool sample_done = sample_->Step(max_rows);
+    max_rows -= std::max<std::int64_t>(1, sample_->compared() - before);
+    if (!sample_done) break;
+    const std::vector<PoseMatch> best = sample_->Matches();
+    if (!best.empty()) distances_.push_back(best.front().distance.total);
+    sample_.reset();
+    ++next_sample_;
+  }
+  return done();
+}
+
+absl::StatusOr<NeighbourDistances> PoseIndex::ReferenceRun::Result() {
+  if (!done()) return absl::FailedPreconditionError("the neighbour reference is not measured yet");
+  if (!status_.ok()) return status_;
+  if (distances_.empty()) return absl::FailedPreconditionError("no frame has a neighbour in another clip");
+  std::sort(distances_.begin(), distances_.end());
+  const auto at = [&](double fraction) {
+    return distances_[static_cast<size_t>(fraction * static_cast<double>(distances_.size() - 1))];
+  };
+  NeighbourDistances result{at(0.5), std::max(at(0.95), kMinIsolatedDistance), static_cast<int>(distances_.size())};
+  const Impl& m = *index_->impl_;
+  MutexLock lock(&m.reference_mutex);
+  for (const Impl::Reference& reference : m.references) {
+    if (SameReference(reference.options, options_)) return reference.distances;  // another caller was first
+  }
   if (m.references.size() >= Impl::kMaxReferences) m.references.erase(m.references.begin());  // oldest out
-  m.references.push_back({options, result});
+  m.references.push_back({options_, result});
   return result;
+}
+
+absl::StatusOr<NeighbourDistances> PoseIndex::NeighbourReference(const PoseSearchOptions& options) const {
+  if (std::optional<NeighbourDistances> cached = CachedNeighbourReference(options)) return *cached;
+  MOCAP_ASSIGN_OR_RETURN(ReferenceRun run, StartNeighbourReference(options));
+  while (!run.Step(std::numeric_limits<std::int64_t>::max() / 2)) {
+  }
+  return run.Result();
 }
 
 int PoseIndex::num_clips() const { return static_cast<int>(impl_->clips.size()); }

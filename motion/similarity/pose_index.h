@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,8 @@ struct ClipPoints {
 ClipPoints MakeClipPoints(const GlobalPoses& poses, const BodyChains& chains, const BodyPointOptions& options);
 
 class PoseIndex {
+  struct Impl;
+
  public:
   explicit PoseIndex(BodyPointOptions options = {});
   ~PoseIndex();
@@ -77,14 +80,66 @@ class PoseIndex {
   // Builds the prefilter (PCA + FLANN kd-tree). FailedPrecondition when there are no frames.
   absl::Status Build();
 
+  // One query frame's search, run a step at a time: an exact window search compares every
+  // database frame, seconds of work that the service cuts into slices of a few milliseconds
+  // (issue #24). Refers to the index, which must outlive it; one caller at a time.
+  class Run {
+   public:
+    // Compares up to `max_rows` more candidates (database frames, or the prefilter's); true once
+    // all are compared.
+    bool Step(std::int64_t max_rows);
+    bool done() const { return next_ >= total_; }
+    std::int64_t compared() const { return next_; }
+    // The top matches, best first; all candidates must have been compared.
+    std::vector<PoseMatch> Matches() const;
+
+   private:
+    friend class PoseIndex;
+    struct Candidate {
+      std::int64_t row = 0;
+      PoseMatch match;
+    };
+    const Impl* index_ = nullptr;
+    PoseSearchOptions options_;
+    int cloud_points_ = 0;
+    std::vector<float> query_cloud_, candidate_cloud_;
+    std::vector<std::int64_t> rows_;  // the prefilter's candidates; empty for an exact search (every row)
+    std::int64_t total_ = 0, next_ = 0;
+    size_t keep_ = 0;              // candidates that can still make the top matches
+    std::vector<Candidate> best_;  // heap, worst on top
+  };
+
   // Top matches for frame `frame` of `query` (a clip made with the same BodyPointOptions).
   absl::StatusOr<std::vector<PoseMatch>> Search(const ClipPoints& query, int frame,
                                                 const PoseSearchOptions& options) const;
+  // The same search, to be run in steps.
+  absl::StatusOr<Run> StartSearch(const ClipPoints& query, int frame, const PoseSearchOptions& options) const;
 
-  // The database's neighbour distances under `options` (their weights, window and candidates),
-  // measured on up to kNeighbourReferenceFrames frames spread evenly over the database, computed
-  // on first use and kept. FailedPrecondition with a single clip (no other clip to be near).
+  // The database's neighbour distances under `options` (their weights, window and candidates;
+  // an exact search's are measured with the prefilter), on up to kNeighbourReferenceFrames frames
+  // spread evenly over the database, computed on first use and kept. FailedPrecondition with a
+  // single clip (no other clip to be near).
   absl::StatusOr<NeighbourDistances> NeighbourReference(const PoseSearchOptions& options) const;
+  // The reference if already measured.
+  std::optional<NeighbourDistances> CachedNeighbourReference(const PoseSearchOptions& options) const;
+  // The reference measured a step at a time, kept by Result() for every later caller.
+  class ReferenceRun {
+   public:
+    // Compares up to about `max_rows` more candidates; true once every sample frame is searched.
+    bool Step(std::int64_t max_rows);
+    bool done() const { return next_sample_ >= samples_; }
+    absl::StatusOr<NeighbourDistances> Result();
+
+   private:
+    friend class PoseIndex;
+    const PoseIndex* index_ = nullptr;
+    PoseSearchOptions options_;
+    std::int64_t samples_ = 0, next_sample_ = 0;
+    std::optional<Run> sample_;  // the sample frame being searched
+    std::vector<float> distances_;
+    absl::Status status_;  // a sample search that could not start
+  };
+  absl::StatusOr<ReferenceRun> StartNeighbourReference(const PoseSearchOptions& options) const;
 
   int num_clips() const;
   std::int64_t num_frames() const;
@@ -92,7 +147,8 @@ class PoseIndex {
   const BodyPointOptions& point_options() const;
 
  private:
-  struct Impl;
+  absl::Status CheckQuery(const ClipPoints& query, int frame, const PoseSearchOptions& options) const;
+  absl::StatusOr<Run> MakeRun(const ClipPoints& query, int frame, const PoseSearchOptions& options) const;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,12 +1,16 @@
-// WorkPool (server/work_pool.h): every task runs once; keys are served round robin, so a key with
-// a long queue delays another key's task by at most one turn; a throwing task is dropped and the
-// pool goes on; the destructor runs what is still queued. Waits are on events (futures, latches),
-// never on the clock.
+// WorkPool (server/work_pool.h): every task runs once; keys are served by the time their tasks
+// cost, so a key with a long queue delays another key's task by at most one task, cheap tasks of
+// several keys take turns one each, and a key of expensive tasks gets fewer of them; a throwing
+// task is dropped and the pool goes on; the destructor runs what is still queued. Waits are on
+// events (futures, latches), never on the clock; the tests of order run on a clock their tasks
+// advance.
 #include "server/work_pool.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <functional>
 #include <future>
 #include <latch>
@@ -62,6 +66,18 @@ class Journal {
   std::vector<std::string> labels_;
 };
 
+// A clock that moves only when a task says it took time.
+class ManualClock {
+ public:
+  WorkPool::Clock clock() {
+    return [this] { return now_.load(); };
+  }
+  void AdvanceMilliseconds(int milliseconds) { now_.fetch_add(std::int64_t{milliseconds} * 1'000'000); }
+
+ private:
+  std::atomic<std::int64_t> now_{1'000'000'000};
+};
+
 TEST(WorkPoolTest, RunsEveryTaskOnceFromManyPostingThreads) {
   constexpr int kPosters = 4, kPerPoster = 500;
   std::vector<std::atomic<int>> runs(kPosters * kPerPoster);
@@ -90,7 +106,8 @@ TEST(WorkPoolTest, RunsEveryTaskOnceFromManyPostingThreads) {
 TEST(WorkPoolTest, OneKeysLongQueueDelaysAnotherKeyByAtMostOneTurn) {
   Journal journal;
   std::latch done(51);  // declared before the pool: it outlives the pool's threads
-  WorkPool pool(1);
+  ManualClock clock;
+  WorkPool pool(1, clock.clock());
   Gate gate;
   gate.Close(pool, 1);
   constexpr WorkPool::Key kFlood = 7, kVictim = 8;
@@ -116,10 +133,11 @@ TEST(WorkPoolTest, OneKeysLongQueueDelaysAnotherKeyByAtMostOneTurn) {
   for (int i = 1; i < 50; ++i) EXPECT_EQ(order[i + 1], "flood" + std::to_string(i));
 }
 
-TEST(WorkPoolTest, KeysTakeTurnsOneTaskEachAndKeepTheirOwnOrder) {
+TEST(WorkPoolTest, CheapTasksOfSeveralKeysTakeTurnsOneEachAndKeepTheirOwnOrder) {
   Journal journal;
   std::latch done(3 + 2 + 1);
-  WorkPool pool(1);
+  ManualClock clock;
+  WorkPool pool(1, clock.clock());
   Gate gate;
   gate.Close(pool, 1);
   auto post = [&](WorkPool::Key key, const std::string& label) {
@@ -137,6 +155,94 @@ TEST(WorkPoolTest, KeysTakeTurnsOneTaskEachAndKeepTheirOwnOrder) {
   gate.Open();
   done.wait();
   EXPECT_EQ(journal.labels(), (std::vector<std::string>{"a0", "b0", "c0", "a1", "b1", "a2"}));
+}
+
+TEST(WorkPoolTest, KeysGetTheSameTimeNotTheSameNumberOfTasks) {
+  // One thread, two keys with everything queued: 10 ms tasks against 1 ms tasks. While both keys
+  // have work, the time each has been given never differs by more than one expensive task.
+  constexpr int kExpensive = 10, kCheap = 100;
+  Journal journal;
+  std::latch done(kExpensive + kCheap);
+  ManualClock clock;
+  WorkPool pool(1, clock.clock());
+  Gate gate;
+  gate.Close(pool, 1);
+  for (int i = 0; i < kExpensive; ++i) {
+    pool.Post(1, [&] {
+      clock.AdvanceMilliseconds(10);
+      journal.Add("expensive");
+      done.count_down();
+    });
+  }
+  for (int i = 0; i < kCheap; ++i) {
+    pool.Post(2, [&] {
+      clock.AdvanceMilliseconds(1);
+      journal.Add("cheap");
+      done.count_down();
+    });
+  }
+  gate.Open();
+  done.wait();
+  const std::vector<std::string> order = journal.labels();
+  ASSERT_EQ(order.size(), static_cast<size_t>(kExpensive + kCheap));
+  int expensive_ms = 0, cheap_ms = 0, expensive_left = kExpensive, cheap_left = kCheap;
+  for (size_t i = 0; i < order.size(); ++i) {
+    if (order[i] == "expensive") {
+      expensive_ms += 10;
+      --expensive_left;
+    } else {
+      cheap_ms += 1;
+      --cheap_left;
+    }
+    if (expensive_left > 0 && cheap_left > 0) {
+      EXPECT_LE(std::abs(expensive_ms - cheap_ms), 10) << "after task " << i;
+    }
+  }
+  // Turns by task would have run all ten expensive tasks among the first twenty.
+  const auto first_twenty = std::vector<std::string>(order.begin(), order.begin() + 20);
+  EXPECT_LE(std::count(first_twenty.begin(), first_twenty.end(), "expensive"), 2);
+}
+
+TEST(WorkPoolTest, AKeyIsChargedForItsRunningTaskBeforeItEnds) {
+  // Key 1 ran a 50 ms task; key 2's task has been running for 100 ms on the other thread. A free
+  // thread serves key 1 before key 2's next task, though key 2 has finished nothing yet.
+  Journal journal;
+  std::latch all_done(3);
+  ManualClock clock;
+  WorkPool pool(2, clock.clock());
+  std::latch first_done(1), long_started(1);
+  pool.Post(1, [&] {
+    clock.AdvanceMilliseconds(50);
+    first_done.count_down();
+  });
+  first_done.wait();
+  std::promise<void> release_long;
+  std::shared_future<void> long_may_end = release_long.get_future().share();
+  pool.Post(2, [&, long_may_end] {
+    clock.AdvanceMilliseconds(100);
+    long_started.count_down();
+    long_may_end.wait();
+    journal.Add("long");
+    all_done.count_down();
+  });
+  long_started.wait();
+  // The other thread is held while both keys queue their next task, key 2's first.
+  Gate gate;
+  gate.Close(pool, 1);
+  pool.Post(2, [&] {
+    journal.Add("second of key 2");
+    all_done.count_down();
+  });
+  pool.Post(1, [&] {
+    journal.Add("key 1");
+    all_done.count_down();
+    release_long.set_value();
+  });
+  gate.Open();
+  all_done.wait();
+  const std::vector<std::string> order = journal.labels();
+  ASSERT_EQ(order.size(), 3u);
+  EXPECT_EQ(order[0], "key 1");  // the other two end in either order, on two threads
 }
 
 TEST(WorkPoolTest, AThrowingTaskIsDroppedAndThePoolKeepsWorking) {

@@ -633,5 +633,78 @@ TEST(PoseIndexTest, NeighbourReferenceMeasuresOtherClipsAndIsKept) {
   EXPECT_GT(best->front().distance.total, kNoSimilarPoseNovelty * reference->isolated);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Searches run in steps (the service's slices of bounded time, issue #24) find what one call finds.
+
+TEST(PoseIndexTest, ASearchRunInStepsFindsWhatOneSearchFinds) {
+  SyntheticRigOptions other;
+  other.clavicle_length = 18.0;
+  absl::StatusOr<PoseIndex> index = BuildIndex({Walk(), Walk(other), MakeWalkingClip({}, 75, 1.0 / 60.0)});
+  ASSERT_TRUE(index.ok()) << index.status();
+  for (bool exact : {true, false}) {
+    for (int window : {1, 5}) {
+      for (int suppress : {0, 3}) {
+        PoseSearchOptions options;
+        options.exact = exact;
+        options.window = window;
+        options.top_k = 4;
+        options.candidates = 40;
+        options.suppress_within_frames = suppress;
+        SCOPED_TRACE(::testing::Message() << "exact " << exact << " window " << window << " suppress " << suppress);
+        absl::StatusOr<std::vector<PoseMatch>> whole = index->Search(index->clip(1), 17, options);
+        ASSERT_TRUE(whole.ok()) << whole.status();
+        absl::StatusOr<PoseIndex::Run> run = index->StartSearch(index->clip(1), 17, options);
+        ASSERT_TRUE(run.ok()) << run.status();
+        int steps = 1;
+        while (!run->Step(3)) ++steps;
+        EXPECT_EQ(steps, exact ? (index->num_frames() + 2) / 3 : (40 + 2) / 3);
+        const std::vector<PoseMatch> stepped = run->Matches();
+        ASSERT_EQ(stepped.size(), whole->size());
+        for (size_t i = 0; i < stepped.size(); ++i) {
+          EXPECT_EQ(stepped[i].clip, (*whole)[i].clip);
+          EXPECT_EQ(stepped[i].frame, (*whole)[i].frame);
+          EXPECT_EQ(stepped[i].distance.total, (*whole)[i].distance.total);
+        }
+      }
+    }
+  }
+  // Arguments are checked when the run starts.
+  PoseSearchOptions even;
+  even.window = 4;
+  EXPECT_EQ(index->StartSearch(index->clip(0), 0, even).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST(PoseIndexTest, TheNeighbourReferenceMeasuredInStepsIsTheOneKeptForEveryCaller) {
+  SyntheticRigOptions other;
+  other.clavicle_length = 18.0;
+  absl::StatusOr<PoseIndex> measured_at_once = BuildIndex({Walk(), Walk(other)});
+  absl::StatusOr<PoseIndex> measured_in_steps = BuildIndex({Walk(), Walk(other)});
+  ASSERT_TRUE(measured_at_once.ok() && measured_in_steps.ok());
+  PoseSearchOptions options;
+  options.window = 3;
+  absl::StatusOr<NeighbourDistances> at_once = measured_at_once->NeighbourReference(options);
+  ASSERT_TRUE(at_once.ok()) << at_once.status();
+
+  EXPECT_FALSE(measured_in_steps->CachedNeighbourReference(options).has_value());
+  absl::StatusOr<PoseIndex::ReferenceRun> run = measured_in_steps->StartNeighbourReference(options);
+  ASSERT_TRUE(run.ok()) << run.status();
+  EXPECT_EQ(run->Result().status().code(), absl::StatusCode::kFailedPrecondition);  // not measured yet
+  int steps = 1;
+  while (!run->Step(5)) ++steps;
+  EXPECT_GT(steps, kNeighbourReferenceFrames / 10);  // sample searches are cut, not run whole
+  absl::StatusOr<NeighbourDistances> in_steps = run->Result();
+  ASSERT_TRUE(in_steps.ok()) << in_steps.status();
+  EXPECT_EQ(in_steps->median, at_once->median);
+  EXPECT_EQ(in_steps->isolated, at_once->isolated);
+  EXPECT_EQ(in_steps->frames, at_once->frames);
+  // Kept: and an exact search of the same weights and window is measured by the same yardstick.
+  options.exact = true;
+  std::optional<NeighbourDistances> kept = measured_in_steps->CachedNeighbourReference(options);
+  ASSERT_TRUE(kept.has_value());
+  EXPECT_EQ(kept->isolated, in_steps->isolated);
+  options.window = 5;
+  EXPECT_FALSE(measured_in_steps->CachedNeighbourReference(options).has_value());
+}
+
 }  // namespace
 }  // namespace mocap
