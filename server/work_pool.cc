@@ -28,7 +28,7 @@ void LowerThisThreadsPriority() {
 
 }  // namespace
 
-WorkPool::WorkPool(int threads, Clock clock) : clock_(std::move(clock)) {
+WorkPool::WorkPool(int threads, Clock clock) : clock_(std::move(clock)), thread_count_(threads) {
   for (int i = 0; i < threads; ++i) {
     threads_.emplace_back([this] {
       LowerThisThreadsPriority();
@@ -66,21 +66,28 @@ size_t WorkPool::queued() const {
 }
 
 std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::int64_t now, std::int64_t* tag) {
+  const bool long_keys_wait = thread_count_ >= 2 && long_running_ >= thread_count_ - 1;
   auto best = keys_.end();
   std::int64_t best_tag = 0;
   for (auto it = keys_.begin(); it != keys_.end();) {
     KeyState& state = it->second;
     if (state.queue.empty()) {
-      // Idle and owing nothing: forgotten (it would restart at the virtual time anyway).
-      if (state.running.empty() && state.finish <= virtual_time_) {
+      // Idle, owing nothing and short: forgotten (it would restart at the virtual time anyway).
+      if (state.running.empty() && state.finish <= virtual_time_ && state.long_until <= now) {
         it = keys_.erase(it);
       } else {
         ++it;
       }
       continue;
     }
+    if (long_keys_wait && state.long_until > now) {
+      ++it;
+      continue;
+    }
     std::int64_t key_tag = std::max(virtual_time_, state.finish);
-    for (std::int64_t started : state.running) key_tag += std::max<std::int64_t>(0, now - started - kMinimumCharge);
+    for (const Running& task : state.running) {
+      key_tag += std::max<std::int64_t>(0, now - task.started - kMinimumCharge);
+    }
     if (best == keys_.end() || key_tag < best_tag ||
         (key_tag == best_tag && state.queue.front().sequence < best->second.queue.front().sequence)) {
       best = it;
@@ -92,33 +99,49 @@ std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::
   return best;
 }
 
-void WorkPool::FinishedLocked(Key key, std::int64_t started, std::int64_t now) {
+void WorkPool::FinishedLocked(Key key, const Running& task, std::int64_t now) {
   auto it = keys_.find(key);
   KeyState& state = it->second;
-  state.running.erase(std::find(state.running.begin(), state.running.end(), started));
-  state.finish += std::max<std::int64_t>(0, now - started - kMinimumCharge);
-  if (state.queue.empty() && state.running.empty() && state.finish <= virtual_time_) keys_.erase(it);
+  state.running.erase(std::find_if(state.running.begin(), state.running.end(), [&](const Running& r) {
+    return r.started == task.started && r.long_key == task.long_key;
+  }));
+  const std::int64_t cost = now - task.started;
+  state.finish += std::max<std::int64_t>(0, cost - kMinimumCharge);
+  if (cost > kLongTask) state.long_until = now + kLongMemory;
+  if (task.long_key) {
+    --long_running_;
+    ready_.notify_all();  // a thread may wait for the long keys' turn
+  }
+  if (state.queue.empty() && state.running.empty() && state.finish <= virtual_time_ && state.long_until <= now) {
+    keys_.erase(it);
+  }
 }
 
 void WorkPool::Work() {
   while (true) {
     std::function<void()> task;
     Key key = kSharedKey;
-    std::int64_t started = 0;
+    Running running;
     {
       MutexLock lock(&mutex_);
-      mutex_.Await(ready_, [this]() ABSL_NO_THREAD_SAFETY_ANALYSIS { return HasWorkOrStopping(); });
-      if (queued_ == 0) return;  // stopping and drained
-      started = clock_();
+      auto picked = keys_.end();
       std::int64_t tag = 0;
-      auto picked = PickLocked(started, &tag);
+      mutex_.Await(ready_, [&]() ABSL_NO_THREAD_SAFETY_ANALYSIS {
+        if (queued_ == 0) return stopping_;
+        running.started = clock_();
+        picked = PickLocked(running.started, &tag);
+        return picked != keys_.end();
+      });
+      if (queued_ == 0) return;  // stopping and drained
       key = picked->first;
       KeyState& state = picked->second;
       state.finish = std::max(state.finish, virtual_time_) + kMinimumCharge;  // the rest when it ends
       virtual_time_ = tag;
+      running.long_key = state.long_until > running.started;
+      if (running.long_key) ++long_running_;
       task = std::move(state.queue.front().task);
       state.queue.pop_front();
-      state.running.push_back(started);
+      state.running.push_back(running);
       --queued_;
     }
     try {
@@ -130,7 +153,7 @@ void WorkPool::Work() {
     }
     task = nullptr;  // its captures go before the charge: their destructors are the task's work
     MutexLock lock(&mutex_);
-    FinishedLocked(key, started, clock_());
+    FinishedLocked(key, running, clock_());
   }
 }
 

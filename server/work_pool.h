@@ -14,6 +14,13 @@
 // Within a key, first in first out. A task still holds its thread until it returns: long work
 // must be cut into short tasks (a reconstruction runs a few samples per task, a pose search a few
 // milliseconds of comparisons), which bounds how long another key waits for a thread.
+//
+// Where work is not cut yet (a whole-trajectory session solves each window of its ankle path,
+// and its end, in one task: up to about a second), one thread is kept for short work: a key
+// whose task ran longer than kLongTask in the last kLongMemory is "long", and with more than one
+// thread, long keys together hold at most all threads but one. The other thread serves short
+// keys (a live stream's slices) at once, or waits for one; long work of a tenant alone uses the
+// rest of the pool.
 #pragma once
 
 #include <cstdint>
@@ -32,7 +39,9 @@ class WorkPool {
   static constexpr Key kSharedKey = 0;  // work not attributed to a tenant (yet)
   // Nanoseconds of a monotonic clock; tests pass a clock their tasks advance.
   using Clock = std::function<std::int64_t()>;
-  static constexpr std::int64_t kMinimumCharge = 50'000;  // ns
+  static constexpr std::int64_t kMinimumCharge = 50'000;      // ns
+  static constexpr std::int64_t kLongTask = 20'000'000;       // ns: longer than any sliced task
+  static constexpr std::int64_t kLongMemory = 2'000'000'000;  // ns
 
   explicit WorkPool(int threads, Clock clock = SteadyNanoseconds);
   // Runs the queued tasks, then joins the threads.
@@ -54,19 +63,23 @@ class WorkPool {
     std::uint64_t sequence;  // posting order, over all keys
     std::function<void()> task;
   };
+  struct Running {
+    std::int64_t started = 0;
+    bool long_key = false;  // counted in long_running_
+  };
   struct KeyState {
     std::deque<Queued> queue;
-    std::int64_t finish = 0;            // virtual time: what the key's finished tasks were charged
-    std::vector<std::int64_t> running;  // start times of its tasks running now
+    std::int64_t finish = 0;       // virtual time: what the key's finished tasks were charged
+    std::vector<Running> running;  // its tasks running now
+    std::int64_t long_until = 0;   // a task of it ran longer than kLongTask: long until then
   };
 
   void Work();
-  bool HasWorkOrStopping() const ABSL_SHARED_LOCKS_REQUIRED(mutex_) { return stopping_ || queued_ > 0; }
-  // The key whose head task starts next (queued_ > 0), and its start tag.
+  // The key whose head task starts next, and its start tag; end() when no queued task may start.
   std::map<Key, KeyState>::iterator PickLocked(std::int64_t now, std::int64_t* tag)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  // Charges a finished task that started at `started` and forgets idle keys with nothing owed.
-  void FinishedLocked(Key key, std::int64_t started, std::int64_t now) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Charges a finished task and forgets idle keys with nothing owed.
+  void FinishedLocked(Key key, const Running& task, std::int64_t now) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   const Clock clock_;
   mutable Mutex mutex_;
@@ -75,7 +88,9 @@ class WorkPool {
   std::int64_t virtual_time_ ABSL_GUARDED_BY(mutex_) = 0;
   std::uint64_t next_sequence_ ABSL_GUARDED_BY(mutex_) = 0;
   size_t queued_ ABSL_GUARDED_BY(mutex_) = 0;
+  int long_running_ ABSL_GUARDED_BY(mutex_) = 0;  // tasks of long keys running
   bool stopping_ ABSL_GUARDED_BY(mutex_) = false;
+  const int thread_count_;
   std::vector<std::thread> threads_;
 };
 

@@ -245,6 +245,59 @@ TEST(WorkPoolTest, AKeyIsChargedForItsRunningTaskBeforeItEnds) {
   EXPECT_EQ(order[0], "key 1");  // the other two end in either order, on two threads
 }
 
+TEST(WorkPoolTest, KeysWithLongTasksLeaveOneThreadForShortWork) {
+  // Key 1's tasks are long (one ran 30 ms). While one of them runs, its next waits though a
+  // thread is free, and key 2's short task takes that thread.
+  Journal journal;
+  std::latch done(4);
+  ManualClock clock;
+  WorkPool pool(2, clock.clock());
+  std::latch first_done(1), long_started(1), short_ran(1);
+  pool.Post(1, [&] {
+    clock.AdvanceMilliseconds(30);
+    first_done.count_down();
+    done.count_down();
+  });
+  first_done.wait();
+  std::promise<void> release;
+  std::shared_future<void> may_end = release.get_future().share();
+  pool.Post(1, [&, may_end] {
+    long_started.count_down();
+    may_end.wait();
+    journal.Add("long");
+    done.count_down();
+  });
+  long_started.wait();
+  pool.Post(1, [&] {
+    journal.Add("second long");
+    done.count_down();
+  });
+  pool.Post(2, [&] {
+    journal.Add("short");
+    short_ran.count_down();
+    done.count_down();
+  });
+  short_ran.wait();  // ran on the free thread; the second long task is still queued
+  EXPECT_EQ(pool.queued(), 1u);
+  EXPECT_EQ(journal.labels(), std::vector<std::string>{"short"});
+  release.set_value();
+  done.wait();
+  EXPECT_EQ(journal.labels(), (std::vector<std::string>{"short", "long", "second long"}));
+}
+
+TEST(WorkPoolTest, APoolOfOneThreadHoldsNothingBack) {
+  // Long tasks run one after another on the only thread.
+  std::latch done(2);
+  ManualClock clock;
+  WorkPool pool(1, clock.clock());
+  pool.Post(1, [&] {
+    clock.AdvanceMilliseconds(30);
+    done.count_down();
+  });
+  pool.Post(1, [&] { done.count_down(); });
+  done.wait();
+}
+
 TEST(WorkPoolTest, AThrowingTaskIsDroppedAndThePoolKeepsWorking) {
   std::atomic<int> after{0};
   std::latch done(3);
