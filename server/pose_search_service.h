@@ -1,8 +1,8 @@
 // The PoseSearch gRPC service (proto/mocap/v1/pose_search.proto) on the callback API: the
 // similar-pose search of `mocapd similar` over the tenant's databases, unary and server
 // streaming. Pose indices live in a per-database-version registry (built once, shared, rebuilt
-// after an import); searches run on the compute pool the reconstruction sessions use, shared
-// round robin between tenants (server/pose_search_call.h).
+// after an import); searches run on the compute pool the reconstruction sessions use, in slices
+// of bounded time shared between tenants by cost (server/pose_search_call.h, server/work_pool.h).
 #pragma once
 
 #include "mocap/v1/pose_search.grpc.pb.h"
