@@ -1,5 +1,6 @@
 // The Reconstruct stream of one session (reconstruction_service.h): a state machine with at most
-// one read, one write and one compute task outstanding. Its phase (Phase) only moves forward:
+// one read, one write and one compute task outstanding (the config task and its database wait
+// overlap briefly; each holds a TaskToken). Its phase (Phase) only moves forward:
 //
 //   kAuthenticating  open → [compute] authenticate, admit the tenant's session (nothing is read before)
 //   kConfiguring     read config → [compute] find the database, wait for its index → write `started`
