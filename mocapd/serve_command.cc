@@ -131,7 +131,7 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
   command
       ->add_option("--max-streams", reconstruction.max_streams,
                    "Live reconstruction streams on this server, all tenants; more are refused (RESOURCE_EXHAUSTED) "
-                   "(0: 12 per compute thread, what real-time 30 Hz streams keep under 50 ms at p99)")
+                   "(0: 15 per compute thread, what real-time 30 Hz streams keep under 50 ms at p99)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   command

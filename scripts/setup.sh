@@ -32,7 +32,7 @@ done
 
 packages=(build-essential cmake ninja-build ccache pkg-config git xz-utils
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
-  libsqlite3-dev libsqlitecpp-dev libeigen3-dev libflann-dev liblz4-dev libspdlog-dev libcpp-httplib-dev
+  libsqlite3-dev libsqlitecpp-dev libeigen3-dev libflann-dev liblz4-dev liblapacke-dev libspdlog-dev libcpp-httplib-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libxxhash-dev libssl-dev clang-format
   nginx python3-grpcio python3-protobuf python3-venv python3-pip python3-yaml chromium blender)
 # The viewer's script (viewer/, compiled into mocap and mocap-eval) is built with npm: Debian's

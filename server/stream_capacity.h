@@ -17,9 +17,9 @@
 namespace mocap {
 
 // Live streams a compute thread carries by default: on 2 cores with the load generator beside
-// them, 24 real-time 30 Hz streams held a p99 of 10 ms (57.8 ms with 16 more refused at once); 30
-// streams 29, 47 and 83 ms in three runs, too near 50 ms; 40 streams 375 ms.
-inline constexpr int kDefaultStreamsPerComputeThread = 12;
+// them, 30 real-time 30 Hz streams held a p99 of 19-26 ms once A5 solved only the eigenpairs it
+// keeps (29, 47 and 83 ms before: 12 per thread then); 40 streams, all admitted, 375 ms.
+inline constexpr int kDefaultStreamsPerComputeThread = 15;
 // The most of the server's streams one tenant holds (at least one): the rest stay for others.
 inline constexpr double kTenantShareOfStreams = 0.75;
 

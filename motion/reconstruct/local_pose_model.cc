@@ -1,10 +1,56 @@
 #include "motion/reconstruct/local_pose_model.h"
 
 #include <algorithm>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
+#include "motion/core/str_cat.h"
+
+#define LAPACK_COMPLEX_CPP  // lapacke.h's complex types as std::complex (C's _Complex is not C++)
+#include <lapacke.h>
+
 namespace mocap {
+namespace {
+
+// The `count` largest eigenpairs of a symmetric matrix, largest first. A5 keeps D' = 6 of ~60
+// (issue #26: a full solve spent most of its time on eigenvectors that were thrown away): Eigen
+// reduces the matrix to tridiagonal form by Householder reflections, LAPACK's MRRR (dstemr) finds
+// only the wanted eigenpairs of that tridiagonal matrix, and the reflections carry its eigenvectors
+// back. Same eigenpairs as Eigen's SelfAdjointEigenSolver to rounding (LocalPoseModelTest), up to
+// each eigenvector's sign, which the model does not depend on.
+absl::Status LargestEigenpairs(const Eigen::MatrixXd& symmetric, int count, Eigen::VectorXd* values,
+                               Eigen::MatrixXd* vectors) {
+  const int n = static_cast<int>(symmetric.rows());
+  const Eigen::Tridiagonalization<Eigen::MatrixXd> tridiagonal(symmetric);
+  Eigen::VectorXd diagonal = tridiagonal.diagonal();
+  Eigen::VectorXd off_diagonal = Eigen::VectorXd::Zero(n);  // dstemr wants n entries, the last as workspace
+  off_diagonal.head(n - 1) = tridiagonal.subDiagonal();
+  Eigen::VectorXd ascending(n);
+  Eigen::MatrixXd z(n, count);
+  std::vector<lapack_int> support(2 * static_cast<size_t>(count));
+  lapack_int found = 0;
+  lapack_logical try_high_relative_accuracy = 1;
+  const lapack_int info =
+      LAPACKE_dstemr(LAPACK_COL_MAJOR, 'V', 'I', n, diagonal.data(), off_diagonal.data(), 0.0, 0.0, n - count + 1, n,
+                     &found, ascending.data(), z.data(), n, count, support.data(), &try_high_relative_accuracy);
+  if (info != 0 || found != count) {
+    return absl::InternalError(StrCat("the pose model's eigen-decomposition failed (LAPACK dstemr info ", info, ", ",
+                                      found, " of ", count, ")"));
+  }
+  // Q = H_0 H_1 … H_{n−2} (H_i acts on rows i+1…): Q·z applies the last reflection first.
+  Eigen::VectorXd workspace(count);
+  const Eigen::MatrixXd& packed = tridiagonal.packedMatrix();
+  for (int i = n - 2; i >= 0; --i) {
+    z.bottomRows(n - 1 - i).applyHouseholderOnTheLeft(packed.col(i).tail(n - 2 - i),
+                                                      tridiagonal.householderCoefficients()(i), workspace.data());
+  }
+  *values = ascending.head(count).reverse();
+  *vectors = z.rowwise().reverse();
+  return absl::OkStatus();
+}
+
+}  // namespace
 
 float LocalPoseModel::PriorEnergy(const Eigen::VectorXf& weights, float min_variance) const {
   return (weights.array().square() / variances.array().max(min_variance)).sum();
@@ -22,10 +68,12 @@ absl::StatusOr<LocalPoseModel> FitLocalPoseModel(const Eigen::MatrixXf& examples
       std::min<int>({components, static_cast<int>(examples.rows()) - 1, static_cast<int>(examples.cols())});
   // K2 (200) examples of ~60 features: the smaller of the two Gram matrices is cheap either way.
   const Eigen::MatrixXd covariance = centred.transpose() * centred / static_cast<double>(examples.rows() - 1);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(covariance);
+  Eigen::VectorXd variances;
+  Eigen::MatrixXd basis;
+  if (absl::Status solved = LargestEigenpairs(covariance, kept, &variances, &basis); !solved.ok()) return solved;
   model.mean = mean.transpose().cast<float>();
-  model.basis = solver.eigenvectors().rightCols(kept).rowwise().reverse().cast<float>();  // largest first
-  model.variances = solver.eigenvalues().tail(kept).reverse().cast<float>();
+  model.basis = basis.cast<float>();  // largest first
+  model.variances = variances.cast<float>();
   return model;
 }
 

@@ -4,6 +4,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
 namespace mocap {
@@ -64,6 +65,57 @@ TEST(LocalPoseModelTest, KeepsAtMostRowsMinusOneComponents) {
   auto model = FitLocalPoseModel(examples, 6);
   ASSERT_TRUE(model.ok());
   EXPECT_EQ(model->num_components(), 2);
+}
+
+// The model keeps only the largest eigenpairs (LAPACK's dstemr after Eigen's tridiagonalisation):
+// they must be the full solver's, to rounding, each column up to its sign; also where the
+// examples are degenerate (all alike, a repeated variance, fewer examples than features, one feature).
+void ExpectTheFullSolversLargestEigenpairs(const Eigen::MatrixXf& examples, int components) {
+  auto model = FitLocalPoseModel(examples, components);
+  ASSERT_TRUE(model.ok()) << model.status();
+  const Eigen::MatrixXd x = examples.cast<double>();
+  const Eigen::MatrixXd centred = x.rowwise() - x.colwise().mean();
+  const Eigen::MatrixXd covariance = centred.transpose() * centred / static_cast<double>(x.rows() - 1);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> full(covariance);
+  const int n = static_cast<int>(covariance.rows());
+  ASSERT_EQ(model->num_components(), std::min<int>({components, static_cast<int>(x.rows()) - 1, n}));
+  const double scale = std::max(1.0, full.eigenvalues()(n - 1));
+  for (int c = 0; c < model->num_components(); ++c) {
+    EXPECT_NEAR(model->variances[c], full.eigenvalues()(n - 1 - c), 1e-5 * scale) << "component " << c;
+  }
+  EXPECT_TRUE((model->basis.transpose() * model->basis).isIdentity(1e-4f));
+  // Each column is an eigenvector of its variance (this holds within a repeated variance too).
+  const Eigen::MatrixXf residual =
+      covariance.cast<float>() * model->basis - model->basis * model->variances.asDiagonal();
+  EXPECT_LT(residual.norm(), 1e-4f * static_cast<float>(scale));
+  for (int c = 0; c < model->num_components(); ++c) {
+    const double gap_below = c + 1 < n ? full.eigenvalues()(n - 1 - c) - full.eigenvalues()(n - 2 - c) : 1.0;
+    const double gap_above = c > 0 ? full.eigenvalues()(n - c) - full.eigenvalues()(n - 1 - c) : 1.0;
+    if (std::min(gap_below, gap_above) < 1e-3 * scale) continue;  // the eigenvector is not unique
+    const Eigen::VectorXf expected = full.eigenvectors().col(n - 1 - c).cast<float>();
+    const Eigen::VectorXf got = model->basis.col(c);
+    EXPECT_LT(std::min((got - expected).norm(), (got + expected).norm()), 1e-4f) << "component " << c;
+  }
+}
+
+TEST(LocalPoseModelTest, KeepsTheFullSolversLargestEigenpairs) {
+  std::mt19937 random(3);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  Eigen::MatrixXf poses(200, 63);  // K2 examples of a 21-joint rig's features, correlated as poses are
+  const Eigen::MatrixXf mixing = Eigen::MatrixXf::NullaryExpr(12, 63, [&] { return normal(random); });
+  const Eigen::MatrixXf causes = Eigen::MatrixXf::NullaryExpr(200, 12, [&] { return normal(random); });
+  poses = causes * mixing + 0.05f * Eigen::MatrixXf::NullaryExpr(200, 63, [&] { return normal(random); });
+  ExpectTheFullSolversLargestEigenpairs(poses, 6);
+  ExpectTheFullSolversLargestEigenpairs(poses.topRows(20), 6);
+  ExpectTheFullSolversLargestEigenpairs(poses.topRows(4), 6);               // three components: rows − 1
+  ExpectTheFullSolversLargestEigenpairs(poses.leftCols(1), 6);              // one feature: one component
+  ExpectTheFullSolversLargestEigenpairs(Eigen::MatrixXf::Ones(50, 63), 6);  // all alike: no variance at all
+  Eigen::MatrixXf isotropic(400, 8);                                        // two equal variances on top
+  for (int i = 0; i < isotropic.rows(); ++i) {
+    for (int d = 0; d < isotropic.cols(); ++d)
+      isotropic(i, d) = (d < 2 ? 3.0f : 0.5f) * (i % 2 ? 1.0f : -1.0f) * (d == i % 8 ? 1.0f : 0.0f);
+  }
+  ExpectTheFullSolversLargestEigenpairs(isotropic, 6);
 }
 
 TEST(LocalPoseModelTest, RejectsBadInput) {
