@@ -41,6 +41,7 @@ r = json.load(open(sys.argv[1]))
 l = r["latency_ms"]
 print(f'{r["streams"]:3d} streams: {r["streams_ok"]} ok, {r["frames_per_second"]:6.1f} frames/s, latency ms '
       f'p50 {l["p50"]:.1f} p90 {l["p90"]:.1f} p99 {l["p99"]:.1f} max {l["max"]:.1f}, server reply ms mean '
-      f'{r["server_reply_ms"]["mean"]:.1f}, worst late send {r["worst_late_send_ms"]:.0f} ms, errors {r["errors"] or 0}')
+      f'{r["server_reply_ms"]["mean"]:.1f} (pipeline per frame {r["server_stage_ms_per_frame"]["pipeline"]:.2f}), '
+      f'worst late send {r["worst_late_send_ms"]:.0f} ms, errors {r["errors"] or 0}')
 PY
 done

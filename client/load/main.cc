@@ -139,6 +139,9 @@ int Run(const Options& o) {
   std::map<std::string, int> errors;
   long frames = 0, sent = 0, rejected = 0, sessions = 0, cancelled = 0;
   double late = 0, server_mean = 0, server_max = 0;
+  // The server's own time per frame by stage (each session's mean, averaged over sessions): what
+  // the reply time holds besides the pipeline is the service path and waiting for a thread.
+  double cloud_ms = 0, path_ms = 0, pose_ms = 0, cleanup_ms = 0;
   int ok = 0;
   for (const StreamOutcome& outcome : outcomes) {
     latencies.insert(latencies.end(), outcome.latencies_ms.begin(), outcome.latencies_ms.end());
@@ -152,11 +155,18 @@ int Run(const Options& o) {
       ++ok;
       server_mean += outcome.summary.mean_reply_ms();
       server_max = std::max(server_max, outcome.summary.max_reply_ms());
+      cloud_ms += outcome.summary.cloud_ms_per_frame();
+      path_ms += outcome.summary.path_ms_per_frame();
+      pose_ms += outcome.summary.pose_ms_per_frame();
+      cleanup_ms += outcome.summary.cleanup_ms_per_frame();
     } else {
       ++errors[absl::StatusCodeToString(outcome.status.code()) + ": " + std::string(outcome.status.message())];
     }
   }
-  if (ok > 0) server_mean /= ok;
+  if (ok > 0) {
+    for (double* mean : {&server_mean, &cloud_ms, &path_ms, &pose_ms, &cleanup_ms}) *mean /= ok;
+  }
+  const double pipeline_ms = cloud_ms + path_ms + pose_ms + cleanup_ms;
   const LatencySummary latency = Summarise(std::move(latencies));
   const bool p99_ok = o.max_p99_ms <= 0 || latency.p99_ms <= o.max_p99_ms;
 
@@ -179,6 +189,12 @@ int Run(const Options& o) {
                                {"p99", latency.p99_ms},
                                {"max", latency.max_ms}}},
                              {"server_reply_ms", {{"mean", server_mean}, {"max", server_max}}},
+                             {"server_stage_ms_per_frame",
+                              {{"ankle_cloud", cloud_ms},
+                               {"ankle_path", path_ms},
+                               {"pose", pose_ms},
+                               {"cleanup", cleanup_ms},
+                               {"pipeline", pipeline_ms}}},
                              {"worst_late_send_ms", late},
                              {"errors", errors}};
     std::cout << report.dump(2) << "\n";
@@ -190,7 +206,9 @@ int Run(const Options& o) {
               << latency.p90_ms << "  p99 " << latency.p99_ms << "  max " << latency.max_ms << "  (" << latency.count
               << " frames)\n"
               << "server reply ms: mean " << server_mean << "  max " << server_max << "; worst late send " << late
-              << " ms\n";
+              << " ms\n"
+              << "server ms per frame: pipeline " << pipeline_ms << " (A2+A3 ankle cloud " << cloud_ms
+              << ", A4 ankle path " << path_ms << ", A5+A6 pose " << pose_ms << ", A7 cleanup " << cleanup_ms << ")\n";
     for (const auto& [error, count] : errors) std::cout << "error x" << count << ": " << error << "\n";
   }
   if (!p99_ok) spdlog::error("p99 latency {:.1f} ms exceeds --max-p99-ms {}", latency.p99_ms, o.max_p99_ms);
