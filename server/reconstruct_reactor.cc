@@ -191,6 +191,21 @@ void ReconstructReactor::HandleSlice(const v1::WristSamples& samples, int begin,
     status = driver_->Push(samples, begin, end, &replies);
     if (arrival)
       driver_->RecordReplyLatency(std::chrono::duration<double, std::milli>(Clock::now() - *arrival).count());
+    MutexLock lock(&mutex_);
+    backlog_ = driver_->has_backlog();
+  }
+  Deliver(std::move(replies), status);
+}
+
+void ReconstructReactor::ContinueBacklog() {
+  Replies replies;
+  absl::Status status;
+  {
+    MutexLock session(&session_mutex_);
+    if (!driver_) return;
+    status = driver_->Continue(&replies);
+    MutexLock lock(&mutex_);
+    backlog_ = driver_->has_backlog();
   }
   Deliver(std::move(replies), status);
 }
@@ -198,18 +213,27 @@ void ReconstructReactor::HandleSlice(const v1::WristSamples& samples, int begin,
 void ReconstructReactor::EndInput(absl::Status final_status) {
   Replies replies;
   absl::Status status = final_status;
+  bool done = true;
   {
     MutexLock session(&session_mutex_);
     if (driver_) {
-      absl::Status finished = driver_->Finish(&replies);
-      if (!finished.ok()) status = finished;
-      ReleaseDriverLocked();  // frees the session now; the database stays shared with others
+      absl::Status finished = driver_->FinishStep(&replies, &done);
+      if (!finished.ok()) {
+        status = finished;
+        done = true;
+      }
+      if (done) ReleaseDriverLocked();  // frees the session now; the database stays shared with others
     }
   }
   MutexLock lock(&mutex_);
   if (phase_ < Phase::kCompleting) {
     for (v1::ReconstructResponse& reply : replies) outbox_.push_back(std::move(reply));
+    if (!done) {  // PumpLocked posts the next step as the replies are written
+      finishing_ = final_status;
+      return;
+    }
   }
+  finishing_.reset();
   CompleteLocked(status, false);
 }
 
@@ -251,6 +275,16 @@ void ReconstructReactor::PumpLocked() {
       AdvanceTo(Phase::kFinished);
       Finish(final_status_);
     }
+    return;
+  }
+  if (phase_ == Phase::kInputDone && finishing_) {
+    // The end of the input, its next step once the previous one is done and its replies are few.
+    if (tasks_ == 0 && outbox_.size() < kMaxQueuedReplies) Post([this, status = *finishing_] { EndInput(status); });
+    return;
+  }
+  if (phase_ == Phase::kStreaming && backlog_) {
+    // Held samples the session takes before anything newer, a slice at a time (as a message is).
+    if (tasks_ == 0 && outbox_.size() < kMaxQueuedReplies) Post([this] { ContinueBacklog(); });
     return;
   }
   if (samples_) {

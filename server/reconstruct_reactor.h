@@ -6,7 +6,8 @@
 //   kConfiguring     read config → [compute] find the database, wait for its index → write `started`
 //   kStreaming       read samples → [compute] SessionDriver::Push of a few samples → write their frames →
 //                    [compute] the next few ... → read next message
-//   kInputDone       half-close, `finish` or drain → [compute] SessionDriver::Finish → frames, summary
+//   kInputDone       half-close, `finish` or drain → [compute] SessionDriver::FinishStep → frames →
+//                    [compute] the next step ... → the last frames, summary
 //   kCompleting      the final status is decided: the queued replies are written, compute tasks drain
 //   kFinished        Finish(status) called
 // Any phase before kCompleting jumps to it when the call's outcome is decided (an error, a cancel,
@@ -98,7 +99,11 @@ class ReconstructReactor
   void ReleaseDriverLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(session_mutex_);
   // One line per session end, however it ended, with the code the client was sent (finding 8).
   void BeforeDelete() override;
+  // The end of the input, one slice of it (SessionDriver::FinishStep); until the summary is made
+  // the next slice is posted as replies are written, and `final_status` ends the call after it.
   void EndInput(absl::Status final_status);
+  // Held samples the session has yet to take (SessionDriver::Continue), a slice at a time.
+  void ContinueBacklog();
   // Queues replies; `status` not OK ends the call after them.
   void Deliver(Replies replies, const absl::Status& status);
   // Ends the call with `status` after the queued replies (dropped when `discard_replies`). The
@@ -136,6 +141,10 @@ class ReconstructReactor
   std::deque<v1::ReconstructResponse> outbox_ ABSL_GUARDED_BY(mutex_);
   v1::ReconstructResponse writing_message_ ABSL_GUARDED_BY(mutex_);
   Clock::time_point last_read_ ABSL_GUARDED_BY(mutex_) = Clock::now();
+  // The session has held samples to take before the next message (SessionDriver::has_backlog).
+  bool backlog_ ABSL_GUARDED_BY(mutex_) = false;
+  // The end of the input is being computed a slice at a time; the call then ends with this status.
+  std::optional<absl::Status> finishing_ ABSL_GUARDED_BY(mutex_);
   // The samples message being dispatched slice by slice (null when none or wholly dispatched).
   std::shared_ptr<const v1::WristSamples> samples_ ABSL_GUARDED_BY(mutex_);
   int next_sample_ ABSL_GUARDED_BY(mutex_) = 0;

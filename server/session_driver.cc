@@ -101,6 +101,13 @@ absl::Status SessionDriver::Push(const v1::WristSamples& samples, int begin, int
     MOCAP_RETURN_IF_ERROR(ReportInput(replies));
     MOCAP_RETURN_IF_ERROR(PushReady(replies));
   }
+  MOCAP_RETURN_IF_ERROR(PushHeld(replies));
+  AppendFrames(replies);
+  return absl::OkStatus();
+}
+
+absl::Status SessionDriver::Continue(std::vector<v1::ReconstructResponse>* replies) {
+  MOCAP_RETURN_IF_ERROR(PushHeld(replies));
   AppendFrames(replies);
   return absl::OkStatus();
 }
@@ -116,8 +123,11 @@ absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* repl
     sizer_->Count(ready.sample);  // FromProto refused non-finite samples
     if (estimate_height_) {
       held_.push_back(std::move(ready));  // sized when the input ends, or once held this long
-      if (held_.back().sample.time - held_.front().sample.time > limits_.max_reach_hold_seconds)
-        MOCAP_RETURN_IF_ERROR(SizeFromReach(replies));
+      if (held_.back().sample.time - held_.front().sample.time > limits_.max_reach_hold_seconds) SizeFromReach();
+      continue;
+    }
+    if (has_backlog()) {  // behind the held samples still to push
+      held_.push_back(std::move(ready));
       continue;
     }
     MOCAP_RETURN_IF_ERROR(PushScaled(ready, replies));
@@ -133,7 +143,7 @@ absl::Status SessionDriver::PushScaled(MonitoredSample& ready, std::vector<v1::R
   return pushed;
 }
 
-absl::Status SessionDriver::SizeFromReach(std::vector<v1::ReconstructResponse>* replies) {
+void SessionDriver::SizeFromReach() {
   // The sizer has counted exactly the held samples yet. An error here is a database without
   // frames: no estimate.
   absl::StatusOr<ReachScale> reach = sizer_->reach().Scale(session_->database().wrist_reach());
@@ -143,8 +153,20 @@ absl::Status SessionDriver::SizeFromReach(std::vector<v1::ReconstructResponse>* 
     resized_ = true;
   }
   estimate_height_ = false;
-  for (MonitoredSample& h : held_) MOCAP_RETURN_IF_ERROR(PushScaled(h, replies));
-  std::vector<MonitoredSample>().swap(held_);
+  held_next_ = 0;
+}
+
+absl::Status SessionDriver::PushHeld(std::vector<v1::ReconstructResponse>* replies) {
+  if (!has_backlog()) return absl::OkStatus();
+  const auto deadline = std::chrono::steady_clock::now() + limits_.held_slice_budget;
+  while (held_next_ < held_.size()) {
+    MOCAP_RETURN_IF_ERROR(PushScaled(held_[held_next_++], replies));
+    if (std::chrono::steady_clock::now() >= deadline) break;
+  }
+  if (held_next_ == held_.size()) {
+    std::vector<MonitoredSample>().swap(held_);
+    held_next_ = 0;
+  }
   return absl::OkStatus();
 }
 
@@ -168,10 +190,25 @@ absl::Status SessionDriver::ReportInput(std::vector<v1::ReconstructResponse>* re
 }
 
 absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies) {
-  monitor_->Finish(&ready_, &warnings_);
-  MOCAP_RETURN_IF_ERROR(ReportInput(replies));
-  MOCAP_RETURN_IF_ERROR(PushReady(replies));
-  if (estimate_height_) MOCAP_RETURN_IF_ERROR(SizeFromReach(replies));
+  bool done = false;
+  while (!done) MOCAP_RETURN_IF_ERROR(FinishStep(replies, &done));
+  return absl::OkStatus();
+}
+
+absl::Status SessionDriver::FinishStep(std::vector<v1::ReconstructResponse>* replies, bool* done) {
+  *done = false;
+  if (!input_ended_) {
+    input_ended_ = true;
+    monitor_->Finish(&ready_, &warnings_);
+    MOCAP_RETURN_IF_ERROR(ReportInput(replies));
+    MOCAP_RETURN_IF_ERROR(PushReady(replies));
+    if (estimate_height_) SizeFromReach();
+  }
+  MOCAP_RETURN_IF_ERROR(PushHeld(replies));
+  if (has_backlog()) {
+    AppendFrames(replies);
+    return absl::OkStatus();
+  }
   MOCAP_RETURN_IF_ERROR(session_->Finish(&pending_));
   AppendFrames(replies);
   v1::SessionSummary* summary = replies->emplace_back().mutable_summary();
@@ -185,6 +222,7 @@ absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies
   summary->set_performer_height_estimated(resized_ || sizer_->resizes() > 0);
   absl::StatusOr<ReachScale> reach = sizer_->reach().Scale(session_->database().wrist_reach());
   summary->set_reach_height(scale_.database_height / (reach.ok() ? reach->input_scale : 1.0f));
+  *done = true;
   return absl::OkStatus();
 }
 

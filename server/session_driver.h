@@ -12,6 +12,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -36,6 +37,10 @@ struct SessionLimits {
   // estimate_performer_height holds the input until it ends to read its reach; past this span the
   // body is sized on what is held and the rest streams on (48 bytes a sample: ~17 MB at 60 Hz).
   double max_reach_hold_seconds = 600.0;
+  // Held samples go into the session a slice at a time: until this much time has passed (a sample
+  // that completes an ankle-path window takes that window's work, so a slice is at most about one
+  // window). Issue #24: ten minutes of held samples were one task of ~30 s.
+  std::chrono::microseconds held_slice_budget{20'000};
 };
 
 class SessionDriver {
@@ -60,7 +65,15 @@ class SessionDriver {
   absl::Status Push(const v1::WristSamples& samples, std::vector<v1::ReconstructResponse>* replies) {
     return Push(samples, 0, samples.samples_size(), replies);
   }
-  // The remaining frames, then the summary. Call once.
+  // Held samples the body was sized on and that wait to go into the session (issue #24: pushing
+  // minutes of them at once held a compute thread for as long). Push leaves them after a slice
+  // of SessionLimits::held_slice_budget; call Continue until there are none before the next Push.
+  bool has_backlog() const { return held_next_ < held_.size() && !estimate_height_; }
+  absl::Status Continue(std::vector<v1::ReconstructResponse>* replies);
+  // The end of the input, a slice at a time: the remaining frames, then the summary. Sets
+  // `*done` once the summary is in `replies`; until then call it again (not Push).
+  absl::Status FinishStep(std::vector<v1::ReconstructResponse>* replies, bool* done);
+  // All of FinishStep at once. Call once.
   absl::Status Finish(std::vector<v1::ReconstructResponse>* replies);
   // Server-side latency of one sample message (reported in the summary and the metrics).
   void RecordReplyLatency(double milliseconds);
@@ -79,8 +92,10 @@ class SessionDriver {
   // One released sample into the session, through the sizer.
   absl::Status PushScaled(MonitoredSample& ready, std::vector<v1::ReconstructResponse>* replies);
   // config.estimate_performer_height, at the end of the input: the body's size from the wrists'
-  // reach (wrist_reach.h), then the held samples into the session.
-  absl::Status SizeFromReach(std::vector<v1::ReconstructResponse>* replies);
+  // reach (wrist_reach.h); the held samples then go into the session through PushHeld.
+  void SizeFromReach();
+  // Held samples into the session, in order, until limits_.held_slice_budget has passed.
+  absl::Status PushHeld(std::vector<v1::ReconstructResponse>* replies);
   absl::Status ReportInput(std::vector<v1::ReconstructResponse>* replies);
 
   MetricsScope metrics_;
@@ -88,7 +103,9 @@ class SessionDriver {
   std::unique_ptr<ReconstructionSession> session_;
   PerformerScale scale_;
   bool estimate_height_ = false;       // hold the input until it ends, then size the body by reach
-  std::vector<MonitoredSample> held_;  // while estimate_height_
+  std::vector<MonitoredSample> held_;  // while estimate_height_, then until pushed
+  size_t held_next_ = 0;               // the first held sample not yet pushed, once sized
+  bool input_ended_ = false;           // FinishStep has taken the monitor's last samples
   // Performer's space to the database body's and back; counts every accepted sample's reach.
   std::optional<BodySizer> sizer_;
   bool resized_ = false, resized_sent_ = false;  // the estimate changed the skeleton; told the client

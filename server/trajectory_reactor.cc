@@ -50,11 +50,22 @@ void TrajectoryReactor::PostSlice(int begin) {
 
 void TrajectoryReactor::Slice(int begin) {
   if (cancelled_) return Complete(absl::CancelledError("the client went away or its deadline passed"));
-  const int end = std::min(samples_.samples_size(), begin + kSamplesPerTask);
-  absl::Status status = driver_->Push(samples_, begin, end, &replies_);
-  if (status.ok() && end == samples_.samples_size()) status = driver_->Finish(&replies_);
+  // One bounded step a task: held samples the session has yet to take, the next few samples, or
+  // a step of the end of the input (issue #24: a sized whole trajectory was one task of minutes).
+  const int size = samples_.samples_size();
+  int next = begin;
+  bool done = false;
+  absl::Status status;
+  if (driver_->has_backlog()) {
+    status = driver_->Continue(&replies_);
+  } else if (begin < size) {
+    next = std::min(size, begin + kSamplesPerTask);
+    status = driver_->Push(samples_, begin, next, &replies_);
+  } else {
+    status = driver_->FinishStep(&replies_, &done);
+  }
   if (!status.ok()) return Complete(status);
-  if (end < samples_.samples_size()) return PostSlice(end);
+  if (!done) return PostSlice(next);
   for (v1::ReconstructResponse& reply : replies_) {
     if (reply.has_frames()) {
       // The body sized at the end of the input: the response has one skeleton, the frames'.

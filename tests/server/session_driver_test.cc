@@ -473,6 +473,57 @@ TEST_F(SessionDriverTest, ALongInputIsSizedOnItsFirstPartAndStreamsOn) {
   }
 }
 
+// Held samples go into the session a slice at a time (issue #24: minutes of them were one task),
+// with the same frames as all at once: at the end of a sized whole trajectory (FinishStep) and
+// past the hold limit mid-stream (Continue before the next Push).
+std::vector<std::string> FramesOf(const std::vector<v1::ReconstructResponse>& replies) {
+  std::vector<std::string> out;
+  for (const v1::Frame& frame : Sort(replies).frames) out.push_back(frame.SerializeAsString());
+  return out;
+}
+
+TEST_F(SessionDriverTest, HeldSamplesGoIntoTheSessionASliceAtATimeWithTheSameFrames) {
+  v1::SessionConfig config = Config(-1);
+  config.set_estimate_performer_height(true);
+  for (const double hold_seconds : {600.0, 3.0}) {
+    SCOPED_TRACE(hold_seconds);
+    auto at_once = Create(config, SessionLimits{.max_window_frames = 50,
+                                                .max_reach_hold_seconds = hold_seconds,
+                                                .held_slice_budget = std::chrono::hours(1)});
+    auto sliced = Create(config, SessionLimits{.max_window_frames = 50,
+                                               .max_reach_hold_seconds = hold_seconds,
+                                               .held_slice_budget = std::chrono::microseconds(0)});
+    ASSERT_TRUE(at_once.ok() && sliced.ok());
+    std::vector<v1::ReconstructResponse> whole, steps;
+    ASSERT_TRUE((*at_once)->Push(WireSamples(kTestFrames, 1.3), &whole).ok());
+    EXPECT_FALSE((*at_once)->has_backlog());
+    ASSERT_TRUE((*at_once)->Finish(&whole).ok());
+
+    ASSERT_TRUE((*sliced)->Push(WireSamples(kTestFrames, 1.3), &steps).ok());
+    int continues = 0;
+    while ((*sliced)->has_backlog()) {
+      ASSERT_TRUE((*sliced)->Continue(&steps).ok());
+      ++continues;
+    }
+    // Past the hold limit the held samples wait, a sample a step at this budget; under it nothing
+    // is pushed before the end.
+    if (hold_seconds < 10) {
+      EXPECT_GT(continues, 100);
+    } else {
+      EXPECT_EQ(continues, 0);
+    }
+    int finish_steps = 0;
+    for (bool done = false; !done; ++finish_steps) ASSERT_TRUE((*sliced)->FinishStep(&steps, &done).ok());
+    if (hold_seconds > 10) {
+      EXPECT_GT(finish_steps, kTestFrames / 2);  // every held sample its own step
+    }
+    EXPECT_EQ(Sort(steps).summaries.size(), 1u);
+    const std::vector<std::string> expected = FramesOf(whole), got = FramesOf(steps);
+    ASSERT_EQ(got.size(), static_cast<size_t>(kTestFrames));
+    EXPECT_TRUE(got == expected) << "the frames differ from those pushed at once";
+  }
+}
+
 // Without estimate_performer_height a stream keeps its size, but its summary tells how large a
 // body the wrists needed.
 TEST_F(SessionDriverTest, AStreamsSummaryTellsTheHeightItsReachShows) {
