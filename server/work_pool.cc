@@ -1,6 +1,7 @@
 #include "server/work_pool.h"
 
 #include <sys/resource.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -28,7 +29,8 @@ void LowerThisThreadsPriority() {
 
 }  // namespace
 
-WorkPool::WorkPool(int threads, Clock clock) : clock_(std::move(clock)), thread_count_(threads) {
+WorkPool::WorkPool(int threads, Clock clock, Clock work_clock)
+    : clock_(std::move(clock)), work_clock_(std::move(work_clock)), thread_count_(threads) {
   for (int i = 0; i < threads; ++i) {
     threads_.emplace_back([this] {
       LowerThisThreadsPriority();
@@ -44,6 +46,12 @@ WorkPool::~WorkPool() {
   }
   ready_.notify_all();
   for (std::thread& thread : threads_) thread.join();
+}
+
+std::int64_t WorkPool::ThreadCpuNanoseconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<std::int64_t>(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
 }
 
 std::int64_t WorkPool::SteadyNanoseconds() {
@@ -99,7 +107,7 @@ std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::
   return best;
 }
 
-void WorkPool::FinishedLocked(Key key, const Running& task, std::int64_t now) {
+void WorkPool::FinishedLocked(Key key, const Running& task, std::int64_t now, std::int64_t worked) {
   auto it = keys_.find(key);
   KeyState& state = it->second;
   state.running.erase(std::find_if(state.running.begin(), state.running.end(), [&](const Running& r) {
@@ -107,7 +115,7 @@ void WorkPool::FinishedLocked(Key key, const Running& task, std::int64_t now) {
   }));
   const std::int64_t cost = now - task.started;
   state.finish += std::max<std::int64_t>(0, cost - kMinimumCharge);
-  if (cost > kLongTask) state.long_until = now + kLongMemory;
+  if (worked > kLongTask) state.long_until = now + kLongMemory;
   if (task.long_key) {
     --long_running_;
     ready_.notify_all();  // a thread may wait for the long keys' turn
@@ -144,6 +152,7 @@ void WorkPool::Work() {
       state.running.push_back(running);
       --queued_;
     }
+    const std::int64_t work_began = work_clock_();
     try {
       task();
     } catch (const std::exception& error) {
@@ -152,8 +161,9 @@ void WorkPool::Work() {
       spdlog::error("work pool: a task threw a non-standard exception and was dropped");
     }
     task = nullptr;  // its captures go before the charge: their destructors are the task's work
+    const std::int64_t worked = work_clock_() - work_began;
     MutexLock lock(&mutex_);
-    FinishedLocked(key, running, clock_());
+    FinishedLocked(key, running, clock_(), worked);
   }
 }
 

@@ -15,12 +15,14 @@
 // must be cut into short tasks (a reconstruction runs a few samples per task, a pose search a few
 // milliseconds of comparisons), which bounds how long another key waits for a thread.
 //
-// Where work is not cut yet (a whole-trajectory session solves each window of its ankle path,
-// and its end, in one task: up to about a second), one thread is kept for short work: a key
-// whose task ran longer than kLongTask in the last kLongMemory is "long", and with more than one
-// thread, long keys together hold at most all threads but one. The other thread serves short
-// keys (a live stream's slices) at once, or waits for one; long work of a tenant alone uses the
-// rest of the pool.
+// Where work is not cut yet (a whole-trajectory session solves each window of its ankle path in
+// one task: up to about 0.6 s), one thread is kept for short work: a key whose task worked longer
+// than kLongTask in the last kLongMemory is "long", and with more than one thread, long keys
+// together hold at most all threads but one. The other thread serves short keys (a live stream's
+// slices) at once, or waits for one; long work of a tenant alone uses the rest of the pool. A
+// task's work is its thread's CPU time, not the wall time it took: on a loaded machine a short
+// task preempted for 20 ms would make its key long, and a tenant of 30 live streams then held
+// one thread where it needed two (the queue, and its latency, grew to seconds).
 #pragma once
 
 #include <cstdint>
@@ -43,7 +45,9 @@ class WorkPool {
   static constexpr std::int64_t kLongTask = 20'000'000;       // ns: longer than any sliced task
   static constexpr std::int64_t kLongMemory = 2'000'000'000;  // ns
 
-  explicit WorkPool(int threads, Clock clock = SteadyNanoseconds);
+  // `clock` times the fair shares; `work_clock` what a task itself worked (the calling thread's
+  // CPU time; tests pass the clock their tasks advance for both).
+  explicit WorkPool(int threads, Clock clock = SteadyNanoseconds, Clock work_clock = ThreadCpuNanoseconds);
   // Runs the queued tasks, then joins the threads.
   ~WorkPool();
   WorkPool(const WorkPool&) = delete;
@@ -57,6 +61,7 @@ class WorkPool {
   size_t queued() const;
 
   static std::int64_t SteadyNanoseconds();
+  static std::int64_t ThreadCpuNanoseconds();
 
  private:
   struct Queued {
@@ -78,10 +83,12 @@ class WorkPool {
   // The key whose head task starts next, and its start tag; end() when no queued task may start.
   std::map<Key, KeyState>::iterator PickLocked(std::int64_t now, std::int64_t* tag)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  // Charges a finished task and forgets idle keys with nothing owed.
-  void FinishedLocked(Key key, const Running& task, std::int64_t now) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Charges a finished task that worked `worked` ns and forgets idle keys with nothing owed.
+  void FinishedLocked(Key key, const Running& task, std::int64_t now, std::int64_t worked)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   const Clock clock_;
+  const Clock work_clock_;
   mutable Mutex mutex_;
   std::condition_variable ready_;                         // a task was queued, or the pool is stopping
   std::map<Key, KeyState> keys_ ABSL_GUARDED_BY(mutex_);  // keys with queued or running tasks, or owing time

@@ -251,7 +251,7 @@ TEST(WorkPoolTest, KeysWithLongTasksLeaveOneThreadForShortWork) {
   Journal journal;
   std::latch done(4);
   ManualClock clock;
-  WorkPool pool(2, clock.clock());
+  WorkPool pool(2, clock.clock(), clock.clock());
   std::latch first_done(1), long_started(1), short_ran(1);
   pool.Post(1, [&] {
     clock.AdvanceMilliseconds(30);
@@ -285,11 +285,45 @@ TEST(WorkPoolTest, KeysWithLongTasksLeaveOneThreadForShortWork) {
   EXPECT_EQ(journal.labels(), (std::vector<std::string>{"short", "long", "second long"}));
 }
 
+TEST(WorkPoolTest, ATaskThatTookLongButWorkedLittleLeavesItsKeyShort) {
+  // A task's work is its thread's CPU time: one that took 30 ms of the pool's clock (preempted on a
+  // loaded machine, or waiting) without working does not make its key long, so the key's next
+  // tasks still use both threads.
+  std::latch done(3);
+  ManualClock clock;
+  WorkPool pool(2, clock.clock());  // the work clock: each thread's own CPU time
+  std::latch first_done(1), waiting(1);
+  pool.Post(1, [&] {
+    clock.AdvanceMilliseconds(30);
+    first_done.count_down();
+    done.count_down();
+  });
+  first_done.wait();
+  std::promise<void> release, next_ran;
+  std::shared_future<void> may_end = release.get_future().share();
+  pool.Post(1, [&, may_end] {
+    waiting.count_down();
+    may_end.wait();
+    done.count_down();
+  });
+  waiting.wait();
+  pool.Post(1, [&] {
+    next_ran.set_value();
+    done.count_down();
+  });
+  // On the second thread while the first still waits: the key is not long (a long key's next
+  // task would wait for the first to end).
+  const bool ran_beside = next_ran.get_future().wait_for(std::chrono::seconds(10)) == std::future_status::ready;
+  release.set_value();
+  done.wait();
+  EXPECT_TRUE(ran_beside);
+}
+
 TEST(WorkPoolTest, APoolOfOneThreadHoldsNothingBack) {
   // Long tasks run one after another on the only thread.
   std::latch done(2);
   ManualClock clock;
-  WorkPool pool(1, clock.clock());
+  WorkPool pool(1, clock.clock(), clock.clock());
   pool.Post(1, [&] {
     clock.AdvanceMilliseconds(30);
     done.count_down();
