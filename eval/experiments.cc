@@ -38,6 +38,15 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions no_lean = base;
   no_lean.reach_lean.max_angle = 0.0f;  // the arm IK alone, without the torso's lean
   add("full_no_reach_lean", "main", 0, no_lean, noise_cm);
+  ReconstructionOptions no_shift = base;
+  no_shift.reach_lean.max_shift = 0.0f;  // the lean alone: the body does not step towards the input
+  add("full_no_reach_shift", "main", 0, no_shift, noise_cm);
+  ReconstructionOptions horizontal = base;
+  horizontal.reach_lean.vertical_shift = false;  // the shift over the ground only
+  add("full_horizontal_shift", "main", 0, horizontal, noise_cm);
+  ReconstructionOptions faster = base;
+  faster.reach_lean.max_shift_speed = 0.5f;  // the shift twice as fast
+  add("full_shift_speed_0.5", "main", 0, faster, noise_cm);
   for (int window : {10, 50, 100}) {
     ReconstructionOptions o = base;
     o.window = window;

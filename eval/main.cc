@@ -99,10 +99,13 @@ int main(int argc, char** argv) {
                "the development split (tests = takes ≡ 5 mod 10, database without takes ≡ 3 or 5): tune here, "
                "report on the standard split");
   app.add_flag("--quick", quick, "one held-out clip per content type, 120 frames each; fails on regression");
-  app.add_flag("--ablations", ablations,
-               "also run window L ∈ {10,50,100}, noise σ ∈ {0,1,2} cm, lag D ∈ {0,5,15,30}, the full method on the "
-               "captured frames alone (full_captured_only: without the travelling frames played backwards) and "
-               "without the torso's lean towards input beyond an arm's reach (full_no_reach_lean)");
+  app.add_flag(
+      "--ablations", ablations,
+      "also run window L ∈ {10,50,100}, noise σ ∈ {0,1,2} cm, lag D ∈ {0,5,15,30}, the full method on the "
+      "captured frames alone (full_captured_only: without the travelling frames played backwards), "
+      "without the torso's lean towards input beyond an arm's reach (full_no_reach_lean), without the body's shift "
+      "towards it (full_no_reach_shift), with the shift over the ground only (full_horizontal_shift) and "
+      "twice as fast (full_shift_speed_0.5)");
   bool cross_dataset = false, landmarks = false, devices = false, size_oracle = false;
   app.add_flag("--cross-dataset", cross_dataset,
                "the cross-dataset protocol of shared/data/README: database = all of bandai-namco-2; tests = "

@@ -94,4 +94,53 @@ float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 
   return angle;
 }
 
+Eigen::Vector3f ReachLean::Shift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
+                                 const std::array<bool, 2>& reach, double frame_time, Eigen::Vector3f* state,
+                                 BodyPose* pose) {
+  const Eigen::Vector3f wanted = WantedShift(body, targets, reach, *pose);
+  const float step = options_.max_shift_speed * static_cast<float>(frame_time);
+  const Eigen::Vector3f change = wanted - *state;
+  *state += change.norm() > step ? Eigen::Vector3f(change * (step / change.norm())) : change;
+  pose->root_position += *state;
+  return *state;
+}
+
+Eigen::Vector3f ReachLean::WantedShift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
+                                       const std::array<bool, 2>& reach, const BodyPose& pose) {
+  if (pivot_ < 0 || !(options_.max_shift > 0.0f) || (!reach[0] && !reach[1])) return Eigen::Vector3f::Zero();
+  body.WorldTransforms(pose, &rotations_, &positions_);
+  std::array<Eigen::Vector3f, 2> shoulder;
+  std::array<float, 2> arm{};
+  bool beyond = false;
+  for (int side = 0; side < 2; ++side) {
+    const auto [s, e, w] = arms_[side];
+    shoulder[side] = positions_[s];
+    arm[side] = (positions_[e] - positions_[s]).norm() + (positions_[w] - positions_[e]).norm();
+    beyond = beyond || (reach[side] && (targets[side] - positions_[s]).norm() > arm[side]);
+  }
+  if (!beyond) return Eigen::Vector3f::Zero();
+  const Eigen::Vector3f axes = options_.vertical_shift ? Eigen::Vector3f::Ones() : Eigen::Vector3f(1.0f, 0.0f, 1.0f);
+  Eigen::Vector3f shift = Eigen::Vector3f::Zero();
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    Eigen::Matrix3f normal = 1e-4f * Eigen::Matrix3f::Identity();
+    Eigen::Vector3f gradient = Eigen::Vector3f::Zero();
+    bool any = false;
+    for (int side = 0; side < 2; ++side) {
+      if (!reach[side]) continue;
+      const Eigen::Vector3f to_target = targets[side] - shoulder[side] - shift;
+      const float distance = to_target.norm();
+      const float residual = distance - arm[side];
+      if (residual <= 0.0f || distance <= 0.0f) continue;
+      const Eigen::Vector3f jacobian = -(to_target / distance).cwiseProduct(axes);
+      normal += jacobian * jacobian.transpose();
+      gradient += jacobian * residual;
+      any = true;
+    }
+    if (!any) break;
+    shift += (-normal.ldlt().solve(gradient)).cwiseProduct(axes);
+    if (shift.norm() > options_.max_shift) shift *= options_.max_shift / shift.norm();
+  }
+  return shift;
+}
+
 }  // namespace mocap

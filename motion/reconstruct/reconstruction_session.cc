@@ -90,6 +90,7 @@ struct ReconstructionSession::Segment {
   // differences over the last second, and the input time it last read as noisy.
   std::array<std::deque<float>, 2> second_differences;
   double noisy_input_time = -1e30;
+  Eigen::Vector3f reach_shift = Eigen::Vector3f::Zero();  // reach_lean.h: where the body stepped to
 };
 
 ReconstructionSession::ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database,
@@ -518,16 +519,24 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
         }
       }
     }
+    std::optional<SmoothedWrists> hand_target;
     if (options_.hand_target_sigma >= 0.0f) {
       // Hands on the input: a local linear fit over the samples that have arrived, which is the
       // Gaussian average where the window is centred and has no lag where it is one-sided.
-      const SmoothedWrists target = FitInput(s, e, hand_kernels_[level]);
-      // Input beyond an arm's reach: the torso leans towards it first (reach_lean.h).
-      reach_lean_.Apply(
-          body, {target.position[0], target.position[1]},
-          {frame.hand_state[0] == TrackingState::kTracked, frame.hand_state[1] == TrackingState::kTracked},
-          &frame.pose);
-      for (int side = 0; side < 2; ++side) SolveLegIk(body, wrist_joints[side], target.position[side], &frame.pose);
+      hand_target = FitInput(s, e, hand_kernels_[level]);
+      // Input beyond an arm's reach: the torso leans towards it, and where that is not enough the
+      // body steps or crouches towards it (reach_lean.h), no faster than a body does.
+      const std::array<Eigen::Vector3f, 2> targets = {hand_target->position[0], hand_target->position[1]};
+      const std::array<bool, 2> reaching = {frame.hand_state[0] == TrackingState::kTracked,
+                                            frame.hand_state[1] == TrackingState::kTracked};
+      reach_lean_.Apply(body, targets, reaching, &frame.pose);
+      const Eigen::Vector3f shift =
+          reach_lean_.Shift(body, targets, reaching, database_->frame_time(), &s.reach_shift, &frame.pose);
+      if (!shift.isZero()) KeepFeetThroughShift(shift, &frame, &world_rotations, &world_positions);
+    }
+    if (hand_target) {
+      for (int side = 0; side < 2; ++side)
+        SolveLegIk(body, wrist_joints[side], hand_target->position[side], &frame.pose);
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
     MarkOutOfReach(s.input[e], world_positions, &frame);
@@ -543,6 +552,32 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     }
   }
   ForgetSettledFrames();
+}
+
+void ReconstructionSession::KeepFeetThroughShift(const Eigen::Vector3f& shift, ReconstructedFrame* frame,
+                                                 std::vector<Eigen::Quaternionf>* world_rotations,
+                                                 std::vector<Eigen::Vector3f>* world_positions) const {
+  // A planted foot stays on its pin (the legs bend); a free foot goes along with the body but not
+  // below the ground's planted height (a crouch bends the knees, it does not sink the feet).
+  const BodyModel& body = database_->body();
+  const BodyLandmarks& l = database_->rig().topology.landmarks;
+  const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
+  const float ground = database_->planted_ankle_height();
+  body.WorldTransforms(frame->pose, world_rotations, world_positions);
+  std::array<std::optional<Eigen::Vector3f>, 2> targets;
+  for (int side = 0; side < 2; ++side) {
+    if (frame->ankle_targets[side]) {
+      targets[side] = *frame->ankle_targets[side];
+      continue;
+    }
+    const Eigen::Vector3f after = (*world_positions)[ankle_joints[side]];
+    const float before_height = after.y() - shift.y();
+    if (after.y() >= ground || after.y() >= before_height) continue;
+    targets[side] = Eigen::Vector3f(after.x(), std::min(before_height, ground), after.z());
+  }
+  for (int side = 0; side < 2; ++side) {
+    if (targets[side]) SolveLegIk(body, ankle_joints[side], *targets[side], &frame->pose);
+  }
 }
 
 void ReconstructionSession::MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input,

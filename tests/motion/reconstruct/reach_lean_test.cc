@@ -1,6 +1,8 @@
 // A body reaches further by leaning (motion/reconstruct/reach_lean.h): input within an arm's
 // reach changes nothing; input beyond it turns the torso at the lowest spine joint until the
 // shoulder is within an arm of it, never further than max_angle, and the pelvis and legs stay.
+// Where the turn is not enough the whole body shifts towards the input, at most max_shift, no
+// faster than max_shift_speed, and back when the input comes within reach again.
 #include "motion/reconstruct/reach_lean.h"
 
 #include <cmath>
@@ -98,6 +100,66 @@ TEST_F(ReachLeanTest, ATargetFarBeyondReachTurnsNoFurtherThanMaxAngle) {
   ReachLean off(body().skeleton(), landmarks_, {.max_angle = 0.0f});
   BodyPose still = pose_;
   EXPECT_EQ(off.Apply(body(), {target, target}, {true, true}, &still), 0.0f);
+}
+
+TEST_F(ReachLeanTest, WhatTheTurnCannotReachTheBodyStepsTowardsNoFasterThanItsSpeed) {
+  const ReachLeanOptions options{.max_angle = 0.2f, .max_shift = 0.3f, .max_shift_speed = 0.5f};
+  ReachLean lean(body().skeleton(), landmarks_, options);
+  const auto [shoulder, arm] = Arm(landmarks_.left_wrist);
+  const std::vector<Eigen::Vector3f> before = Positions(pose_);
+  // 20 cm beyond the straight arm, down and forward: more than a turn of 0.2 rad gives.
+  const Eigen::Vector3f direction = Eigen::Vector3f(0.1f, -0.8f, 0.6f).normalized();
+  const Eigen::Vector3f target = before[shoulder] + (arm + 0.2f) * direction;
+  const std::array<Eigen::Vector3f, 2> targets{target, before[landmarks_.right_wrist]};
+  const double frame_time = 1.0 / 30.0;
+  const float step = options.max_shift_speed * static_cast<float>(frame_time);
+  Eigen::Vector3f state = Eigen::Vector3f::Zero();
+  Eigen::Vector3f previous = state;
+  BodyPose pose;
+  for (int frame = 0; frame < 30; ++frame) {
+    pose = pose_;
+    lean.Apply(body(), targets, {true, false}, &pose);
+    const Eigen::Vector3f shift = lean.Shift(body(), targets, {true, false}, frame_time, &state, &pose);
+    EXPECT_TRUE(shift.isApprox(state));
+    EXPECT_LE((shift - previous).norm(), step + 1e-5f) << frame;  // no faster than its speed
+    EXPECT_LE(shift.norm(), options.max_shift + 1e-5f);
+    EXPECT_TRUE(pose.root_position.isApprox(pose_.root_position + shift, 1e-5f));
+    previous = shift;
+  }
+  // Settled: the shoulder within an arm of the input, by the least shift (the arm straight).
+  const std::vector<Eigen::Vector3f> after = Positions(pose);
+  EXPECT_LE((target - after[shoulder]).norm(), arm + 0.005f);
+  EXPECT_GE((target - after[shoulder]).norm(), arm - 0.01f);
+  EXPECT_GT(state.norm(), 0.05f);
+  EXPECT_LT(state.y(), 0.0f);  // down towards the input: a crouch
+  // Input back within reach: the body returns at the same speed, to where it was.
+  const std::array<Eigen::Vector3f, 2> near{before[landmarks_.left_wrist] + 0.2f * (before[shoulder] - target),
+                                            before[landmarks_.right_wrist]};
+  for (int frame = 0; frame < 30; ++frame) {
+    pose = pose_;
+    lean.Apply(body(), near, {true, false}, &pose);
+    const Eigen::Vector3f shift = lean.Shift(body(), near, {true, false}, frame_time, &state, &pose);
+    EXPECT_LE((shift - previous).norm(), step + 1e-5f) << frame;
+    previous = shift;
+  }
+  EXPECT_LT(state.norm(), 1e-6f);
+  EXPECT_TRUE(pose.root_position.isApprox(pose_.root_position));
+}
+
+TEST_F(ReachLeanTest, AShiftNeverGoesFurtherThanMaxShiftAndIsOffAtZero) {
+  const auto [shoulder, arm] = Arm(landmarks_.left_wrist);
+  const std::vector<Eigen::Vector3f> before = Positions(pose_);
+  const Eigen::Vector3f target = before[shoulder] + Eigen::Vector3f(0.0f, 0.0f, arm + 2.0f);
+  const std::array<Eigen::Vector3f, 2> targets{target, target};
+  for (const float max_shift : {0.0f, 0.15f}) {
+    ReachLean lean(body().skeleton(), landmarks_,
+                   {.max_angle = 0.0f, .max_shift = max_shift, .max_shift_speed = 100.0f});
+    Eigen::Vector3f state = Eigen::Vector3f::Zero();
+    BodyPose pose = pose_;
+    const Eigen::Vector3f shift = lean.Shift(body(), targets, {true, true}, 1.0 / 30.0, &state, &pose);
+    EXPECT_NEAR(shift.norm(), max_shift, 1e-4f);
+    EXPECT_GT(shift.z() + (max_shift == 0.0f ? 1.0f : 0.0f), 0.0f);  // towards the input
+  }
 }
 
 TEST_F(ReachLeanTest, NoSpineBetweenPelvisAndShouldersNoLean) {

@@ -237,6 +237,59 @@ TEST_F(ReconstructionSessionTest, ABodyGoesOnFromTheOtherHandWhileOneIsLost) {
   }
 }
 
+// Input lowered out of the arms' reach (a performer reaching for the floor, which the walk's
+// neighbours never did): the body crouches towards it, no faster than max_shift_speed, so the
+// hands come nearer their input; its feet stay on the ground, none lower than without the shift.
+TEST_F(ReconstructionSessionTest, InputBeyondReachBringsTheBodyNearerWithItsFeetOnTheGround) {
+  auto samples = testing::WristSamplesOf(setup_);
+  for (size_t i = 20; i < samples.size(); ++i) {
+    const float drop = 0.35f * std::min(1.0f, static_cast<float>(i - 20) / 15.0f);  // over half a second
+    samples[i].left.y() -= drop;
+    samples[i].right.y() -= drop;
+  }
+  ReconstructionOptions still = options_;
+  still.reach_lean.max_shift = 0.0f;
+  auto shifted = ReconstructOffline(setup_.database, options_, samples);
+  auto unshifted = ReconstructOffline(setup_.database, still, samples);
+  ASSERT_TRUE(shifted.ok()) << shifted.status();
+  ASSERT_TRUE(unshifted.ok()) << unshifted.status();
+  ASSERT_EQ(shifted->size(), unshifted->size());
+  const BodyModel& body = setup_.database->body();
+  const BodyLandmarks& l = setup_.rig.topology.landmarks;
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> with, without;
+  double miss_with = 0, miss_without = 0;
+  const float ground = setup_.database->planted_ankle_height();
+  float fastest = 0;
+  Eigen::Vector3f previous_offset = Eigen::Vector3f::Zero();
+  for (size_t f = 0; f < shifted->size(); ++f) {
+    body.WorldTransforms((*shifted)[f].pose, &rotations, &with);
+    body.WorldTransforms((*unshifted)[f].pose, &rotations, &without);
+    for (int side = 0; side < 2; ++side) {
+      const int wrist = side == 0 ? l.left_wrist : l.right_wrist;
+      const Eigen::Vector3f& input = side == 0 ? samples[f].left : samples[f].right;
+      miss_with += (with[wrist] - input).norm();
+      miss_without += (without[wrist] - input).norm();
+      const int ankle = side == 0 ? l.left_ankle : l.right_ankle;
+      // A planted foot stays on its pin; a free one is not pushed below the ground by the crouch.
+      const auto& pin = (*shifted)[f].ankle_targets[side];
+      if (pin) {
+        EXPECT_LT((with[ankle] - *pin).norm(), 0.01f) << "frame " << f;
+      } else {
+        EXPECT_GE(with[ankle].y(), std::min(without[ankle].y(), ground) - 0.002f) << "frame " << f;
+      }
+    }
+    // The pelvis' offset against the unshifted body moves no faster than the shift may.
+    const Eigen::Vector3f offset = with[l.pelvis] - without[l.pelvis];
+    if (f > 0) fastest = std::max(fastest, (offset - previous_offset).norm() / static_cast<float>(1.0 / 30.0));
+    previous_offset = offset;
+  }
+  EXPECT_LT(miss_with, 0.7 * miss_without);
+  EXPECT_GT(fastest, 0.0f);
+  // The shift's speed, plus what the guard and the joint filter do differently on the moved body.
+  EXPECT_LE(fastest, ReachLeanOptions{}.max_shift_speed * 2.0f);
+}
+
 // Mean over the first `joints` joints (all: -1) and frames [first, last) of |third difference of
 // the joint's position| / dt³.
 double MeanJerk(const BodyModel& body, const std::vector<ReconstructedFrame>& frames, int first, int last, double dt,
