@@ -44,6 +44,9 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions horizontal = base;
   horizontal.reach_lean.vertical_shift = false;  // the shift over the ground only
   add("full_horizontal_shift", "main", 0, horizontal, noise_cm);
+  ReconstructionOptions sinking = base;
+  sinking.feet_above_floor = false;  // ankles left where the solve put them, under the floor or not
+  add("full_feet_under_floor", "main", 0, sinking, noise_cm);
   ReconstructionOptions faster = base;
   faster.reach_lean.max_shift_speed = 0.5f;  // the shift twice as fast
   add("full_shift_speed_0.5", "main", 0, faster, noise_cm);

@@ -65,6 +65,9 @@ struct ReconstructionOptions {
   float hand_target_sigma = 1.0f;
   // Before the arm IK, input beyond an arm's reach turns the torso towards it (reach_lean.h).
   ReachLeanOptions reach_lean;
+  // Before the arm IK, an ankle below the database's planted ankle height is lifted to it by the
+  // leg IK (the knee bends): a body whose solve sank with low input does not stand in the floor.
+  bool feet_above_floor = true;
 
   // Last: the output pelvis moves no faster, and accelerates no harder, than the database's
   // bodies; frames whose input jumps are flagged (issue #22).

@@ -534,6 +534,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
           reach_lean_.Shift(body, targets, reaching, database_->frame_time(), &s.reach_shift, &frame.pose);
       if (!shift.isZero()) KeepFeetThroughShift(shift, &frame, &world_rotations, &world_positions);
     }
+    if (options_.feet_above_floor) KeepFeetAboveFloor(&frame, &world_rotations, &world_positions);
     if (hand_target) {
       for (int side = 0; side < 2; ++side)
         SolveLegIk(body, wrist_joints[side], hand_target->position[side], &frame.pose);
@@ -577,6 +578,20 @@ void ReconstructionSession::KeepFeetThroughShift(const Eigen::Vector3f& shift, R
   }
   for (int side = 0; side < 2; ++side) {
     if (targets[side]) SolveLegIk(body, ankle_joints[side], *targets[side], &frame->pose);
+  }
+}
+
+void ReconstructionSession::KeepFeetAboveFloor(ReconstructedFrame* frame,
+                                               std::vector<Eigen::Quaternionf>* world_rotations,
+                                               std::vector<Eigen::Vector3f>* world_positions) const {
+  const BodyModel& body = database_->body();
+  const BodyLandmarks& l = database_->rig().topology.landmarks;
+  const float ground = database_->planted_ankle_height();
+  body.WorldTransforms(frame->pose, world_rotations, world_positions);
+  for (const int ankle : {l.left_ankle, l.right_ankle}) {
+    if (ankle < 0) continue;
+    const Eigen::Vector3f at = (*world_positions)[ankle];
+    if (at.y() < ground) SolveLegIk(body, ankle, Eigen::Vector3f(at.x(), ground, at.z()), &frame->pose);
   }
 }
 

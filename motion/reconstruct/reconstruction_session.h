@@ -158,6 +158,9 @@ class ReconstructionSession {
   void KeepFeetThroughShift(const Eigen::Vector3f& shift, ReconstructedFrame* frame,
                             std::vector<Eigen::Quaternionf>* world_rotations,
                             std::vector<Eigen::Vector3f>* world_positions) const;
+  // An ankle under the database's planted ankle height goes up to it by the leg IK.
+  void KeepFeetAboveFloor(ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
+                          std::vector<Eigen::Vector3f>* world_positions) const;
   void MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input, const std::vector<Eigen::Vector3f>& world_positions,
                       ReconstructedFrame* frame) const;
   // Drops per-frame state no stage will read again: memory bounded by window and lag.

@@ -273,8 +273,9 @@ TEST_F(ReconstructionSessionTest, InputBeyondReachBringsTheBodyNearerWithItsFeet
       const int ankle = side == 0 ? l.left_ankle : l.right_ankle;
       // A planted foot stays on its pin; a free one is not pushed below the ground by the crouch.
       const auto& pin = (*shifted)[f].ankle_targets[side];
-      if (pin) {
-        EXPECT_LT((with[ankle] - *pin).norm(), 0.01f) << "frame " << f;
+      if (pin) {  // (lifted to the floor where the pin is under it)
+        const Eigen::Vector3f on_pin(pin->x(), std::max(pin->y(), ground), pin->z());
+        EXPECT_LT((with[ankle] - on_pin).norm(), 0.01f) << "frame " << f;
       } else {
         EXPECT_GE(with[ankle].y(), std::min(without[ankle].y(), ground) - 0.002f) << "frame " << f;
       }
@@ -288,6 +289,36 @@ TEST_F(ReconstructionSessionTest, InputBeyondReachBringsTheBodyNearerWithItsFeet
   EXPECT_GT(fastest, 0.0f);
   // The shift's speed, plus what the guard and the joint filter do differently on the moved body.
   EXPECT_LE(fastest, ReachLeanOptions{}.max_shift_speed * 2.0f);
+}
+
+// The same input, lowered 35 cm: the solve sinks the body with it, but no ankle ends under the
+// database's planted ankle height (the knees bend instead); with the rule off, the ankles sink.
+TEST_F(ReconstructionSessionTest, NoAnkleEndsUnderTheFloorWhenTheInputDrops) {
+  auto samples = testing::WristSamplesOf(setup_);
+  for (size_t i = 20; i < samples.size(); ++i) {
+    const float drop = 0.35f * std::min(1.0f, static_cast<float>(i - 20) / 15.0f);
+    samples[i].left.y() -= drop;
+    samples[i].right.y() -= drop;
+  }
+  ReconstructionOptions sinking = options_;
+  sinking.feet_above_floor = false;
+  const BodyModel& body = setup_.database->body();
+  const BodyLandmarks& l = setup_.rig.topology.landmarks;
+  const float ground = setup_.database->planted_ankle_height();
+  auto lowest_ankle = [&](const ReconstructionOptions& options) {
+    auto frames = ReconstructOffline(setup_.database, options, samples);
+    EXPECT_TRUE(frames.ok()) << frames.status();
+    float lowest = 1e9f;
+    std::vector<Eigen::Quaternionf> rotations;
+    std::vector<Eigen::Vector3f> positions;
+    for (const ReconstructedFrame& frame : frames.ok() ? *frames : std::vector<ReconstructedFrame>{}) {
+      body.WorldTransforms(frame.pose, &rotations, &positions);
+      lowest = std::min({lowest, positions[l.left_ankle].y(), positions[l.right_ankle].y()});
+    }
+    return lowest;
+  };
+  EXPECT_LT(lowest_ankle(sinking), ground - 0.05f);
+  EXPECT_GE(lowest_ankle(options_), ground - 0.001f);
 }
 
 // Mean over the first `joints` joints (all: -1) and frames [first, last) of |third difference of
