@@ -38,24 +38,31 @@ ReachLean::ReachLean(const Skeleton& skeleton, const BodyLandmarks& landmarks, c
   pivot_ = pivot;
 }
 
-float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
-                       const std::array<bool, 2>& reach, BodyPose* pose) {
-  if (pivot_ < 0 || !(options_.max_angle > 0.0f) || (!reach[0] && !reach[1])) return 0.0f;
-  body.WorldTransforms(*pose, &rotations_, &positions_);
-  const Eigen::Vector3f pivot = positions_[pivot_];
-  std::array<Eigen::Vector3f, 2> shoulder;  // relative to the pivot
-  // A relaxed arm hangs straight, so the lean starts only where the input is beyond the arm's
-  // length (a lean that began a few centimetres before it bent the lab's standing bodies all the
-  // time: standard split 2.18 → 2.64 cm).
-  std::array<float, 2> arm{};
+bool ReachLean::ReadArms(const BodyModel& body, const BodyPose& pose, const std::array<Eigen::Vector3f, 2>& targets,
+                         const std::array<bool, 2>& reach, std::array<Eigen::Vector3f, 2>* shoulder,
+                         std::array<float, 2>* arm) {
+  body.WorldTransforms(pose, &rotations_, &positions_);
   bool beyond = false;
   for (int side = 0; side < 2; ++side) {
     const auto [s, e, w] = arms_[side];
-    shoulder[side] = positions_[s] - pivot;
-    arm[side] = (positions_[e] - positions_[s]).norm() + (positions_[w] - positions_[e]).norm();
-    beyond = beyond || (reach[side] && (targets[side] - positions_[s]).norm() > arm[side]);
+    (*shoulder)[side] = positions_[s];
+    (*arm)[side] = (positions_[e] - positions_[s]).norm() + (positions_[w] - positions_[e]).norm();
+    beyond = beyond || (reach[side] && (targets[side] - positions_[s]).norm() > (*arm)[side]);
   }
-  if (!beyond) return 0.0f;
+  return beyond;
+}
+
+float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
+                       const std::array<bool, 2>& reach, BodyPose* pose) {
+  if (pivot_ < 0 || !(options_.max_angle > 0.0f) || (!reach[0] && !reach[1])) return 0.0f;
+  // A relaxed arm hangs straight, so the lean starts only where the input is beyond the arm's
+  // length (a lean that began a few centimetres before it bent the lab's standing bodies all the
+  // time: standard split 2.18 → 2.64 cm).
+  std::array<Eigen::Vector3f, 2> shoulder;
+  std::array<float, 2> arm{};
+  if (!ReadArms(body, *pose, targets, reach, &shoulder, &arm)) return 0.0f;
+  const Eigen::Vector3f pivot = positions_[pivot_];
+  for (Eigen::Vector3f& a : shoulder) a -= pivot;  // relative to the pivot
   // Gauss-Newton on the turn ω (world, at the pivot): residual per reaching hand, its shoulder's
   // distance to the input past the arm's length; a small damping keeps the turn the least that
   // reaches.
@@ -108,17 +115,9 @@ Eigen::Vector3f ReachLean::Shift(const BodyModel& body, const std::array<Eigen::
 Eigen::Vector3f ReachLean::WantedShift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
                                        const std::array<bool, 2>& reach, const BodyPose& pose) {
   if (pivot_ < 0 || !(options_.max_shift > 0.0f) || (!reach[0] && !reach[1])) return Eigen::Vector3f::Zero();
-  body.WorldTransforms(pose, &rotations_, &positions_);
   std::array<Eigen::Vector3f, 2> shoulder;
   std::array<float, 2> arm{};
-  bool beyond = false;
-  for (int side = 0; side < 2; ++side) {
-    const auto [s, e, w] = arms_[side];
-    shoulder[side] = positions_[s];
-    arm[side] = (positions_[e] - positions_[s]).norm() + (positions_[w] - positions_[e]).norm();
-    beyond = beyond || (reach[side] && (targets[side] - positions_[s]).norm() > arm[side]);
-  }
-  if (!beyond) return Eigen::Vector3f::Zero();
+  if (!ReadArms(body, pose, targets, reach, &shoulder, &arm)) return Eigen::Vector3f::Zero();
   const Eigen::Vector3f axes = options_.vertical_shift ? Eigen::Vector3f::Ones() : Eigen::Vector3f(1.0f, 0.0f, 1.0f);
   Eigen::Vector3f shift = Eigen::Vector3f::Zero();
   for (int iteration = 0; iteration < 4; ++iteration) {

@@ -54,6 +54,10 @@ class ReachLean {
   int pivot() const { return pivot_; }
 
  private:
+  // The pose's world transforms into the scratch, each arm's shoulder (world) and straight length;
+  // true when a reaching hand's target is beyond its arm.
+  bool ReadArms(const BodyModel& body, const BodyPose& pose, const std::array<Eigen::Vector3f, 2>& targets,
+                const std::array<bool, 2>& reach, std::array<Eigen::Vector3f, 2>* shoulder, std::array<float, 2>* arm);
   Eigen::Vector3f WantedShift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
                               const std::array<bool, 2>& reach, const BodyPose& pose);
   ReachLeanOptions options_;

@@ -474,9 +474,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // turn of a few degrees then swung the body by up to a metre in one frame, issue #22.)
       body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
       frame.pose.root_position += pelvis - world_positions[l.pelvis];
-      for (int side = 0; side < 2; ++side) {
-        if (frame.ankle_targets[side]) SolveLegIk(body, ankle_joints[side], *frame.ankle_targets[side], &frame.pose);
-      }
+      ReimposeAnklePins(&frame);
     }
     // The put-down detector takes only input it can trust: a guessed hand stands still or travels
     // as the guess does, not as the device.
@@ -532,7 +530,9 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       reach_lean_.Apply(body, targets, reaching, &frame.pose);
       const Eigen::Vector3f shift =
           reach_lean_.Shift(body, targets, reaching, database_->frame_time(), &s.reach_shift, &frame.pose);
-      if (!shift.isZero()) KeepFeetThroughShift(shift, &frame, &world_rotations, &world_positions);
+      // Planted feet stay on their pins (the legs bend); a free foot the shift pushed into the
+      // floor is lifted by the floor rule below.
+      if (!shift.isZero()) ReimposeAnklePins(&frame);
     }
     if (options_.feet_above_floor) KeepFeetAboveFloor(&frame, &world_rotations, &world_positions);
     if (hand_target) {
@@ -555,29 +555,12 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
   ForgetSettledFrames();
 }
 
-void ReconstructionSession::KeepFeetThroughShift(const Eigen::Vector3f& shift, ReconstructedFrame* frame,
-                                                 std::vector<Eigen::Quaternionf>* world_rotations,
-                                                 std::vector<Eigen::Vector3f>* world_positions) const {
-  // A planted foot stays on its pin (the legs bend); a free foot goes along with the body but not
-  // below the ground's planted height (a crouch bends the knees, it does not sink the feet).
-  const BodyModel& body = database_->body();
+void ReconstructionSession::ReimposeAnklePins(ReconstructedFrame* frame) const {
   const BodyLandmarks& l = database_->rig().topology.landmarks;
   const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
-  const float ground = database_->planted_ankle_height();
-  body.WorldTransforms(frame->pose, world_rotations, world_positions);
-  std::array<std::optional<Eigen::Vector3f>, 2> targets;
   for (int side = 0; side < 2; ++side) {
-    if (frame->ankle_targets[side]) {
-      targets[side] = *frame->ankle_targets[side];
-      continue;
-    }
-    const Eigen::Vector3f after = (*world_positions)[ankle_joints[side]];
-    const float before_height = after.y() - shift.y();
-    if (after.y() >= ground || after.y() >= before_height) continue;
-    targets[side] = Eigen::Vector3f(after.x(), std::min(before_height, ground), after.z());
-  }
-  for (int side = 0; side < 2; ++side) {
-    if (targets[side]) SolveLegIk(body, ankle_joints[side], *targets[side], &frame->pose);
+    if (frame->ankle_targets[side])
+      SolveLegIk(database_->body(), ankle_joints[side], *frame->ankle_targets[side], &frame->pose);
   }
 }
 

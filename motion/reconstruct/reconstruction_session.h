@@ -152,15 +152,12 @@ class ReconstructionSession {
   SmoothedWrists FitInput(const Segment& s, int frame, const std::vector<float>& kernel) const;
   // Reads the newest input frame's noise (ReconstructionOptions::noisy_input_metres).
   void TrackInputNoise(Segment& s, const GridSample& sample) const;
-  // Marks a tracked hand whose input lies beyond its arm's reach from the emitted body's shoulder.
-  // After the reach shift moved the body by `shift`: planted feet back on their pins, free feet no
-  // lower than the ground.
-  void KeepFeetThroughShift(const Eigen::Vector3f& shift, ReconstructedFrame* frame,
-                            std::vector<Eigen::Quaternionf>* world_rotations,
-                            std::vector<Eigen::Vector3f>* world_positions) const;
+  // Puts each foot with an A7 pin (`ankle_targets`) back on it by the leg IK, after the body moved.
+  void ReimposeAnklePins(ReconstructedFrame* frame) const;
   // An ankle under the database's planted ankle height goes up to it by the leg IK.
   void KeepFeetAboveFloor(ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
                           std::vector<Eigen::Vector3f>* world_positions) const;
+  // Marks a tracked hand whose input lies beyond its arm's reach from the emitted body's shoulder.
   void MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input, const std::vector<Eigen::Vector3f>& world_positions,
                       ReconstructedFrame* frame) const;
   // Drops per-frame state no stage will read again: memory bounded by window and lag.
