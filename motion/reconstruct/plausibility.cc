@@ -17,8 +17,20 @@ float Percentile(std::vector<float> values, double q) {
   return values[k];
 }
 
+constexpr double kEnvelopeQuantile = 0.9999;
+constexpr size_t kEnvelopeMinFrames = 10000;
+
 float Max(const std::vector<float>& values) {
   return values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());
+}
+
+// A bin's pelvis speed bound: the fastest but for a bin's outliers. The bins are maxima of
+// hundreds to tens of thousands of frames, and a single frame (a jump, a marker swap) set the
+// bound of a standing body's hands at 1.5 m/s. With fewer than kEnvelopeMinFrames frames, the
+// fastest.
+float EnvelopeSpeed(std::vector<float> speeds) {
+  if (speeds.size() < kEnvelopeMinFrames) return Max(speeds);
+  return Percentile(std::move(speeds), kEnvelopeQuantile);
 }
 
 }  // namespace
@@ -32,6 +44,7 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
   std::vector<float> pelvis_speed, pelvis_acceleration, wrist_acceleration;
   MotionLimits limits;
   limits.pelvis_speed_beyond_hands_max = -std::numeric_limits<float>::infinity();
+  std::array<std::vector<std::vector<float>>, kHandsWindowsSeconds.size()> speeds_by_hands;
   for (std::span<const FrameFeatures> clip : clips) {
     std::vector<Eigen::Vector3f> midpoints;
     Eigen::Vector3f previous_pelvis = Eigen::Vector3f::Zero(), previous_velocity = Eigen::Vector3f::Zero();
@@ -55,10 +68,10 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
             limits.pelvis_speed_beyond_hands_max =
                 std::max(limits.pelvis_speed_beyond_hands_max, velocity.norm() - speed);
           }
-          auto& by_hands = limits.pelvis_speed_by_hands_speed[w];
+          auto& by_hands = speeds_by_hands[w];
           const size_t bin = static_cast<size_t>(speed / MotionLimits::kHandsSpeedBin);
-          if (bin >= by_hands.size()) by_hands.resize(bin + 1, 0.0f);
-          by_hands[bin] = std::max(by_hands[bin], velocity.norm());
+          if (bin >= by_hands.size()) by_hands.resize(bin + 1);
+          by_hands[bin].push_back(velocity.norm());
         }
         for (int side = 0; side < 2; ++side)
           limits.wrist_speed_max = std::max(limits.wrist_speed_max, wrist_velocity[side].norm());
@@ -74,8 +87,13 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
     }
   }
   if (pelvis_speed.empty()) limits.pelvis_speed_beyond_hands_max = 0;
-  for (auto& by_hands : limits.pelvis_speed_by_hands_speed) {
-    for (size_t bin = 1; bin < by_hands.size(); ++bin) by_hands[bin] = std::max(by_hands[bin], by_hands[bin - 1]);
+  for (size_t w = 0; w < kHandsWindowsSeconds.size(); ++w) {
+    auto& by_hands = limits.pelvis_speed_by_hands_speed[w];
+    by_hands.assign(speeds_by_hands[w].size(), 0.0f);
+    for (size_t bin = 0; bin < by_hands.size(); ++bin) {
+      by_hands[bin] = EnvelopeSpeed(std::move(speeds_by_hands[w][bin]));
+      if (bin > 0) by_hands[bin] = std::max(by_hands[bin], by_hands[bin - 1]);
+    }
   }
   limits.pelvis_speed_p99 = Percentile(pelvis_speed, 0.99);
   limits.pelvis_speed_max = Max(pelvis_speed);

@@ -39,16 +39,17 @@ struct MotionLimits {
   // kHandsWindowSeconds (a body does not run off while both hands stay put): the largest
   // |pelvis velocity| − |midpoint displacement over the window| / window, m/s.
   float pelvis_speed_beyond_hands_max = 0;
-  // Per window of kHandsWindowsSeconds: the fastest the pelvis moved while the hands' midpoint
+  // Per window of kHandsWindowsSeconds: how fast the pelvis moved while the hands' midpoint
   // moved (its mean speed over that window) at most as fast as bin i's top, bins kHandsSpeedBin
-  // wide (a running maximum: never decreasing). Tighter than hands + pelvis_speed_beyond_hands_max
+  // wide: the bin's 99.99th percentile, its fastest if it has fewer than 10,000 frames (a
+  // running maximum: never decreasing; docs/method.md A7). Tighter than hands + pelvis_speed_beyond_hands_max
   // where the hands move a little: that sum lets every gesture of a standing body move it as fast
   // as the database's fastest start does.
   static constexpr float kHandsSpeedBin = 0.1f;  // m/s
   std::array<std::vector<float>, kHandsWindowsSeconds.size()> pelvis_speed_by_hands_speed;
   // The fastest the pelvis may move while the hands' mean speeds over the windows are
-  // `hands_speed` (m/s): the smallest of the bounds above, each of which every database frame
-  // keeps (past a window's last bin, that window's bound is the sum, or none).
+  // `hands_speed` (m/s): the smallest of the bounds above, each of which all but the bins'
+  // outliers keep (past a window's last bin, that window's bound is the sum, or none).
   float PelvisSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const;
   float wrist_speed_max = 0;                                     // either wrist, m/s
   float wrist_acceleration_p99 = 0, wrist_acceleration_max = 0;  // either wrist, m/s²

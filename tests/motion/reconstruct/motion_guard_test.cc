@@ -154,6 +154,32 @@ TEST(MotionLimitsTest, BoundsThePelvisByWhatTheDatabaseDidWithHandsThatSlow) {
       << "hands fast over the last 0.5 s that went nowhere over 2 s: the body stood";
 }
 
+// A standing body whose pelvis marker swaps for one frame (0.3 m away and back: 3 m/s twice): in a
+// bin of 30,000 frames those two are outliers, and a standing body's hands bound it to 0; in a clip
+// of 500 frames there are not enough frames to tell, and the fastest binds.
+TEST(MotionLimitsTest, ABinsBoundLeavesOutItsOutliersWhenItHasFramesEnough) {
+  constexpr double kStep = 0.1;
+  auto standing_with_a_swap = [](int frames) {
+    std::vector<FrameFeatures> clip(frames);
+    for (int f = 0; f < frames; ++f) {
+      FrameFeatures& x = clip[f];
+      x = {};
+      x.pelvis_position[0] = f == frames / 2 ? 0.3f : 0.0f;
+      x.pelvis_position[1] = 0.9f;
+      x.wrist_position[0][1] = x.wrist_position[1][1] = 1.0f;
+      x.wrist_position[0][2] = 0.2f;
+      x.wrist_position[1][2] = -0.2f;
+    }
+    return clip;
+  };
+  const std::vector<FrameFeatures> long_clip = standing_with_a_swap(30000), short_clip = standing_with_a_swap(500);
+  const MotionLimits many = MeasureMotionLimits(std::vector<std::span<const FrameFeatures>>{long_clip}, kStep);
+  EXPECT_NEAR(many.PelvisSpeedBoundForHands({0.0f, 0.0f}), 0.0f, 1e-3f);
+  EXPECT_NEAR(many.pelvis_speed_max, 3.0f, 1e-3f) << "the overall maximum is still the fastest";
+  const MotionLimits few = MeasureMotionLimits(std::vector<std::span<const FrameFeatures>>{short_clip}, kStep);
+  EXPECT_NEAR(few.PelvisSpeedBoundForHands({0.0f, 0.0f}), 3.0f, 1e-3f);
+}
+
 // The guard keeps to that bound: hands rising at 0.35 m/s do not let a solve that runs at
 // 1.8 m/s take the body faster than the database's bodies went with such hands.
 TEST(MotionGuardTest, GesturingHandsLetTheBodyGoOnlyAsFastAsTheDatabasesDidWithSuchHands) {
