@@ -47,6 +47,9 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions sinking = base;
   sinking.feet_above_floor = false;  // ankles left where the solve put them, under the floor or not
   add("full_feet_under_floor", "main", 0, sinking, noise_cm);
+  ReconstructionOptions sudden = base;
+  sudden.reach_lean.turn_smoothing_seconds = 0.0f;  // the torso's turn follows the input at once
+  add("full_unsmoothed_lean", "main", 0, sudden, noise_cm);
   ReconstructionOptions faster = base;
   faster.reach_lean.max_shift_speed = 0.5f;  // the shift twice as fast
   add("full_shift_speed_0.5", "main", 0, faster, noise_cm);

@@ -54,13 +54,40 @@ bool ReachLean::ReadArms(const BodyModel& body, const BodyPose& pose, const std:
 
 float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
                        const std::array<bool, 2>& reach, BodyPose* pose) {
-  if (pivot_ < 0 || !(options_.max_angle > 0.0f) || (!reach[0] && !reach[1])) return 0.0f;
+  const Eigen::Vector3f omega = LeastTurn(body, targets, reach, *pose);
+  Turn(body, omega, pose);
+  return omega.norm();
+}
+
+float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
+                       const std::array<bool, 2>& reach, double frame_time, Eigen::Vector3f* state, BodyPose* pose) {
+  const Eigen::Vector3f omega = LeastTurn(body, targets, reach, *pose);
+  const float dt = static_cast<float>(frame_time);
+  const float follow = options_.turn_smoothing_seconds > 0 ? dt / (options_.turn_smoothing_seconds + dt) : 1.0f;
+  *state += follow * (omega - *state);
+  Turn(body, *state, pose);
+  return state->norm();
+}
+
+void ReachLean::Turn(const BodyModel& body, const Eigen::Vector3f& omega, BodyPose* pose) {
+  const float angle = omega.norm();
+  if (pivot_ < 0 || !(angle > 0.0f)) return;
+  body.WorldTransforms(*pose, &rotations_, &positions_);
+  // The pivot's world rotation turned by ω: its local rotation against its parent's world one.
+  const Eigen::Quaternionf world_turn(Eigen::AngleAxisf(angle, omega / angle));
+  const int parent = body.skeleton().parent(pivot_);
+  pose->rotations[pivot_] = (rotations_[parent].conjugate() * world_turn * rotations_[pivot_]).normalized();
+}
+
+Eigen::Vector3f ReachLean::LeastTurn(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
+                                     const std::array<bool, 2>& reach, const BodyPose& pose) {
+  if (pivot_ < 0 || !(options_.max_angle > 0.0f) || (!reach[0] && !reach[1])) return Eigen::Vector3f::Zero();
   // A relaxed arm hangs straight, so the lean starts only where the input is beyond the arm's
   // length (a lean that began a few centimetres before it bent the lab's standing bodies all the
   // time: standard split 2.18 → 2.64 cm).
   std::array<Eigen::Vector3f, 2> shoulder;
   std::array<float, 2> arm{};
-  if (!ReadArms(body, *pose, targets, reach, &shoulder, &arm)) return 0.0f;
+  if (!ReadArms(body, pose, targets, reach, &shoulder, &arm)) return Eigen::Vector3f::Zero();
   const Eigen::Vector3f pivot = positions_[pivot_];
   for (Eigen::Vector3f& a : shoulder) a -= pivot;  // relative to the pivot
   // Gauss-Newton on the turn ω (world, at the pivot): residual per reaching hand, its shoulder's
@@ -92,13 +119,7 @@ float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 
     omega = composed.angle() * composed.axis();
     if (omega.norm() > options_.max_angle) omega *= options_.max_angle / omega.norm();
   }
-  const float angle = omega.norm();
-  if (angle <= 0.0f) return 0.0f;
-  // The pivot's world rotation turned by ω: its local rotation against its parent's world one.
-  const Eigen::Quaternionf world_turn(Eigen::AngleAxisf(angle, omega / angle));
-  const int parent = body.skeleton().parent(pivot_);
-  pose->rotations[pivot_] = (rotations_[parent].conjugate() * world_turn * rotations_[pivot_]).normalized();
-  return angle;
+  return omega;
 }
 
 Eigen::Vector3f ReachLean::Shift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,

@@ -33,6 +33,11 @@ struct ReachLeanOptions {
   // a jump. 0.25 m/s kept the clips over the allowed pelvis speed at 7 of 227 (cross-dataset);
   // 0.5 m/s made them 11 (wrists 1.07 → 1.00 cm), unbounded 41.
   float max_shift_speed = 0.25f;
+  // The streamed turn (the Apply with a state) follows the least turn through an exponential
+  // filter of this time constant, seconds (0 = at once): the least turn moves with the input's
+  // noise, and the torso above the pivot magnifies it (a shoulder 0.4 m from the pivot, the head
+  // 0.6 m), which made the head's jerk 10 × the capture's on 60 Hz input with 5 mm of jitter.
+  float turn_smoothing_seconds = 0.1f;
 };
 
 class ReachLean {
@@ -44,6 +49,11 @@ class ReachLean {
   // `targets[side]`. Returns the angle turned (radians).
   float Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets, const std::array<bool, 2>& reach,
               BodyPose* pose);
+  // The same for consecutive frames `frame_time` apart: `*state` is the turn of the frame before
+  // (a rotation vector, world), and the turn made follows the least one through
+  // `turn_smoothing_seconds`. Returns the angle turned.
+  float Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets, const std::array<bool, 2>& reach,
+              double frame_time, Eigen::Vector3f* state, BodyPose* pose);
   // After `Apply`: the least shift of the whole body, at most `max_shift`, that brings the
   // shoulders of the reaching hands within an arm of their targets. `*state` is the shift of the
   // frame before (`frame_time` earlier); it moves towards the new one no faster than
@@ -58,6 +68,11 @@ class ReachLean {
   // true when a reaching hand's target is beyond its arm.
   bool ReadArms(const BodyModel& body, const BodyPose& pose, const std::array<Eigen::Vector3f, 2>& targets,
                 const std::array<bool, 2>& reach, std::array<Eigen::Vector3f, 2>* shoulder, std::array<float, 2>* arm);
+  // The least turn ω (a rotation vector, world, at the pivot) that brings the reaching hands'
+  // shoulders within an arm of their targets, at most max_angle; zero when none is needed.
+  Eigen::Vector3f LeastTurn(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
+                            const std::array<bool, 2>& reach, const BodyPose& pose);
+  void Turn(const BodyModel& body, const Eigen::Vector3f& omega, BodyPose* pose);
   Eigen::Vector3f WantedShift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
                               const std::array<bool, 2>& reach, const BodyPose& pose);
   ReachLeanOptions options_;

@@ -91,6 +91,7 @@ struct ReconstructionSession::Segment {
   std::array<std::deque<float>, 2> second_differences;
   double noisy_input_time = -1e30;
   Eigen::Vector3f reach_shift = Eigen::Vector3f::Zero();  // reach_lean.h: where the body stepped to
+  Eigen::Vector3f reach_turn = Eigen::Vector3f::Zero();   // reach_lean.h: the torso's turn
 };
 
 ReconstructionSession::ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database,
@@ -527,7 +528,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       const std::array<Eigen::Vector3f, 2> targets = {hand_target->position[0], hand_target->position[1]};
       const std::array<bool, 2> reaching = {frame.hand_state[0] == TrackingState::kTracked,
                                             frame.hand_state[1] == TrackingState::kTracked};
-      reach_lean_.Apply(body, targets, reaching, &frame.pose);
+      reach_lean_.Apply(body, targets, reaching, database_->frame_time(), &s.reach_turn, &frame.pose);
       const Eigen::Vector3f shift =
           reach_lean_.Shift(body, targets, reaching, database_->frame_time(), &s.reach_shift, &frame.pose);
       // Planted feet stay on their pins (the legs bend); a free foot the shift pushed into the

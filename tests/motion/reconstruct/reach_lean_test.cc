@@ -102,6 +102,45 @@ TEST_F(ReachLeanTest, ATargetFarBeyondReachTurnsNoFurtherThanMaxAngle) {
   EXPECT_EQ(off.Apply(body(), {target, target}, {true, true}, &still), 0.0f);
 }
 
+// Streamed, the turn follows the least turn through an exponential filter: a target that appears
+// beyond reach is leant towards by dt / (τ + dt) of the way each frame, the whole way once
+// settled, and at once with τ = 0; when the target comes back within reach the turn fades.
+TEST_F(ReachLeanTest, TheStreamedTurnFollowsTheLeastTurnThroughItsFilter) {
+  const auto [shoulder, arm] = Arm(landmarks_.left_wrist);
+  const std::vector<Eigen::Vector3f> before = Positions(pose_);
+  const Eigen::Vector3f far = before[shoulder] + Eigen::Vector3f(0.0f, -0.3f, arm + 0.1f);
+  const std::array<Eigen::Vector3f, 2> targets{far, before[landmarks_.right_wrist]};
+  const double frame_time = 1.0 / 30.0;
+  ReachLean once(body().skeleton(), landmarks_, {.turn_smoothing_seconds = 0.0f});
+  BodyPose least_pose = pose_;
+  const float least = once.Apply(body(), targets, {true, false}, &least_pose);
+  ASSERT_GT(least, 0.05f);
+  Eigen::Vector3f unfiltered = Eigen::Vector3f::Zero();
+  BodyPose at_once = pose_;
+  EXPECT_NEAR(once.Apply(body(), targets, {true, false}, frame_time, &unfiltered, &at_once), least, 1e-5f);
+
+  ReachLean lean(body().skeleton(), landmarks_, {.turn_smoothing_seconds = 0.1f});
+  const float follow = static_cast<float>(frame_time / (0.1 + frame_time));
+  Eigen::Vector3f state = Eigen::Vector3f::Zero();
+  BodyPose pose = pose_;
+  EXPECT_NEAR(lean.Apply(body(), targets, {true, false}, frame_time, &state, &pose), follow * least, 1e-4f);
+  float angle = 0.0f;
+  for (int frame = 1; frame < 60; ++frame) {
+    pose = pose_;
+    const float next = lean.Apply(body(), targets, {true, false}, frame_time, &state, &pose);
+    EXPECT_GE(next, angle - 1e-5f) << frame;
+    angle = next;
+  }
+  EXPECT_NEAR(angle, least, 1e-3f);
+  const std::vector<Eigen::Vector3f> after = Positions(pose);
+  EXPECT_LT((after[shoulder] - Positions(least_pose)[shoulder]).norm(), 2e-3f)
+      << "settled: where the least turn puts it";
+  pose = pose_;
+  const float fading = lean.Apply(body(), {before[landmarks_.left_wrist], before[landmarks_.right_wrist]},
+                                  {true, false}, frame_time, &state, &pose);
+  EXPECT_NEAR(fading, (1.0f - follow) * least, 1e-3f) << "within reach again: the turn fades";
+}
+
 TEST_F(ReachLeanTest, WhatTheTurnCannotReachTheBodyStepsTowardsNoFasterThanItsSpeed) {
   const ReachLeanOptions options{.max_angle = 0.2f, .max_shift = 0.3f, .max_shift_speed = 0.5f};
   ReachLean lean(body().skeleton(), landmarks_, options);
