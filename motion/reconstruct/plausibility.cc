@@ -24,10 +24,10 @@ float Max(const std::vector<float>& values) {
   return values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());
 }
 
-// A bin's pelvis speed bound: the fastest but for a bin's outliers. The bins are maxima of
-// hundreds to tens of thousands of frames, and a single frame (a jump, a marker swap) set the
-// bound of a standing body's hands at 1.5 m/s. With fewer than kEnvelopeMinFrames frames, the
-// fastest.
+// A bin's pelvis speed bound: the fastest but for the bin's outliers. A bin holds hundreds to
+// hundreds of thousands of frames, and as their maximum a single frame (a jump, a marker swap)
+// set the bound of a standing body's hands at 1.5 m/s. With fewer than kEnvelopeMinFrames
+// frames, the fastest.
 float EnvelopeSpeed(std::vector<float> speeds) {
   if (speeds.size() < kEnvelopeMinFrames) return Max(speeds);
   return Percentile(std::move(speeds), kEnvelopeQuantile);
