@@ -72,6 +72,10 @@ void BM_ReconstructionPipeline(benchmark::State& state) {
   }
   ReconstructionOptions options;
   options.method = static_cast<ReconstructionMethod>(state.range(0));
+  if (state.range(1) >= 0) {  // streamed as the server does: frame t − lag out when frame t comes in
+    options.mode = StreamMode::kFixedLag;
+    options.lag = static_cast<int>(state.range(1));
+  }
   const BodyLandmarks& l = f.database->rig().topology.landmarks;
   SessionStatistics total;
   long frames = 0;
@@ -109,8 +113,17 @@ void BM_ReconstructionPipeline(benchmark::State& state) {
   state.counters["A3_index_B"] = static_cast<double>(f.memory.wrist_index) / frames_in_db;
   state.counters["A5_index_B"] = static_cast<double>(f.memory.full_index) / frames_in_db;
 }
-// 0 = full method, 1 = wrists-only pose model, 2 = nearest neighbour.
-BENCHMARK(BM_ReconstructionPipeline)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1);
+// Method (0 = full, 1 = wrists-only pose model, 2 = nearest neighbour) and lag in frames (−1 =
+// the whole clip at once; 0 and 5 as `mocap-load` and the SDK stream by default).
+BENCHMARK(BM_ReconstructionPipeline)
+    ->ArgNames({"method", "lag"})
+    ->Args({0, -1})
+    ->Args({0, 0})
+    ->Args({0, 5})
+    ->Args({1, -1})
+    ->Args({2, -1})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace mocap

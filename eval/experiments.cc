@@ -50,6 +50,9 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions sudden = base;
   sudden.reach_lean.turn_smoothing_seconds = 0.0f;  // the torso's turn follows the input at once
   add("full_unsmoothed_lean", "main", 0, sudden, noise_cm);
+  ReconstructionOptions jittery = base;
+  jittery.jittery_body_ratio = 0.0f;  // the joint filter widens for weak input only, not a jittering body
+  add("full_jittery_body", "main", 0, jittery, noise_cm);
   ReconstructionOptions faster = base;
   faster.reach_lean.max_shift_speed = 0.5f;  // the shift twice as fast
   add("full_shift_speed_0.5", "main", 0, faster, noise_cm);

@@ -105,8 +105,9 @@ int main(int argc, char** argv) {
       "captured frames alone (full_captured_only: without the travelling frames played backwards), "
       "without the torso's lean towards input beyond an arm's reach (full_no_reach_lean), without the body's shift "
       "towards it (full_no_reach_shift), with the shift over the ground only (full_horizontal_shift), "
-      "twice as fast (full_shift_speed_0.5), with ankles left under the floor (full_feet_under_floor) and with the "
-      "torso's turn unsmoothed (full_unsmoothed_lean)");
+      "twice as fast (full_shift_speed_0.5), with ankles left under the floor (full_feet_under_floor), with the "
+      "torso's turn unsmoothed (full_unsmoothed_lean) and with the joint filter not widened for a jittering body "
+      "(full_jittery_body)");
   bool cross_dataset = false, landmarks = false, devices = false, size_oracle = false;
   app.add_flag("--cross-dataset", cross_dataset,
                "the cross-dataset protocol of shared/data/README: database = all of bandai-namco-2; tests = "

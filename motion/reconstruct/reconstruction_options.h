@@ -59,6 +59,14 @@ struct ReconstructionOptions {
   // which a hand's own motion at 30 Hz keeps below ~0.5 cm), the joint filter widens as above.
   // 0 = off.
   float noisy_input_metres = 0.025f;
+  // A body that jitters is weak too (issues #22, #25): where the solved torso (head and shoulders,
+  // before the filter) has jerked more than this many times as much as the input hands over the
+  // last `weak_input_hold_seconds` (exponential means of third differences), the solve follows
+  // the nearest frames' churn, not a motion, and the body's joint filter widens as above; the
+  // hands' targets do not. In-lab input stays below it in 95% of frames (the development split's
+  // 95th percentile, 8.5; median 4.3); input unlike the database (other people, labs, devices)
+  // exceeds it in most. 0 = off.
+  float jittery_body_ratio = 8.5f;
   // After the joint filter, two-bone arm IK puts each hand on the input wrist (as the legs are put
   // on their pins): the input smoothed by a centred Gaussian of this σ over the samples that have
   // arrived (zero phase where the lag allows, unlike A2's exponential smoothing); < 0 = off.

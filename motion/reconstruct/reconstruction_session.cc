@@ -85,7 +85,17 @@ struct ReconstructionSession::Segment {
   // The joint filter's width (an index of joint_kernels_, moving by fractions) and when the input
   // was last weak (ReconstructionOptions::weak_input_joint_smoothing_sigma).
   float joint_filter_level = 0.0f;
+  float hand_filter_level = 0.0f;  // the hands' targets widen with weak input only
   double weak_input_time = -1e30;
+  // The body's jitter (ReconstructionOptions::jittery_body_ratio): the solved torso's and the
+  // input hands' last four positions (oldest first), the exponential means of their third
+  // differences' sizes, and the time the torso last jerked beyond the ratio.
+  std::array<std::array<Eigen::Vector3f, 4>, 2> torso_and_hands{};
+  int jitter_frames = 0;
+  float torso_jerk = 0.0f, hands_jerk = 0.0f;
+  double jittery_time = -1e30;
+  std::vector<Eigen::Quaternionf> jitter_rotations;  // forward kinematics' scratch
+  std::vector<Eigen::Vector3f> jitter_positions;
   // Input noise (ReconstructionOptions::noisy_input_metres): each tracked hand's second
   // differences over the last second, and the input time it last read as noisy.
   std::array<std::deque<float>, 2> second_differences;
@@ -162,7 +172,8 @@ absl::StatusOr<std::unique_ptr<ReconstructionSession>> ReconstructionSession::Cr
       !(options.ankle_path.smoothing_sigma_frames >= 0) || options.ankle_path.smoothing_sigma_frames > 30 ||
       !(options.weak_input_joint_smoothing_sigma <= 30) || !(options.weak_input_hold_seconds >= 0) ||
       !(options.weak_input_ramp_seconds >= 0) || !std::isfinite(options.weak_input_hold_seconds) ||
-      !(options.noisy_input_metres >= 0)) {
+      !(options.noisy_input_metres >= 0) || !(options.jittery_body_ratio >= 0) ||
+      !std::isfinite(options.jittery_body_ratio)) {
     return absl::InvalidArgumentError("gap and smoothing parameters out of range");
   }
   return std::unique_ptr<ReconstructionSession>(new ReconstructionSession(std::move(database), options));
@@ -240,6 +251,31 @@ void ReconstructionSession::TrackInputNoise(Segment& s, const GridSample& sample
     noise = std::max(noise, sorted[n / 2] / (1.54f * std::sqrt(6.0f)));
   }
   if (noise > options_.noisy_input_metres) s.noisy_input_time = sample.time;
+}
+
+void ReconstructionSession::TrackBodyJitter(Segment& s, const ReconstructedFrame& frame) const {
+  if (options_.jittery_body_ratio <= 0) return;
+  const BodyLandmarks& l = database_->rig().topology.landmarks;
+  database_->body().WorldTransforms(frame.pose, &s.jitter_rotations, &s.jitter_positions);
+  const std::array<Eigen::Vector3f, 2> newest = {
+      (s.jitter_positions[l.head] + s.jitter_positions[l.left_shoulder] + s.jitter_positions[l.right_shoulder]) / 3.0f,
+      0.5f * (frame.wrists[0] + frame.wrists[1])};
+  const double dt = database_->frame_time();
+  const float rate = static_cast<float>(dt / std::max(dt, options_.weak_input_hold_seconds));
+  float jerk[2];
+  for (int k = 0; k < 2; ++k) {
+    std::array<Eigen::Vector3f, 4>& p = s.torso_and_hands[k];
+    std::rotate(p.begin(), p.begin() + 1, p.end());
+    p[3] = newest[k];
+    jerk[k] = (p[3] - 3.0f * p[2] + 3.0f * p[1] - p[0]).norm();
+  }
+  if (++s.jitter_frames < 4) return;  // a third difference needs four frames
+  s.torso_jerk += rate * (jerk[0] - s.torso_jerk);
+  s.hands_jerk += rate * (jerk[1] - s.hands_jerk);
+  // Read once the means span their time constant: a segment's first frames say little.
+  if ((s.jitter_frames - 3) * dt > options_.weak_input_hold_seconds &&
+      s.torso_jerk > options_.jittery_body_ratio * s.hands_jerk)
+    s.jittery_time = frame.time;
 }
 
 absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, std::vector<ReconstructedFrame>* out) {
@@ -418,6 +454,7 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   d.untracked_seconds = s.untracked[f];
   d.fading_guess = s.fading[f];
   d.bridged = s.bridged[f];
+  TrackBodyJitter(s, frame);
   d.session_log_cost = session_cost_.Add(d.solver_cost);
   frame.landmark_error = ExpectedLandmarkErrors(ConfidenceCuesOf(d));
   if (full) d.contact = s.cleaner.Process(ankles, &db.frames()[s.raw_rows[f]], &frame.pose, &frame.ankle_targets);
@@ -447,11 +484,15 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     s.weak_input_time = std::max(s.weak_input_time, s.noisy_input_time);
     if (e == 0 && s.id > 0) {  // the body comes back after a dropout too long to bridge: no motion before it
       s.weak_input_time = frame.time;
-      s.joint_filter_level = levels;
+      s.joint_filter_level = s.hand_filter_level = levels;
     }
-    const bool widen = frame.time - s.weak_input_time <= options_.weak_input_hold_seconds;
-    s.joint_filter_level = std::clamp(s.joint_filter_level + (widen ? level_step : -level_step), 0.0f, levels);
+    const bool weak = frame.time - s.weak_input_time <= options_.weak_input_hold_seconds;
+    const bool jittery = frame.time - s.jittery_time <= options_.weak_input_hold_seconds;
+    s.joint_filter_level =
+        std::clamp(s.joint_filter_level + (weak || jittery ? level_step : -level_step), 0.0f, levels);
+    s.hand_filter_level = std::clamp(s.hand_filter_level + (weak ? level_step : -level_step), 0.0f, levels);
     const size_t level = static_cast<size_t>(std::lround(s.joint_filter_level));
+    const size_t hand_level = static_cast<size_t>(std::lround(s.hand_filter_level));
     const std::vector<float>& kernel = joint_kernels_[level];
     const int radius = static_cast<int>(kernel.size()) / 2;
     if (radius > 0) {
@@ -522,7 +563,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     if (options_.hand_target_sigma >= 0.0f) {
       // Hands on the input: a local linear fit over the samples that have arrived, which is the
       // Gaussian average where the window is centred and has no lag where it is one-sided.
-      hand_target = FitInput(s, e, hand_kernels_[level]);
+      hand_target = FitInput(s, e, hand_kernels_[hand_level]);
       // Input beyond an arm's reach: the torso leans towards it, and where that is not enough the
       // body steps or crouches towards it (reach_lean.h), no faster than a body does.
       const std::array<Eigen::Vector3f, 2> targets = {hand_target->position[0], hand_target->position[1]};

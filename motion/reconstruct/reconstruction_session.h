@@ -152,6 +152,9 @@ class ReconstructionSession {
   SmoothedWrists FitInput(const Segment& s, int frame, const std::vector<float>& kernel) const;
   // Reads the newest input frame's noise (ReconstructionOptions::noisy_input_metres).
   void TrackInputNoise(Segment& s, const GridSample& sample) const;
+  // Reads whether the solved body jitters (ReconstructionOptions::jittery_body_ratio) at `frame`,
+  // solved and not yet filtered.
+  void TrackBodyJitter(Segment& s, const ReconstructedFrame& frame) const;
   // Puts each foot with an A7 pin (`ankle_targets`) back on it by the leg IK, after the body moved.
   void ReimposeAnklePins(ReconstructedFrame* frame) const;
   // An ankle under the database's planted ankle height goes up to it by the leg IK.
