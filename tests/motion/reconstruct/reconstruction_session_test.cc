@@ -323,6 +323,19 @@ TEST_F(ReconstructionSessionTest, NoAnkleEndsUnderTheFloorWhenTheInputDrops) {
   EXPECT_GE(lowest_ankle(options_), ground - 0.001f);
 }
 
+// The setup's wrist samples with white noise of `sigma` metres per axis, as a tracker jitters.
+std::vector<WristSample> JitteredSamples(const testing::SyntheticReconstructionSetup& setup, float sigma,
+                                         unsigned seed) {
+  auto samples = testing::WristSamplesOf(setup);
+  std::mt19937 random(seed);
+  std::normal_distribution<float> jitter(0.0f, sigma);
+  for (WristSample& sample : samples) {
+    for (Eigen::Vector3f* hand : {&sample.left, &sample.right})
+      *hand += Eigen::Vector3f(jitter(random), jitter(random), jitter(random));
+  }
+  return samples;
+}
+
 // Mean over the first `joints` joints (all: -1) and frames [first, last) of |third difference of
 // the joint's position| / dt³.
 double MeanJerk(const BodyModel& body, const std::vector<ReconstructedFrame>& frames, int first, int last, double dt,
@@ -346,16 +359,7 @@ double MeanJerk(const BodyModel& body, const std::vector<ReconstructedFrame>& fr
 // filter widens as for a lost hand, and the body moves more smoothly; a tracker's 5 mm jitter
 // does not read as noise, and its output is as without the rule.
 TEST_F(ReconstructionSessionTest, NoisyInputIsWeakInput) {
-  auto jittered = [this](float sigma) {
-    auto samples = testing::WristSamplesOf(setup_);
-    std::mt19937 random(11);
-    std::normal_distribution<float> jitter(0.0f, sigma);
-    for (WristSample& sample : samples) {
-      for (Eigen::Vector3f* hand : {&sample.left, &sample.right})
-        *hand += Eigen::Vector3f(jitter(random), jitter(random), jitter(random));
-    }
-    return samples;
-  };
+  auto jittered = [this](float sigma) { return JitteredSamples(setup_, sigma, 11); };
   ReconstructionOptions blind = options_;
   blind.noisy_input_metres = 0.0f;
   const BodyModel& body = setup_.database->body();
@@ -382,13 +386,7 @@ TEST_F(ReconstructionSessionTest, NoisyInputIsWeakInput) {
 // #25): the trunk moves more smoothly, the hands stay where they were put. A ratio no body
 // reaches changes nothing.
 TEST_F(ReconstructionSessionTest, AJitteringBodyIsSmoothedAndItsHandsAreNot) {
-  auto samples = testing::WristSamplesOf(setup_);
-  std::mt19937 random(5);
-  std::normal_distribution<float> jitter(0.0f, 0.005f);
-  for (WristSample& sample : samples) {
-    for (Eigen::Vector3f* hand : {&sample.left, &sample.right})
-      *hand += Eigen::Vector3f(jitter(random), jitter(random), jitter(random));
-  }
+  auto samples = JitteredSamples(setup_, 0.005f, 5);
   ReconstructionOptions off = options_, always = options_, never = options_;
   off.jittery_body_ratio = 0.0f;
   always.jittery_body_ratio = 1e-6f;  // every torso jerks more than that
@@ -426,13 +424,7 @@ TEST_F(ReconstructionSessionTest, WhileAHandIsLostTheJointFilterLeansOnTheMotion
   // The left hand lost for 1.2 s from frame 20, the input with a tracker's 5 mm jitter: the output
   // moves more smoothly there than with the joint filter kept at its usual width, and not a bit
   // differently before (issue #25).
-  auto samples = testing::WristSamplesOf(setup_);
-  std::mt19937 random(7);
-  std::normal_distribution<float> jitter(0.0f, 0.005f);
-  for (WristSample& sample : samples) {
-    for (Eigen::Vector3f* hand : {&sample.left, &sample.right})
-      *hand += Eigen::Vector3f(jitter(random), jitter(random), jitter(random));
-  }
+  auto samples = JitteredSamples(setup_, 0.005f, 7);
   for (int i = 20; i < 56; ++i) {
     samples[i].tracked[0] = false;
     samples[i].left = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
