@@ -1,9 +1,12 @@
 // The whole reconstruction pipeline (docs/method.md A2–A7) on the standard split, single thread,
-// K1 = 1000, K2 = 200: frames per second and time per stage per frame, plus the resident memory
-// of the loaded database and indices per database frame.
+// default options: frames per second and time per stage per frame, whole clip and streamed at a
+// fixed lag; plus the resident memory of the loaded database and indices per database frame; and
+// one engine serving 1 or 30 interleaved streams (BM_InterleavedSessions).
 //   build/benchmarks/mocap_reconstruction_benchmark --benchmark_counters_tabular=true
 #include <unistd.h>
 #include <fstream>
+#include <memory>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
@@ -124,6 +127,44 @@ BENCHMARK(BM_ReconstructionPipeline)
     ->Args({2, -1})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
+
+// Many streams on one engine, as a server's compute thread serves them: `sessions` sessions at
+// lag 0, each fed the same held-out walk from its own offset, one frame each in turn (issue #26:
+// is a frame dearer when thirty sessions' state shares the caches than when one session runs?).
+void BM_InterleavedSessions(benchmark::State& state) {
+  const Fixture& f = Shared();
+  if (!f.ok) {
+    state.SkipWithError("shared data unavailable");
+    return;
+  }
+  ReconstructionOptions options;
+  options.mode = StreamMode::kFixedLag;
+  options.lag = 0;
+  const BodyLandmarks& l = f.database->rig().topology.landmarks;
+  const eval::TestClip& walk = f.tests.front();
+  const int count = static_cast<int>(state.range(0));
+  const int length = walk.truth.num_frames();
+  long frames = 0;
+  for (auto _ : state) {
+    std::vector<std::unique_ptr<ReconstructionSession>> sessions;
+    for (int i = 0; i < count; ++i) sessions.push_back(*std::move(ReconstructionSession::Create(f.database, options)));
+    std::vector<ReconstructedFrame> out;
+    for (int t = 0; t < length; ++t) {
+      for (int i = 0; i < count; ++i) {
+        // Each stream at its own place in the walk, played forwards and back (no jump at its end).
+        const int m = (t + i * 7) % (2 * length - 2);
+        const int k = m < length ? m : 2 * length - 2 - m;
+        out.clear();
+        (void)sessions[i]->Push(
+            {t * f.database->frame_time(), walk.truth.position(k, l.left_wrist), walk.truth.position(k, l.right_wrist)},
+            &out);
+        frames += static_cast<long>(out.size());
+      }
+    }
+  }
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_InterleavedSessions)->ArgName("sessions")->Arg(1)->Arg(30)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 }  // namespace mocap
