@@ -185,8 +185,9 @@ absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out
   for (const auto& r : results) {
     if (r.experiment.group != "device") lab.push_back(r);
   }
-  if (lab.empty()) return absl::InvalidArgumentError("no run on the lab's input to report");
-  const LandmarkExperimentResult& first = lab.front();
+  if (results.empty()) return absl::InvalidArgumentError("no run to report");
+  // Only device runs asked for (`--runs full@tracker_90hz`): their sources and the device table.
+  const LandmarkExperimentResult& first = lab.empty() ? results.front() : lab.front();
   std::vector<std::string> sources{"all"}, contents;
   for (const auto& [source, m] : first.by_source) sources.push_back(source);
   for (const auto& [content, m] : first.by_content) contents.push_back(content);
@@ -200,13 +201,17 @@ absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out
     return it == r.by_content.end() ? nullptr : &it->second;
   };
   std::ostringstream per_source, devices;  // also the summary returned
-  per_source << "## Per source\n\n";
-  Table(per_source, "source", sources, lab, by_source,
-        [](const LandmarkClipResult& c, const std::string& key) { return key == "all" || c.source == key; });
   DeviceTable(devices, sources, results, by_source);
-  md << per_source.str() << "## Per source and content\n\n";
-  Table(md, "source/content", contents, lab, by_content,
-        [](const LandmarkClipResult& c, const std::string& key) { return StrCat(c.source, "/", c.content) == key; });
+  if (lab.empty()) {
+    md << "No run on the lab's input (σ 0.5 cm): the per-source tables are left out.\n\n";
+  } else {
+    per_source << "## Per source\n\n";
+    Table(per_source, "source", sources, lab, by_source,
+          [](const LandmarkClipResult& c, const std::string& key) { return key == "all" || c.source == key; });
+    md << per_source.str() << "## Per source and content\n\n";
+    Table(md, "source/content", contents, lab, by_content,
+          [](const LandmarkClipResult& c, const std::string& key) { return StrCat(c.source, "/", c.content) == key; });
+  }
   md << "## Per landmark (all clips), cm\n\nPose: the 13 other landmarks relative to the pelvis (where the "
         "body is does not count).\n\n| run | pose |";
   for (const char* g : kLandmarkGroupNames) md << " " << g << " |";
