@@ -32,8 +32,7 @@ std::string ReadAll(const std::filesystem::path& file) {
 // `mocap-eval --runs full@tracker_90hz nearest_neighbour@tracker_90hz` asks for device runs only:
 // the report is written with their table, not refused for want of a run on the lab's input.
 TEST(LandmarkReportTest, DeviceRunsAloneAreReported) {
-  const std::filesystem::path out =
-      std::filesystem::path(::testing::TempDir()) / "landmark_report_test_devices_only";
+  const std::filesystem::path out = std::filesystem::path(::testing::TempDir()) / "landmark_report_test_devices_only";
   std::filesystem::remove_all(out);
   std::filesystem::create_directories(out);
   const std::vector<LandmarkExperimentResult> results = {DeviceRun("full", "tracker_90hz", 0.12f),
