@@ -67,12 +67,18 @@ const Fixture& Shared() {
   return fixture;
 }
 
-void BM_ReconstructionPipeline(benchmark::State& state) {
+// The shared fixture, or null with the benchmark skipped where the shared data is absent.
+const Fixture* SharedOrSkip(benchmark::State& state) {
   const Fixture& f = Shared();
-  if (!f.ok) {
-    state.SkipWithError("shared data unavailable");
-    return;
-  }
+  if (f.ok) return &f;
+  state.SkipWithError("shared data unavailable");
+  return nullptr;
+}
+
+void BM_ReconstructionPipeline(benchmark::State& state) {
+  const Fixture* shared = SharedOrSkip(state);
+  if (shared == nullptr) return;
+  const Fixture& f = *shared;
   ReconstructionOptions options;
   options.method = static_cast<ReconstructionMethod>(state.range(0));
   if (state.range(1) >= 0) {  // streamed as the server does: frame t − lag out when frame t comes in
@@ -132,11 +138,9 @@ BENCHMARK(BM_ReconstructionPipeline)
 // lag 0, each fed the same held-out walk from its own offset, one frame each in turn (issue #26:
 // is a frame dearer when thirty sessions' state shares the caches than when one session runs?).
 void BM_InterleavedSessions(benchmark::State& state) {
-  const Fixture& f = Shared();
-  if (!f.ok) {
-    state.SkipWithError("shared data unavailable");
-    return;
-  }
+  const Fixture* shared = SharedOrSkip(state);
+  if (shared == nullptr) return;
+  const Fixture& f = *shared;
   ReconstructionOptions options;
   options.mode = StreamMode::kFixedLag;
   options.lag = 0;
