@@ -38,6 +38,9 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions no_lean = base;
   no_lean.reach_lean.max_angle = 0.0f;  // the arm IK alone, without the torso's lean
   add("full_no_reach_lean", "main", 0, no_lean, noise_cm);
+  ReconstructionOptions no_collars = base;
+  no_collars.reach_lean.max_collar_angle = 0.0f;  // the torso leans without the shoulders moving first
+  add("full_no_collars", "main", 0, no_collars, noise_cm);
   ReconstructionOptions no_shift = base;
   no_shift.reach_lean.max_shift = 0.0f;  // the lean alone: the body does not step towards the input
   add("full_no_reach_shift", "main", 0, no_shift, noise_cm);

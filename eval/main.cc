@@ -103,7 +103,8 @@ int main(int argc, char** argv) {
       "--ablations", ablations,
       "also run window L ∈ {10,50,100}, noise σ ∈ {0,1,2} cm, lag D ∈ {0,5,15,30}, the full method on the "
       "captured frames alone (full_captured_only: without the travelling frames played backwards), "
-      "without the torso's lean towards input beyond an arm's reach (full_no_reach_lean), without the body's shift "
+      "without the torso's lean towards input beyond an arm's reach (full_no_reach_lean), the lean without the "
+      "collar bones turning first (full_no_collars), without the body's shift "
       "towards it (full_no_reach_shift), with the shift over the ground only (full_horizontal_shift), "
       "twice as fast (full_shift_speed_0.5), with ankles left under the floor (full_feet_under_floor), with the "
       "torso's turn unsmoothed (full_unsmoothed_lean) and with the joint filter not widened for a jittering body "

@@ -9,6 +9,8 @@
 namespace mocap {
 namespace {
 
+constexpr float kCollarSlack = 1e-3f;  // metres: see MoveCollars
+
 bool IsAncestor(const Skeleton& skeleton, int ancestor, int joint) {
   for (int j = joint; j >= 0; j = skeleton.parent(j)) {
     if (j == ancestor) return true;
@@ -31,6 +33,11 @@ ReachLean::ReachLean(const Skeleton& skeleton, const BodyLandmarks& landmarks, c
   // The chest: the nearest joint above both arms; the pivot: its ancestor just above the pelvis.
   int chest = arms_[0][0];
   while (chest >= 0 && !IsAncestor(skeleton, chest, arms_[1][0])) chest = skeleton.parent(chest);
+  // A collar bone: the shoulder's parent when it is not the chest (rigs without one have none).
+  for (int side = 0; side < 2; ++side) {
+    const int collar = skeleton.parent(arms_[side][0]);
+    if (collar >= 0 && chest >= 0 && collar != chest && IsAncestor(skeleton, chest, collar)) collars_[side] = collar;
+  }
   const int pelvis = landmarks.pelvis;
   if (chest < 0 || pelvis < 0 || chest == pelvis || !IsAncestor(skeleton, pelvis, chest)) return;
   int pivot = chest;
@@ -50,6 +57,41 @@ bool ReachLean::ReadArms(const BodyModel& body, const BodyPose& pose, const std:
     beyond = beyond || (reach[side] && (targets[side] - positions_[s]).norm() > (*arm)[side]);
   }
   return beyond;
+}
+
+float ReachLean::MoveCollars(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
+                             const std::array<bool, 2>& reach, BodyPose* pose) {
+  if (!(options_.max_collar_angle > 0.0f) || (!reach[0] && !reach[1])) return 0.0f;
+  std::array<Eigen::Vector3f, 2> shoulder;
+  std::array<float, 2> arm{};
+  if (!ReadArms(body, *pose, targets, reach, &shoulder, &arm)) return 0.0f;
+  float largest = 0.0f;
+  for (int side = 0; side < 2; ++side) {
+    const int collar = collars_[side];
+    if (!reach[side] || collar < 0 || (targets[side] - shoulder[side]).norm() <= arm[side]) continue;
+    // Turning the collar by α towards the target (in the plane of u and v, which the arms do not
+    // share, so one side's turn leaves the other's transforms as they were) leaves the shoulder
+    // |t − s|² = |u|² + |v|² − 2|u||v|cos(β − α) from it: the least α that reaches, in closed form.
+    const Eigen::Vector3f u = shoulder[side] - positions_[collar];
+    const Eigen::Vector3f v = targets[side] - positions_[collar];
+    const float lu = u.norm(), lv = v.norm();
+    const Eigen::Vector3f axis = u.cross(v);
+    if (!(lu > 0.0f) || !(lv > 0.0f) || !(axis.norm() > 1e-9f)) continue;
+    const float beta = std::atan2(axis.norm(), u.dot(v));
+    // A millimetre inside the arm, not on it: the lean and the shift after it count a hand
+    // whose input is beyond reach, and one exactly on the edge would be counted or not by
+    // rounding, which changed their solutions by millimetres (issue #12's equal conventions).
+    const float reached = arm[side] - kCollarSlack;
+    const float reaching_cosine = (lu * lu + lv * lv - reached * reached) / (2.0f * lu * lv);
+    const float needed = reaching_cosine >= 1.0f ? beta : beta - std::acos(std::max(-1.0f, reaching_cosine));
+    const float alpha = std::clamp(needed, 0.0f, std::min(beta, options_.max_collar_angle));
+    if (!(alpha > 0.0f)) continue;
+    const Eigen::Quaternionf world_turn(Eigen::AngleAxisf(alpha, axis.normalized()));
+    const int parent = body.skeleton().parent(collar);
+    pose->rotations[collar] = (rotations_[parent].conjugate() * world_turn * rotations_[collar]).normalized();
+    largest = std::max(largest, alpha);
+  }
+  return largest;
 }
 
 float ReachLean::Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,

@@ -1,7 +1,8 @@
 // A body reaches further by leaning (issue #22: hands that miss their own input). After the
 // motion guard has placed the body, a hand whose input lies beyond the arm's reach from its
 // shoulder cannot get there by arm IK alone: the arm stretches straight and misses by the rest.
-// Where the input is beyond reach the torso turns at the lowest spine joint, as far as
+// Where the input is beyond reach the collar bones first turn the shoulders towards it
+// (`MoveCollars`, a few centimetres), then the torso turns at the lowest spine joint, as far as
 // `max_angle`, so that the shoulders come within reach; where that is not enough the whole body
 // moves towards the input (`Shift`, bounded in distance and speed); the arm IK then puts the
 // hands on the input. A person whose hands are there has shoulders within an arm of them, so the turn moves the
@@ -19,6 +20,14 @@
 namespace mocap {
 
 struct ReachLeanOptions {
+  // Before the torso leans, each collar bone (the joint between the chest and the arm) turns its
+  // shoulder towards input beyond reach, by at most this angle, radians (0 = off): a person drops,
+  // raises or pushes forward the shoulder before bending the trunk. The shoulder girdle's own
+  // range is tens of degrees (elevation ~40°, depression and protraction 10–20°); 0.25 rad ≈ 14°
+  // moves a 15 cm collar bone's shoulder by ~4 cm, the few centimetres an arm longer than the
+  // database's misses by (a longer-armed walker's hanging hands made a 0.5 rad lean: the torso
+  // turned towards a hand below the shoulder, where a turn barely reaches).
+  float max_collar_angle = 0.25f;
   // The farthest the torso turns, radians (0 = off). A standing person reaching for something
   // leans and twists the trunk by tens of degrees; 0.5 rad ≈ 29°.
   float max_angle = 0.5f;
@@ -45,6 +54,11 @@ class ReachLean {
   // No spine between the pelvis and the shoulders (or no shoulders): the lean does nothing.
   ReachLean(const Skeleton& skeleton, const BodyLandmarks& landmarks, const ReachLeanOptions& options = {});
 
+  // Turns each collar bone of a hand with `reach[side]` set so its shoulder comes within an arm of
+  // `targets[side]`, at most `max_collar_angle` (the least turn, towards the target). Returns the
+  // larger angle turned (radians). Runs before the lean.
+  float MoveCollars(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
+                    const std::array<bool, 2>& reach, BodyPose* pose);
   // Turns `pose`'s torso so the shoulders of the hands with `reach[side]` set come within an arm of
   // `targets[side]`. Returns the angle turned (radians).
   float Apply(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets, const std::array<bool, 2>& reach,
@@ -78,6 +92,7 @@ class ReachLean {
   ReachLeanOptions options_;
   int pivot_ = -1;                             // the lowest spine joint: the pelvis' child towards the shoulders
   std::array<std::array<int, 3>, 2> arms_{};   // shoulder, elbow, wrist per side
+  std::array<int, 2> collars_{-1, -1};         // the shoulder's parent below the chest, or −1
   std::vector<Eigen::Quaternionf> rotations_;  // scratch
   std::vector<Eigen::Vector3f> positions_;
 };

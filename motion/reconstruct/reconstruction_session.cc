@@ -564,11 +564,13 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // Hands on the input: a local linear fit over the samples that have arrived, which is the
       // Gaussian average where the window is centred and has no lag where it is one-sided.
       hand_target = FitInput(s, e, hand_kernels_[hand_level]);
-      // Input beyond an arm's reach: the torso leans towards it, and where that is not enough the
-      // body steps or crouches towards it (reach_lean.h), no faster than a body does.
+      // Input beyond an arm's reach: the shoulders move towards it, then the torso leans, and
+      // where that is not enough the body steps or crouches towards it (reach_lean.h), no faster
+      // than a body does.
       const std::array<Eigen::Vector3f, 2> targets = {hand_target->position[0], hand_target->position[1]};
       const std::array<bool, 2> reaching = {frame.hand_state[0] == TrackingState::kTracked,
                                             frame.hand_state[1] == TrackingState::kTracked};
+      reach_lean_.MoveCollars(body, targets, reaching, &frame.pose);
       reach_lean_.Apply(body, targets, reaching, database_->frame_time(), &s.reach_turn, &frame.pose);
       const Eigen::Vector3f shift =
           reach_lean_.Shift(body, targets, reaching, database_->frame_time(), &s.reach_shift, &frame.pose);

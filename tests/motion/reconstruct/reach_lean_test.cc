@@ -201,6 +201,51 @@ TEST_F(ReachLeanTest, AShiftNeverGoesFurtherThanMaxShiftAndIsOffAtZero) {
   }
 }
 
+// The collar bones move first: input a few centimetres beyond the straight arm turns the
+// collar until the shoulder is within an arm of it, and nothing else moves; input far beyond
+// turns it by max_collar_angle towards it and leaves the rest to the lean; within reach, or with
+// max_collar_angle = 0, nothing changes.
+TEST_F(ReachLeanTest, TheCollarBoneBringsTheShoulderWithinReachFirst) {
+  ReachLean lean(body().skeleton(), landmarks_);
+  const auto [shoulder, arm] = Arm(landmarks_.left_wrist);
+  const int collar = body().skeleton().parent(shoulder);
+  const std::vector<Eigen::Vector3f> before = Positions(pose_);
+  // 3 cm beyond the straight arm, down and a little forward from the shoulder.
+  const Eigen::Vector3f direction = Eigen::Vector3f(0.1f, -1.0f, 0.3f).normalized();
+  const Eigen::Vector3f target = before[shoulder] + (arm + 0.03f) * direction;
+  BodyPose pose = pose_;
+  const float angle = lean.MoveCollars(body(), {target, before[landmarks_.right_wrist]}, {true, true}, &pose);
+  EXPECT_GT(angle, 0.0f);
+  EXPECT_LT(angle, ReachLeanOptions{}.max_collar_angle);
+  std::vector<Eigen::Vector3f> after = Positions(pose);
+  // The least turn: just within reach (a millimetre inside, so that the lean after it does not
+  // count the hand by rounding).
+  EXPECT_LE((target - after[shoulder]).norm(), arm);
+  EXPECT_GE((target - after[shoulder]).norm(), arm - 2e-3f);
+  for (int j = 0; j < body().skeleton().num_joints(); ++j) {
+    if (j == shoulder || body().skeleton().parent(j) < 0) continue;
+    bool on_the_arm = false;
+    for (int a = j; a >= 0; a = body().skeleton().parent(a)) on_the_arm = on_the_arm || a == shoulder;
+    if (!on_the_arm) {
+      EXPECT_LT((after[j] - before[j]).norm(), 1e-5f) << body().skeleton().joint(j).name;
+    }
+  }
+  EXPECT_LT((after[collar] - before[collar]).norm(), 1e-6f) << "the collar turns about its own joint";
+  // Far beyond: the collar turns by its whole range, towards the target.
+  const Eigen::Vector3f far = before[shoulder] + (arm + 0.5f) * direction;
+  pose = pose_;
+  EXPECT_NEAR(lean.MoveCollars(body(), {far, far}, {true, false}, &pose), ReachLeanOptions{}.max_collar_angle, 1e-5f);
+  after = Positions(pose);
+  EXPECT_LT((far - after[shoulder]).norm(), (far - before[shoulder]).norm() - 0.01f);
+  EXPECT_LT((after[landmarks_.right_wrist] - before[landmarks_.right_wrist]).norm(), 1e-5f) << "not asked to reach";
+  // Within reach, or with the collars off: nothing.
+  pose = pose_;
+  EXPECT_EQ(lean.MoveCollars(body(), {before[shoulder] + (arm - 0.01f) * direction, far}, {true, false}, &pose), 0.0f);
+  ReachLean off(body().skeleton(), landmarks_, {.max_collar_angle = 0.0f});
+  EXPECT_EQ(off.MoveCollars(body(), {target, far}, {true, true}, &pose), 0.0f);
+  for (size_t j = 0; j < pose.rotations.size(); ++j) EXPECT_TRUE(pose.rotations[j].isApprox(pose_.rotations[j]));
+}
+
 TEST_F(ReachLeanTest, NoSpineBetweenPelvisAndShouldersNoLean) {
   BodyLandmarks chest_as_pelvis = landmarks_;
   // The arms' common ancestor as the pelvis: nothing between them to turn.
