@@ -11,6 +11,13 @@ namespace {
 
 constexpr float kCollarSlack = 1e-3f;  // metres: see MoveCollars
 
+// Turns `joint` by `world_turn` about itself, in world axes: its local rotation becomes the turned
+// world rotation against its parent's (`world` holds the pose's world rotations).
+void TurnInWorld(const Skeleton& skeleton, const std::vector<Eigen::Quaternionf>& world, int joint,
+                 const Eigen::Quaternionf& world_turn, BodyPose* pose) {
+  pose->rotations[joint] = (world[skeleton.parent(joint)].conjugate() * world_turn * world[joint]).normalized();
+}
+
 bool IsAncestor(const Skeleton& skeleton, int ancestor, int joint) {
   for (int j = joint; j >= 0; j = skeleton.parent(j)) {
     if (j == ancestor) return true;
@@ -86,9 +93,8 @@ float ReachLean::MoveCollars(const BodyModel& body, const std::array<Eigen::Vect
     const float needed = reaching_cosine >= 1.0f ? beta : beta - std::acos(std::max(-1.0f, reaching_cosine));
     const float alpha = std::clamp(needed, 0.0f, std::min(beta, options_.max_collar_angle));
     if (!(alpha > 0.0f)) continue;
-    const Eigen::Quaternionf world_turn(Eigen::AngleAxisf(alpha, axis.normalized()));
-    const int parent = body.skeleton().parent(collar);
-    pose->rotations[collar] = (rotations_[parent].conjugate() * world_turn * rotations_[collar]).normalized();
+    TurnInWorld(body.skeleton(), rotations_, collar, Eigen::Quaternionf(Eigen::AngleAxisf(alpha, axis.normalized())),
+                pose);
     largest = std::max(largest, alpha);
   }
   return largest;
@@ -115,10 +121,7 @@ void ReachLean::Turn(const BodyModel& body, const Eigen::Vector3f& omega, BodyPo
   const float angle = omega.norm();
   if (pivot_ < 0 || !(angle > 0.0f)) return;
   body.WorldTransforms(*pose, &rotations_, &positions_);
-  // The pivot's world rotation turned by ω: its local rotation against its parent's world one.
-  const Eigen::Quaternionf world_turn(Eigen::AngleAxisf(angle, omega / angle));
-  const int parent = body.skeleton().parent(pivot_);
-  pose->rotations[pivot_] = (rotations_[parent].conjugate() * world_turn * rotations_[pivot_]).normalized();
+  TurnInWorld(body.skeleton(), rotations_, pivot_, Eigen::Quaternionf(Eigen::AngleAxisf(angle, omega / angle)), pose);
 }
 
 Eigen::Vector3f ReachLean::LeastTurn(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
