@@ -49,9 +49,52 @@ std::array<bool, 2> PlantedFeet(const DatabaseFrame& frame, float planted_ankle_
   return planted;
 }
 
+bool FootskateCleaner::EstimateSaysPlanted(const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate) const {
+  const Eigen::Vector2f step(estimate.x() - previous.x(), estimate.z() - previous.z());
+  return step.norm() * rate_ < options_.contact_speed && estimate.y() < planted_height_ + options_.contact_height;
+}
+
+std::optional<Eigen::Vector3f> FootskateCleaner::ContactMean(int side, const Eigen::Vector3f& landing,
+                                                             const AnkleLookahead& ahead, size_t from) const {
+  Eigen::Vector3f sum = landing;
+  int count = 1;
+  const Eigen::Vector3f* previous = &landing;
+  for (size_t k = from;; ++k) {
+    const AnklePair* next = ahead.at(k);
+    if (next == nullptr) {
+      if (ahead.complete) break;  // the contact lasts to the segment's end
+      return std::nullopt;        // the contact goes on beyond what is known
+    }
+    if (!EstimateSaysPlanted(*previous, (*next)[side])) break;
+    previous = &(*next)[side];
+    sum += *previous;
+    ++count;
+  }
+  return sum / static_cast<float>(count);
+}
+
+Eigen::Vector3f FootskateCleaner::ApproachOffset(int side, const Eigen::Vector3f& estimate,
+                                                 const AnkleLookahead& ahead) const {
+  const Eigen::Vector3f* previous = &estimate;
+  for (int k = 0; k < options_.release_frames; ++k) {
+    const AnklePair* next = ahead.at(k);
+    if (next == nullptr) break;
+    const Eigen::Vector3f& landing = (*next)[side];
+    if (EstimateSaysPlanted(*previous, landing)) {
+      const auto mean = ContactMean(side, landing, ahead, k + 1);
+      if (!mean) break;
+      const float fraction =
+          static_cast<float>(options_.release_frames - k) / static_cast<float>(options_.release_frames + 1);
+      return fraction * (*mean - landing);
+    }
+    previous = &landing;
+  }
+  return Eigen::Vector3f::Zero();
+}
+
 std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles,
-                                              const DatabaseFrame* source_frame, BodyPose* pose,
-                                              AnkleTargets* targets) {
+                                              const DatabaseFrame* source_frame, BodyPose* pose, AnkleTargets* targets,
+                                              const AnkleLookahead& ahead) {
   std::array<bool, 2> contact{false, false};
   if (targets) *targets = {};
   const BodyLandmarks& l = body_.rig().topology.landmarks;
@@ -64,11 +107,7 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     Foot& foot = feet_[side];
     const Eigen::Vector3f& estimate = estimated_ankles[side];
     bool estimated = true;
-    if (use_estimate) {
-      const Eigen::Vector2f step(estimate.x() - foot.previous.x(), estimate.z() - foot.previous.z());
-      estimated = foot.has_previous && step.norm() * rate_ < options_.contact_speed &&
-                  estimate.y() < planted_height_ + options_.contact_height;
-    }
+    if (use_estimate) estimated = foot.has_previous && EstimateSaysPlanted(foot.previous, estimate);
     contact[side] = database[side] && estimated;
     foot.previous = estimate;
     foot.has_previous = true;
@@ -76,7 +115,12 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     body_.WorldTransforms(*pose, &rotations_, &positions_);
     const Eigen::Vector3f solved = positions_[ankle_joints[side]];
     if (contact[side]) {
-      if (!foot.planted) foot.pin = solved;
+      if (!foot.planted) {
+        foot.pin = solved;  // the posed ankle, off the estimate by the solve's miss, which the pin keeps
+        if (options_.pin_at_contact_mean && use_estimate) {
+          if (const auto mean = ContactMean(side, estimate, ahead, 0)) foot.pin += *mean - estimate;
+        }
+      }
       foot.planted = true;
       foot.release_left = 0;
       SolveLegIk(body_, ankle_joints[side], foot.pin, pose);
@@ -88,12 +132,17 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
       foot.release_offset = foot.pin - solved;
       foot.release_left = options_.release_frames;
     }
+    Eigen::Vector3f offset = Eigen::Vector3f::Zero();
     if (foot.release_left > 0) {
       const float fraction = static_cast<float>(foot.release_left) / static_cast<float>(options_.release_frames + 1);
-      const Eigen::Vector3f target = solved + fraction * foot.release_offset;
+      offset += fraction * foot.release_offset;
+      --foot.release_left;
+    }
+    if (options_.pin_at_contact_mean && use_estimate) offset += ApproachOffset(side, estimate, ahead);
+    if (!offset.isZero()) {
+      const Eigen::Vector3f target = solved + offset;
       SolveLegIk(body_, ankle_joints[side], target, pose);
       if (targets) (*targets)[side] = target;
-      --foot.release_left;
     }
   }
   return contact;

@@ -68,7 +68,9 @@ struct ReconstructionSession::Segment {
   std::optional<AnkleCandidate> start;
   std::deque<DpFrame> dp;  // fixed-lag mode: frames dp_first.. of the running DP
   int dp_first = 0;
-  FrameHistory<AnklePair> ankles;  // decided and smoothed ankle controls
+  FrameHistory<AnklePair> ankles;           // decided and smoothed ankle controls
+  std::vector<AnklePair> tentative_ankles;  // fixed lag: the same of the frames after them, not decided yet
+  bool ankles_complete = false;             // the segment ends after them
   // Every per-frame history above, so that what holds for all of them is said once (a new
   // history is one line here, and ForgetSettledFrames forgets it too).
   template <typename F>
@@ -333,7 +335,7 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
       s.raw.append(solved.ankles.begin(), solved.ankles.end());
       s.window.clear();
       statistics_.path_seconds += SecondsSince(start);
-      return DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, out);
+      return DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, false, out);
     }
     statistics_.path_seconds += SecondsSince(start);
     return absl::OkStatus();
@@ -368,11 +370,11 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
     ++s.dp_first;
   }
   statistics_.path_seconds += SecondsSince(start);
-  return DecideAnkles(decide + 1, s.raw.size() + static_cast<int>(tentative.size()), tentative, out);
+  return DecideAnkles(decide + 1, s.raw.size() + static_cast<int>(tentative.size()), tentative, false, out);
 }
 
 absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
-                                                 const std::vector<AnklePair>& tentative,
+                                                 const std::vector<AnklePair>& tentative, bool segment_ends,
                                                  std::vector<ReconstructedFrame>* out) {
   Segment& s = *segment_;
   const int radius = static_cast<int>(ankle_kernel_.size()) / 2;
@@ -384,10 +386,14 @@ absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
   std::vector<AnklePair> path(decided.begin(), decided.end());
   path.insert(path.end(), tentative.begin(), tentative.end());
   const int count = available - low;
-  for (int f = first; f < up_to_frame; ++f) {
-    s.ankles.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count));
-    MOCAP_RETURN_IF_ERROR(SolveFrame(f, out));
-  }
+  // All decided frames first, and the tentative ones after them, so that each frame's foot
+  // contact can see the contact's frames ahead (FootskateOptions::pin_at_contact_mean).
+  for (int f = first; f < up_to_frame; ++f) s.ankles.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count));
+  s.tentative_ankles.clear();
+  s.ankles_complete = segment_ends;
+  for (int f = up_to_frame; f < available; ++f)
+    s.tentative_ankles.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count));
+  for (int f = first; f < up_to_frame; ++f) MOCAP_RETURN_IF_ERROR(SolveFrame(f, out));
   return absl::OkStatus();
 }
 
@@ -457,7 +463,11 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   TrackBodyJitter(s, frame);
   d.session_log_cost = session_cost_.Add(d.solver_cost);
   frame.landmark_error = ExpectedLandmarkErrors(ConfidenceCuesOf(d));
-  if (full) d.contact = s.cleaner.Process(ankles, &db.frames()[s.raw_rows[f]], &frame.pose, &frame.ankle_targets);
+  if (full) {
+    const AnkleLookahead ahead{
+        .decided = s.ankles.Since(f + 1), .tentative = s.tentative_ankles, .complete = s.ankles_complete};
+    d.contact = s.cleaner.Process(ankles, &db.frames()[s.raw_rows[f]], &frame.pose, &frame.ankle_targets, ahead);
+  }
   s.post.push_back(std::move(frame));
   EmitFiltered(false, out);
   statistics_.post_seconds += SecondsSince(post_start);
@@ -683,7 +693,7 @@ absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* 
       }
     }
     statistics_.path_seconds += SecondsSince(start);
-    MOCAP_RETURN_IF_ERROR(DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, out));
+    MOCAP_RETURN_IF_ERROR(DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, true, out));
   }
   EmitFiltered(true, out);
   segment_.reset();

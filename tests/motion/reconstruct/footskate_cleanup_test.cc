@@ -107,5 +107,61 @@ TEST(FootskateCleanupTest, ContactsCanComeFromTheChosenDatabaseFrame) {
   }
 }
 
+TEST(FootskateCleanupTest, AContactSeenWholeIsPinnedAtTheMeanOfItsEstimateAndApproachedSmoothly) {
+  const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
+  const ReconstructionDatabase& db = *setup.database;
+  const int ankle = setup.rig.topology.landmarks.left_ankle;
+  const float ground = db.planted_ankle_height();
+  // The left estimate swings in high for 6 frames, lands at frame 6 and wanders about z = 0.03
+  // for 8 frames, slowly enough to count as planted, then lifts; the right one stays in the air.
+  const float slow = 0.3f * FootskateOptions{}.contact_speed * static_cast<float>(db.frame_time());
+  const float wander[8] = {-slow, 0, slow, 0.5f * slow, 0, -slow, 0, slow};
+  const Eigen::Vector3f right(-0.1f, 0.5f, 0);
+  std::vector<AnklePair> estimates;
+  for (int f = 0; f < 6; ++f) estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.03f - slow - 0.05f * (5 - f)), right});
+  float sum = 0;
+  for (float w : wander) {
+    estimates.push_back({Eigen::Vector3f(0.1f, ground, 0.03f + w), right});
+    sum += w;
+  }
+  for (int f = 0; f < 4; ++f) estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.1f * f), right});
+  const float mean_offset = sum / 8.0f - wander[0];  // the contact's mean from its landing estimate, along z
+
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  BodyPose free = PoseOfRow(db, 20);  // the solve puts the ankle at the same place every frame
+  db.body().WorldTransforms(free, &rotations, &positions);
+  const Eigen::Vector3f solved = positions[ankle];
+
+  for (const bool whole : {true, false}) {
+    FootskateCleaner cleaner(db.body(), ground, db.frame_time(), {});
+    std::vector<float> offsets;  // the foot's z offset from the solve, per frame
+    for (size_t f = 0; f < estimates.size(); ++f) {
+      BodyPose pose = free;
+      // Streaming sees two frames ahead, and the segment goes on; offline sees all of it.
+      const std::span<const AnklePair> rest = std::span<const AnklePair>(estimates).subspan(f + 1);
+      const AnkleLookahead ahead{.decided = whole ? rest : rest.first(std::min<size_t>(2, rest.size())),
+                                 .complete = whole};
+      const auto contact = cleaner.Process(estimates[f], nullptr, &pose, nullptr, ahead);
+      EXPECT_EQ(contact[0], f >= 6 && f < 14) << f;
+      db.body().WorldTransforms(pose, &rotations, &positions);
+      offsets.push_back(positions[ankle].z() - solved.z());
+    }
+    for (size_t f = 6; f < 14; ++f) {  // pinned: the mean when the whole contact is seen, else where it began
+      EXPECT_NEAR(offsets[f], whole ? mean_offset : 0.0f, 1e-4f) << f << (whole ? " whole" : " streaming");
+    }
+    if (whole) {
+      // The pin's offset eases in over the release frames before the landing, growing each frame.
+      EXPECT_NEAR(offsets[1], 0.0f, 1e-6f);
+      for (int f = 2; f < 6; ++f) {
+        EXPECT_GT(std::abs(offsets[f]), std::abs(offsets[f - 1])) << f;
+        EXPECT_LT(std::abs(offsets[f]), std::abs(mean_offset)) << f;
+      }
+    } else {
+      for (size_t f = 0; f < 6; ++f) EXPECT_NEAR(offsets[f], 0.0f, 1e-6f) << f;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace mocap
