@@ -70,6 +70,9 @@ std::optional<Eigen::Vector3f> FootskateCleaner::ContactMean(int side, const Eig
     sum += *previous;
     ++count;
   }
+  // A short contact is pinned where it began: eased in and out over a few frames each, a pin
+  // moved to its mean is a bump in the leg's path.
+  if (static_cast<float>(count) < options_.mean_pin_min_seconds * rate_) return std::nullopt;
   return sum / static_cast<float>(count);
 }
 

@@ -1,5 +1,8 @@
 #include "motion/reconstruct/footskate_cleanup.h"
 
+#include <cmath>
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "tests/support/synthetic_database.h"
@@ -112,53 +115,61 @@ TEST(FootskateCleanupTest, AContactSeenWholeIsPinnedAtTheMeanOfItsEstimateAndApp
   const ReconstructionDatabase& db = *setup.database;
   const int ankle = setup.rig.topology.landmarks.left_ankle;
   const float ground = db.planted_ankle_height();
-  // The left estimate swings in high for 6 frames, lands at frame 6 and wanders about z = 0.03
-  // for 8 frames, slowly enough to count as planted, then lifts; the right one stays in the air.
-  const float slow = 0.3f * FootskateOptions{}.contact_speed * static_cast<float>(db.frame_time());
+  const FootskateOptions options;
+  const float slow = 0.3f * options.contact_speed * static_cast<float>(db.frame_time());
   const float wander[8] = {-slow, 0, slow, 0.5f * slow, 0, -slow, 0, slow};
-  const Eigen::Vector3f right(-0.1f, 0.5f, 0);
-  std::vector<AnklePair> estimates;
-  for (int f = 0; f < 6; ++f) estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.03f - slow - 0.05f * (5 - f)), right});
-  float sum = 0;
-  for (float w : wander) {
-    estimates.push_back({Eigen::Vector3f(0.1f, ground, 0.03f + w), right});
-    sum += w;
-  }
-  for (int f = 0; f < 4; ++f) estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.1f * f), right});
-  const float mean_offset = sum / 8.0f - wander[0];  // the contact's mean from its landing estimate, along z
-
+  const Eigen::Vector3f right(-0.1f, 0.5f, 0);  // the right estimate stays in the air
   std::vector<Eigen::Quaternionf> rotations;
   std::vector<Eigen::Vector3f> positions;
-  BodyPose free = PoseOfRow(db, 20);  // the solve puts the ankle at the same place every frame
+  const BodyPose free = PoseOfRow(db, 20);  // the solve puts the ankle at the same place every frame
   db.body().WorldTransforms(free, &rotations, &positions);
   const Eigen::Vector3f solved = positions[ankle];
+  const int long_contact = static_cast<int>(std::ceil(options.mean_pin_min_seconds / db.frame_time())) + 2;
 
-  for (const bool whole : {true, false}) {
-    FootskateCleaner cleaner(db.body(), ground, db.frame_time(), {});
-    std::vector<float> offsets;  // the foot's z offset from the solve, per frame
-    for (size_t f = 0; f < estimates.size(); ++f) {
-      BodyPose pose = free;
-      // Streaming sees two frames ahead, and the segment goes on; offline sees all of it.
-      const std::span<const AnklePair> rest = std::span<const AnklePair>(estimates).subspan(f + 1);
-      const AnkleLookahead ahead{.decided = whole ? rest : rest.first(std::min<size_t>(2, rest.size())),
-                                 .complete = whole};
-      const auto contact = cleaner.Process(estimates[f], nullptr, &pose, nullptr, ahead);
-      EXPECT_EQ(contact[0], f >= 6 && f < 14) << f;
-      db.body().WorldTransforms(pose, &rotations, &positions);
-      offsets.push_back(positions[ankle].z() - solved.z());
+  for (const int frames : {long_contact, 6}) {
+    // The left estimate swings in high for 6 frames, lands at frame 6 and wanders about z = 0.03
+    // for `frames` frames, slowly enough to count as planted, then lifts.
+    std::vector<AnklePair> estimates;
+    for (int f = 0; f < 6; ++f)
+      estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.03f - slow - 0.05f * (5 - f)), right});
+    float sum = 0;
+    for (int f = 0; f < frames; ++f) {
+      estimates.push_back({Eigen::Vector3f(0.1f, ground, 0.03f + wander[f % 8]), right});
+      sum += wander[f % 8];
     }
-    for (size_t f = 6; f < 14; ++f) {  // pinned: the mean when the whole contact is seen, else where it began
-      EXPECT_NEAR(offsets[f], whole ? mean_offset : 0.0f, 1e-4f) << f << (whole ? " whole" : " streaming");
-    }
-    if (whole) {
-      // The pin's offset eases in over the release frames before the landing, growing each frame.
-      EXPECT_NEAR(offsets[1], 0.0f, 1e-6f);
-      for (int f = 2; f < 6; ++f) {
-        EXPECT_GT(std::abs(offsets[f]), std::abs(offsets[f - 1])) << f;
-        EXPECT_LT(std::abs(offsets[f]), std::abs(mean_offset)) << f;
+    for (int f = 0; f < 4; ++f) estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.1f * f), right});
+    const float mean_offset = sum / static_cast<float>(frames) - wander[0];  // from the landing estimate, along z
+    ASSERT_GT(std::abs(mean_offset), 0.1f * slow);
+
+    for (const bool whole : {true, false}) {
+      FootskateCleaner cleaner(db.body(), ground, db.frame_time(), options);
+      std::vector<float> offsets;  // the foot's z offset from the solve, per frame
+      for (size_t f = 0; f < estimates.size(); ++f) {
+        BodyPose pose = free;
+        // Streaming sees two frames ahead, and the segment goes on; offline sees all of it.
+        const std::span<const AnklePair> rest = std::span<const AnklePair>(estimates).subspan(f + 1);
+        const AnkleLookahead ahead{.decided = whole ? rest : rest.first(std::min<size_t>(2, rest.size())),
+                                   .complete = whole};
+        const auto contact = cleaner.Process(estimates[f], nullptr, &pose, nullptr, ahead);
+        EXPECT_EQ(contact[0], f >= 6 && f < 6 + static_cast<size_t>(frames)) << f;
+        db.body().WorldTransforms(pose, &rotations, &positions);
+        offsets.push_back(positions[ankle].z() - solved.z());
       }
-    } else {
-      for (size_t f = 0; f < 6; ++f) EXPECT_NEAR(offsets[f], 0.0f, 1e-6f) << f;
+      // Pinned at the mean when the whole contact is seen and it is long enough, else where it began.
+      const bool at_mean = whole && frames == long_contact;
+      const std::string what = (whole ? "offline, " : "streaming, ") + std::to_string(frames) + " frames";
+      for (int f = 6; f < 6 + frames; ++f)
+        EXPECT_NEAR(offsets[f], at_mean ? mean_offset : 0.0f, 1e-4f) << f << " " << what;
+      if (at_mean) {
+        // The pin's offset eases in over the release frames before the landing, growing each frame.
+        EXPECT_NEAR(offsets[1], 0.0f, 1e-6f);
+        for (int f = 2; f < 6; ++f) {
+          EXPECT_GT(std::abs(offsets[f]), std::abs(offsets[f - 1])) << f;
+          EXPECT_LT(std::abs(offsets[f]), std::abs(mean_offset)) << f;
+        }
+      } else {
+        for (int f = 0; f < 6; ++f) EXPECT_NEAR(offsets[f], 0.0f, 1e-6f) << f << " " << what;
+      }
     }
   }
 }
