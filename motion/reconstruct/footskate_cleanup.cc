@@ -49,55 +49,58 @@ std::array<bool, 2> PlantedFeet(const DatabaseFrame& frame, float planted_ankle_
   return planted;
 }
 
-bool FootskateCleaner::EstimateSaysPlanted(const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate) const {
-  const Eigen::Vector2f step(estimate.x() - previous.x(), estimate.z() - previous.z());
-  return step.norm() * rate_ < options_.contact_speed && estimate.y() < planted_height_ + options_.contact_height;
-}
-
-std::optional<Eigen::Vector3f> FootskateCleaner::ContactMean(int side, const Eigen::Vector3f& landing,
-                                                             const AnkleLookahead& ahead, size_t from) const {
-  Eigen::Vector3f sum = landing;
-  int count = 1;
-  const Eigen::Vector3f* previous = &landing;
-  for (size_t k = from;; ++k) {
-    const AnklePair* next = ahead.at(k);
-    if (next == nullptr) {
-      if (ahead.complete) break;  // the contact lasts to the segment's end
-      return std::nullopt;        // the contact goes on beyond what is known
+void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const std::array<Eigen::Vector3f, 2>* before,
+                        bool segment_ends, float planted_ankle_height, double frame_time,
+                        const FootskateOptions& options) {
+  const int n = static_cast<int>(ankles.size());
+  const float rate = static_cast<float>(1.0 / frame_time);
+  const float ceiling = planted_ankle_height + options.contact_height;
+  const int ease = options.release_frames;
+  const float min_frames = options.plant_min_seconds * rate;
+  if (options.plant_min_seconds <= 0 || n == 0) return;
+  auto planted = [&](const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate) {
+    const Eigen::Vector2f step(estimate.x() - previous.x(), estimate.z() - previous.z());
+    return step.norm() * rate < options.contact_speed && estimate.y() < ceiling;
+  };
+  for (int side = 0; side < 2; ++side) {
+    auto contact_at = [&](int f) {
+      if (f > 0) return planted(ankles[f - 1][side], ankles[f][side]);
+      return before != nullptr && planted((*before)[side], ankles[0][side]);
+    };
+    // The contacts first, from the unchanged estimates, then their offsets.
+    std::vector<std::pair<int, int>> contacts;  // [begin, end) frames
+    for (int f = 0; f < n;) {
+      if (!contact_at(f)) {
+        ++f;
+        continue;
+      }
+      const int begin = f;
+      while (f < n && contact_at(f)) ++f;
+      contacts.emplace_back(begin, f);
     }
-    if (!EstimateSaysPlanted(*previous, (*next)[side])) break;
-    previous = &(*next)[side];
-    sum += *previous;
-    ++count;
-  }
-  // A short contact is pinned where it began: eased in and out over a few frames each, a pin
-  // moved to its mean is a bump in the leg's path.
-  if (static_cast<float>(count) < options_.mean_pin_min_seconds * rate_) return std::nullopt;
-  return sum / static_cast<float>(count);
-}
-
-Eigen::Vector3f FootskateCleaner::ApproachOffset(int side, const Eigen::Vector3f& estimate,
-                                                 const AnkleLookahead& ahead) const {
-  const Eigen::Vector3f* previous = &estimate;
-  for (int k = 0; k < options_.release_frames; ++k) {
-    const AnklePair* next = ahead.at(k);
-    if (next == nullptr) break;
-    const Eigen::Vector3f& landing = (*next)[side];
-    if (EstimateSaysPlanted(*previous, landing)) {
-      const auto mean = ContactMean(side, landing, ahead, k + 1);
-      if (!mean) break;
-      const float fraction =
-          static_cast<float>(options_.release_frames - k) / static_cast<float>(options_.release_frames + 1);
-      return fraction * (*mean - landing);
+    std::vector<Eigen::Vector3f> offset(n, Eigen::Vector3f::Zero());
+    for (const auto& [begin, end] : contacts) {
+      const bool began_inside = begin > 0 || before == nullptr;
+      const bool eased_inside = (begin >= ease || before == nullptr) && (end + ease <= n || segment_ends);
+      if (!began_inside || (end == n && !segment_ends) || !eased_inside) continue;
+      if (static_cast<float>(end - begin) < min_frames) continue;
+      Eigen::Vector3f mean = Eigen::Vector3f::Zero();
+      for (int f = begin; f < end; ++f) mean += ankles[f][side];
+      mean /= static_cast<float>(end - begin);
+      for (int f = begin; f < end; ++f) offset[f] = mean - ankles[f][side];
+      for (int k = 1; k <= ease; ++k) {  // linear ease, as the cleanup's release
+        const float fraction = static_cast<float>(ease + 1 - k) / static_cast<float>(ease + 1);
+        if (begin - k >= 0) offset[begin - k] += fraction * offset[begin];
+        if (end - 1 + k < n) offset[end - 1 + k] += fraction * offset[end - 1];
+      }
     }
-    previous = &landing;
+    for (int f = 0; f < n; ++f) ankles[f][side] += offset[f];
   }
-  return Eigen::Vector3f::Zero();
 }
 
 std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles,
-                                              const DatabaseFrame* source_frame, BodyPose* pose, AnkleTargets* targets,
-                                              const AnkleLookahead& ahead) {
+                                              const DatabaseFrame* source_frame, BodyPose* pose,
+                                              AnkleTargets* targets) {
   std::array<bool, 2> contact{false, false};
   if (targets) *targets = {};
   const BodyLandmarks& l = body_.rig().topology.landmarks;
@@ -110,7 +113,11 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     Foot& foot = feet_[side];
     const Eigen::Vector3f& estimate = estimated_ankles[side];
     bool estimated = true;
-    if (use_estimate) estimated = foot.has_previous && EstimateSaysPlanted(foot.previous, estimate);
+    if (use_estimate) {
+      const Eigen::Vector2f step(estimate.x() - foot.previous.x(), estimate.z() - foot.previous.z());
+      estimated = foot.has_previous && step.norm() * rate_ < options_.contact_speed &&
+                  estimate.y() < planted_height_ + options_.contact_height;
+    }
     contact[side] = database[side] && estimated;
     foot.previous = estimate;
     foot.has_previous = true;
@@ -118,12 +125,7 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     body_.WorldTransforms(*pose, &rotations_, &positions_);
     const Eigen::Vector3f solved = positions_[ankle_joints[side]];
     if (contact[side]) {
-      if (!foot.planted) {
-        foot.pin = solved;  // the posed ankle, off the estimate by the solve's miss, which the pin keeps
-        if (options_.pin_at_contact_mean && use_estimate) {
-          if (const auto mean = ContactMean(side, estimate, ahead, 0)) foot.pin += *mean - estimate;
-        }
-      }
+      if (!foot.planted) foot.pin = solved;
       foot.planted = true;
       foot.release_left = 0;
       SolveLegIk(body_, ankle_joints[side], foot.pin, pose);
@@ -135,17 +137,12 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
       foot.release_offset = foot.pin - solved;
       foot.release_left = options_.release_frames;
     }
-    Eigen::Vector3f offset = Eigen::Vector3f::Zero();
     if (foot.release_left > 0) {
       const float fraction = static_cast<float>(foot.release_left) / static_cast<float>(options_.release_frames + 1);
-      offset += fraction * foot.release_offset;
-      --foot.release_left;
-    }
-    if (options_.pin_at_contact_mean && use_estimate) offset += ApproachOffset(side, estimate, ahead);
-    if (!offset.isZero()) {
-      const Eigen::Vector3f target = solved + offset;
+      const Eigen::Vector3f target = solved + fraction * foot.release_offset;
       SolveLegIk(body_, ankle_joints[side], target, pose);
       if (targets) (*targets)[side] = target;
+      --foot.release_left;
     }
   }
   return contact;

@@ -15,7 +15,6 @@
 
 #include <Eigen/Core>
 
-#include "motion/reconstruct/ankle_path.h"
 #include "motion/reconstruct/body_model.h"
 #include "motion/reconstruct/database_frame.h"
 
@@ -35,33 +34,23 @@ struct FootskateOptions {
   float contact_speed = 0.30f;   // m/s, ground-plane ankle speed
   float contact_height = 0.06f;  // m above the planted ankle height
   int release_frames = 4;
-  // Where a contact pins its foot: at the mean of the ankle estimate over the whole contact, when
-  // the frames after it show where the contact ends (always offline; when streaming, a contact
-  // short enough for the lag's look-ahead), rather than where the contact began. The estimate
-  // wanders about the planted place from frame to frame (a new candidate of the ankle cloud each
-  // frame), so its first frame is one noisy sample of it (standard split, whole clip: MPJPE 2.174
-  // → 2.065 cm). The foot eases towards that pin over the `release_frames` frames before the
-  // contact, while it still swings, so that it does not jump there when it lands. False: where
-  // the contact began.
-  bool pin_at_contact_mean = true;
-  // Only for contacts at least this long: a shorter one's pin, eased in and out, is a bump in the
-  // leg's path (0 s: 2.048 cm but joint jitter 1.41 → 1.48 × the capture's, and the jerk after a
-  // 2 s dropout 1.97 → 2.16 ×; 0.5 s: 1.42 and 2.01).
-  float mean_pin_min_seconds = 0.5f;
+  // PlantAnkleContacts: contacts at least this long are planted at their mean (0 = none).
+  float plant_min_seconds = 0.5f;
 };
 
-// The ankle estimates of the frames after the one being cleaned, as far as they are known: the
-// decided ones, then the tentative continuation (fixed lag).
-struct AnkleLookahead {
-  std::span<const AnklePair> decided, tentative;
-  bool complete = false;  // no frame follows them: the segment ends
-  // The k-th frame after the one being cleaned; nullptr beyond what is known.
-  const AnklePair* at(size_t k) const {
-    if (k < decided.size()) return &decided[k];
-    k -= decided.size();
-    return k < tentative.size() ? &tentative[k] : nullptr;
-  }
-};
+// The planted feet of a stretch of A4 ankle estimates (docs/method.md A7, "planted at the mean"):
+// the estimate wanders about where a planted foot stands, from frame to frame (each frame's
+// ankles are another candidate of the cloud), so each of its frames is one noisy sample of that
+// place. Every contact (the cleanup's rule: a ground-plane step slower than `contact_speed`, at
+// most `contact_height` above the planted height) whose whole length the stretch shows and that
+// lasts `plant_min_seconds` or more is set to its mean, eased in over the `release_frames` frames
+// before it and out over those after it. Contacts the stretch does not show whole are left as
+// they are: one that began before it (`before` is the estimate of the frame before, nullptr at a
+// segment's start), or that goes on past its end unless `segment_ends`, or whose easing would
+// reach outside it.
+void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const std::array<Eigen::Vector3f, 2>* before,
+                        bool segment_ends, float planted_ankle_height, double frame_time,
+                        const FootskateOptions& options);
 
 // Moves `pose` so that the ankle (the leg's end joint) reaches `target`: analytic two-bone IK on
 // the ankle's parent (knee) and grandparent (hip). Out-of-reach targets stretch the leg straight
@@ -84,9 +73,8 @@ class FootskateCleaner {
   // the A4 path chose (nullptr: contacts from the estimate whatever the option). Adjusts `pose`;
   // returns the contact flags [left, right]; `targets` (optional) gets the IK targets, so that a
   // later joint-space filter can re-impose them.
-  // `ahead`: the estimates of the frames after this one (FootskateOptions::pin_at_contact_mean).
   std::array<bool, 2> Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles, const DatabaseFrame* source_frame,
-                              BodyPose* pose, AnkleTargets* targets = nullptr, const AnkleLookahead& ahead = {});
+                              BodyPose* pose, AnkleTargets* targets = nullptr);
   void Reset();
 
  private:
@@ -102,16 +90,6 @@ class FootskateCleaner {
   float planted_height_;
   float rate_;
   FootskateOptions options_;
-  // The mean of one foot's estimate over the contact that begins at `landing` (that frame and
-  // those of `ahead` from `from` on that continue it); none when `ahead` ends before the contact.
-  std::optional<Eigen::Vector3f> ContactMean(int side, const Eigen::Vector3f& landing, const AnkleLookahead& ahead,
-                                             size_t from) const;
-  // The offset of the pin from the landing estimate (FootskateOptions::pin_at_contact_mean) of a
-  // contact the look-ahead shows beginning within `release_frames`, eased in by how near it is.
-  Eigen::Vector3f ApproachOffset(int side, const Eigen::Vector3f& estimate, const AnkleLookahead& ahead) const;
-  // The estimate rule of a contact: a ground-plane step slower than contact_speed, low enough.
-  bool EstimateSaysPlanted(const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate) const;
-
   std::array<Foot, 2> feet_;
   std::vector<Eigen::Quaternionf> rotations_;
   std::vector<Eigen::Vector3f> positions_;

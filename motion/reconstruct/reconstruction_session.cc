@@ -68,9 +68,8 @@ struct ReconstructionSession::Segment {
   std::optional<AnkleCandidate> start;
   std::deque<DpFrame> dp;  // fixed-lag mode: frames dp_first.. of the running DP
   int dp_first = 0;
-  FrameHistory<AnklePair> ankles;           // decided and smoothed ankle controls
-  std::vector<AnklePair> tentative_ankles;  // fixed lag: the same of the frames after them, not decided yet
-  bool ankles_complete = false;             // the segment ends after them
+  FrameHistory<AnklePair> ankles;      // decided and smoothed ankle controls
+  std::vector<AnklePair> ankle_batch;  // DecideAnkles's frames, before they join `ankles`
   // Every per-frame history above, so that what holds for all of them is said once (a new
   // history is one line here, and ForgetSettledFrames forgets it too).
   template <typename F>
@@ -386,13 +385,14 @@ absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
   std::vector<AnklePair> path(decided.begin(), decided.end());
   path.insert(path.end(), tentative.begin(), tentative.end());
   const int count = available - low;
-  // All decided frames first, and the tentative ones after them, so that each frame's foot
-  // contact can see the contact's frames ahead (FootskateOptions::pin_at_contact_mean).
-  for (int f = first; f < up_to_frame; ++f) s.ankles.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count));
-  s.tentative_ankles.clear();
-  s.ankles_complete = segment_ends;
-  for (int f = up_to_frame; f < available; ++f)
-    s.tentative_ankles.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count));
+  std::vector<AnklePair>& batch = s.ankle_batch;  // frames first.. up_to_frame
+  batch.clear();
+  for (int f = first; f < up_to_frame; ++f) batch.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count));
+  // Offline, or a window's worth at a time: planted feet at their contacts' means (A7).
+  const AnklePair* before = first > 0 ? &s.ankles[first - 1] : nullptr;
+  PlantAnkleContacts(batch, before, segment_ends, database_->planted_ankle_height(), database_->frame_time(),
+                     options_.footskate);
+  s.ankles.append(batch.begin(), batch.end());
   for (int f = first; f < up_to_frame; ++f) MOCAP_RETURN_IF_ERROR(SolveFrame(f, out));
   return absl::OkStatus();
 }
@@ -463,11 +463,7 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   TrackBodyJitter(s, frame);
   d.session_log_cost = session_cost_.Add(d.solver_cost);
   frame.landmark_error = ExpectedLandmarkErrors(ConfidenceCuesOf(d));
-  if (full) {
-    const AnkleLookahead ahead{
-        .decided = s.ankles.Since(f + 1), .tentative = s.tentative_ankles, .complete = s.ankles_complete};
-    d.contact = s.cleaner.Process(ankles, &db.frames()[s.raw_rows[f]], &frame.pose, &frame.ankle_targets, ahead);
-  }
+  if (full) d.contact = s.cleaner.Process(ankles, &db.frames()[s.raw_rows[f]], &frame.pose, &frame.ankle_targets);
   s.post.push_back(std::move(frame));
   EmitFiltered(false, out);
   statistics_.post_seconds += SecondsSince(post_start);

@@ -144,8 +144,9 @@ class ReconstructionSession {
   // A2 and onwards for the segment's next frame whose input has arrived.
   absl::Status ProcessFrame(std::vector<ReconstructedFrame>* out);
   absl::Status EndSegment(std::vector<ReconstructedFrame>* out);
-  // Smooths the decided ankle path up to `up_to_frame` (and the tentative continuation up to
-  // `available`) and solves those frames; `segment_ends`: no frame follows `available`.
+  // Smooths the decided ankle path up to `up_to_frame` (the tentative continuation up to
+  // `available` taken into the filter), plants its feet (PlantAnkleContacts) and solves those
+  // frames; `segment_ends`: no frame follows.
   absl::Status DecideAnkles(int up_to_frame, int available, const std::vector<AnklePair>& tentative, bool segment_ends,
                             std::vector<ReconstructedFrame>* out);
   absl::Status SolveFrame(int frame, std::vector<ReconstructedFrame>* out);

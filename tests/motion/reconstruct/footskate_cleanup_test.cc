@@ -1,7 +1,7 @@
 #include "motion/reconstruct/footskate_cleanup.h"
 
 #include <cmath>
-#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -110,68 +110,84 @@ TEST(FootskateCleanupTest, ContactsCanComeFromTheChosenDatabaseFrame) {
   }
 }
 
-TEST(FootskateCleanupTest, AContactSeenWholeIsPinnedAtTheMeanOfItsEstimateAndApproachedSmoothly) {
+// The left estimate swings in high for 6 frames, stands `contact` frames wandering about z = 0.03
+// slowly enough to count as planted, then swings off for `after` frames; the right one stays in
+// the air throughout.
+std::vector<AnklePair> StepEstimates(const ReconstructionDatabase& db, int contact, int after, float* mean_z) {
+  const float slow = 0.3f * FootskateOptions{}.contact_speed * static_cast<float>(db.frame_time());
+  const float wander[8] = {-slow, 0.5f * slow, slow, 0.25f * slow, -0.5f * slow, -slow, 0.75f * slow, 0.1f * slow};
+  const Eigen::Vector3f right(-0.1f, 0.5f, 0);
+  std::vector<AnklePair> estimates;
+  // (the last swing frame right above the landing, so that the landing's step counts as planted)
+  for (int f = 0; f < 6; ++f) estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.03f - slow - 0.05f * (5 - f)), right});
+  float sum = 0;
+  for (int f = 0; f < contact; ++f) {
+    estimates.push_back({Eigen::Vector3f(0.1f, db.planted_ankle_height(), 0.03f + wander[f % 8]), right});
+    sum += estimates.back()[0].z();
+  }
+  for (int f = 0; f < after; ++f) estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.1f + 0.05f * f), right});
+  *mean_z = sum / static_cast<float>(contact);
+  return estimates;
+}
+
+TEST(FootskateCleanupTest, AWholeContactIsPlantedAtItsMeanAndEasedInAndOut) {
   const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
   const ReconstructionDatabase& db = *setup.database;
-  const int ankle = setup.rig.topology.landmarks.left_ankle;
-  const float ground = db.planted_ankle_height();
   const FootskateOptions options;
-  const float slow = 0.3f * options.contact_speed * static_cast<float>(db.frame_time());
-  const float wander[8] = {-slow, 0, slow, 0.5f * slow, 0, -slow, 0, slow};
-  const Eigen::Vector3f right(-0.1f, 0.5f, 0);  // the right estimate stays in the air
-  std::vector<Eigen::Quaternionf> rotations;
-  std::vector<Eigen::Vector3f> positions;
-  const BodyPose free = PoseOfRow(db, 20);  // the solve puts the ankle at the same place every frame
-  db.body().WorldTransforms(free, &rotations, &positions);
-  const Eigen::Vector3f solved = positions[ankle];
-  const int long_contact = static_cast<int>(std::ceil(options.mean_pin_min_seconds / db.frame_time())) + 2;
-
-  for (const int frames : {long_contact, 6}) {
-    // The left estimate swings in high for 6 frames, lands at frame 6 and wanders about z = 0.03
-    // for `frames` frames, slowly enough to count as planted, then lifts.
-    std::vector<AnklePair> estimates;
-    for (int f = 0; f < 6; ++f)
-      estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.03f - slow - 0.05f * (5 - f)), right});
-    float sum = 0;
-    for (int f = 0; f < frames; ++f) {
-      estimates.push_back({Eigen::Vector3f(0.1f, ground, 0.03f + wander[f % 8]), right});
-      sum += wander[f % 8];
-    }
-    for (int f = 0; f < 4; ++f) estimates.push_back({Eigen::Vector3f(0.1f, 0.3f, 0.1f * f), right});
-    const float mean_offset = sum / static_cast<float>(frames) - wander[0];  // from the landing estimate, along z
-    ASSERT_GT(std::abs(mean_offset), 0.1f * slow);
-
-    for (const bool whole : {true, false}) {
-      FootskateCleaner cleaner(db.body(), ground, db.frame_time(), options);
-      std::vector<float> offsets;  // the foot's z offset from the solve, per frame
-      for (size_t f = 0; f < estimates.size(); ++f) {
-        BodyPose pose = free;
-        // Streaming sees two frames ahead, and the segment goes on; offline sees all of it.
-        const std::span<const AnklePair> rest = std::span<const AnklePair>(estimates).subspan(f + 1);
-        const AnkleLookahead ahead{.decided = whole ? rest : rest.first(std::min<size_t>(2, rest.size())),
-                                   .complete = whole};
-        const auto contact = cleaner.Process(estimates[f], nullptr, &pose, nullptr, ahead);
-        EXPECT_EQ(contact[0], f >= 6 && f < 6 + static_cast<size_t>(frames)) << f;
-        db.body().WorldTransforms(pose, &rotations, &positions);
-        offsets.push_back(positions[ankle].z() - solved.z());
-      }
-      // Pinned at the mean when the whole contact is seen and it is long enough, else where it began.
-      const bool at_mean = whole && frames == long_contact;
-      const std::string what = (whole ? "offline, " : "streaming, ") + std::to_string(frames) + " frames";
-      for (int f = 6; f < 6 + frames; ++f)
-        EXPECT_NEAR(offsets[f], at_mean ? mean_offset : 0.0f, 1e-4f) << f << " " << what;
-      if (at_mean) {
-        // The pin's offset eases in over the release frames before the landing, growing each frame.
-        EXPECT_NEAR(offsets[1], 0.0f, 1e-6f);
-        for (int f = 2; f < 6; ++f) {
-          EXPECT_GT(std::abs(offsets[f]), std::abs(offsets[f - 1])) << f;
-          EXPECT_LT(std::abs(offsets[f]), std::abs(mean_offset)) << f;
-        }
-      } else {
-        for (int f = 0; f < 6; ++f) EXPECT_NEAR(offsets[f], 0.0f, 1e-6f) << f << " " << what;
-      }
-    }
+  const int contact = static_cast<int>(std::ceil(options.plant_min_seconds / db.frame_time())) + 3;
+  float mean_z = 0;
+  const std::vector<AnklePair> estimates = StepEstimates(db, contact, 6, &mean_z);
+  std::vector<AnklePair> planted = estimates;
+  PlantAnkleContacts(planted, nullptr, false, db.planted_ankle_height(), db.frame_time(), options);
+  for (int f = 6; f < 6 + contact; ++f) {
+    EXPECT_NEAR(planted[f][0].z(), mean_z, 1e-6f) << f;
+    EXPECT_NEAR(planted[f][0].y(), db.planted_ankle_height(), 1e-6f) << f;
   }
+  // Eased: the offset towards the mean shrinks frame by frame away from the contact, to none.
+  const float landing = planted[6][0].z() - estimates[6][0].z(),
+              lift = planted[5 + contact][0].z() - estimates[5 + contact][0].z();
+  ASSERT_GT(std::abs(landing), 1e-4f);
+  ASSERT_GT(std::abs(lift), 1e-4f);
+  for (int k = 1; k <= options.release_frames; ++k) {
+    const float fraction =
+        static_cast<float>(options.release_frames + 1 - k) / static_cast<float>(options.release_frames + 1);
+    EXPECT_NEAR(planted[6 - k][0].z() - estimates[6 - k][0].z(), fraction * landing, 1e-6f) << k;
+    EXPECT_NEAR(planted[5 + contact + k][0].z() - estimates[5 + contact + k][0].z(), fraction * lift, 1e-6f) << k;
+  }
+  EXPECT_EQ(planted[0][0], estimates[0][0]);
+  for (size_t f = 0; f < estimates.size(); ++f) EXPECT_EQ(planted[f][1], estimates[f][1]) << f;  // in the air
+}
+
+TEST(FootskateCleanupTest, ContactsNotSeenWholeOrShortAreLeftAsTheyAre) {
+  const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
+  const ReconstructionDatabase& db = *setup.database;
+  const FootskateOptions options;
+  const int contact = static_cast<int>(std::ceil(options.plant_min_seconds / db.frame_time())) + 3;
+  auto plant = [&](std::vector<AnklePair> ankles, const AnklePair* before, bool segment_ends) {
+    PlantAnkleContacts(ankles, before, segment_ends, db.planted_ankle_height(), db.frame_time(), options);
+    return ankles;
+  };
+  float mean_z = 0;
+  // Too short.
+  const std::vector<AnklePair> brief = StepEstimates(db, 4, 6, &mean_z);
+  EXPECT_EQ(plant(brief, nullptr, true), brief);
+  // Going on past the stretch: left unless the segment ends there.
+  const std::vector<AnklePair> standing = StepEstimates(db, contact, 0, &mean_z);
+  EXPECT_EQ(plant(standing, nullptr, false), standing);
+  EXPECT_NEAR(plant(standing, nullptr, true).back()[0].z(), mean_z, 1e-6f);
+  // Begun before the stretch (the frame before it stands there too).
+  const std::vector<AnklePair> landed = StepEstimates(db, contact, 6, &mean_z);
+  const std::vector<AnklePair> rest(landed.begin() + 6, landed.end());
+  EXPECT_EQ(plant(rest, &landed[5], true),
+            rest);  // frame 5 swings: the contact begins inside, but its ease would not fit
+  const AnklePair standing_before = {rest.front()[0], rest.front()[1]};
+  EXPECT_EQ(plant(rest, &standing_before, true), rest);
+  // Off: nothing planted.
+  FootskateOptions off = options;
+  off.plant_min_seconds = 0;
+  std::vector<AnklePair> unchanged = landed;
+  PlantAnkleContacts(unchanged, nullptr, true, db.planted_ankle_height(), db.frame_time(), off);
+  EXPECT_EQ(unchanged, landed);
 }
 
 }  // namespace
