@@ -57,7 +57,8 @@ void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const 
   const float ceiling = planted_ankle_height + options.contact_height;
   const int ease = options.release_frames;
   const float min_frames = options.plant_min_seconds * rate;
-  if (options.plant_min_seconds <= 0 || n == 0) return;
+  // A contact must fit whole: a fixed lag's one frame at a time returns here, allocating nothing.
+  if (options.plant_min_seconds <= 0 || n == 0 || static_cast<float>(n) < min_frames) return;
   auto planted = [&](const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate) {
     const Eigen::Vector2f step(estimate.x() - previous.x(), estimate.z() - previous.z());
     return step.norm() * rate < options.contact_speed && estimate.y() < ceiling;
