@@ -49,19 +49,29 @@ std::array<bool, 2> PlantedFeet(const DatabaseFrame& frame, float planted_ankle_
   return planted;
 }
 
+namespace {
+
+// The cleanup's rule for a contact by the estimate: a ground-plane step slower than
+// `contact_speed` into `estimate`, at most `contact_height` above the planted ankle height.
+bool EstimateSaysPlanted(const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate, float planted_ankle_height,
+                         float rate, const FootskateOptions& options) {
+  const Eigen::Vector2f step(estimate.x() - previous.x(), estimate.z() - previous.z());
+  return step.norm() * rate < options.contact_speed && estimate.y() < planted_ankle_height + options.contact_height;
+}
+
+}  // namespace
+
 void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const std::array<Eigen::Vector3f, 2>* before,
                         bool segment_ends, float planted_ankle_height, double frame_time,
                         const FootskateOptions& options) {
   const int n = static_cast<int>(ankles.size());
   const float rate = static_cast<float>(1.0 / frame_time);
-  const float ceiling = planted_ankle_height + options.contact_height;
   const int ease = options.release_frames;
   const float min_frames = options.plant_min_seconds * rate;
   // A contact must fit whole: a fixed lag's one frame at a time returns here, allocating nothing.
   if (options.plant_min_seconds <= 0 || n == 0 || static_cast<float>(n) < min_frames) return;
   auto planted = [&](const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate) {
-    const Eigen::Vector2f step(estimate.x() - previous.x(), estimate.z() - previous.z());
-    return step.norm() * rate < options.contact_speed && estimate.y() < ceiling;
+    return EstimateSaysPlanted(previous, estimate, planted_ankle_height, rate, options);
   };
   for (int side = 0; side < 2; ++side) {
     auto contact_at = [&](int f) {
@@ -115,9 +125,7 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     const Eigen::Vector3f& estimate = estimated_ankles[side];
     bool estimated = true;
     if (use_estimate) {
-      const Eigen::Vector2f step(estimate.x() - foot.previous.x(), estimate.z() - foot.previous.z());
-      estimated = foot.has_previous && step.norm() * rate_ < options_.contact_speed &&
-                  estimate.y() < planted_height_ + options_.contact_height;
+      estimated = foot.has_previous && EstimateSaysPlanted(foot.previous, estimate, planted_height_, rate_, options_);
     }
     contact[side] = database[side] && estimated;
     foot.previous = estimate;

@@ -33,11 +33,8 @@ class FrameHistory {
   T& operator[](int frame) { return items_[Slot(frame)]; }
   const T& back() const { return items_.back(); }
 
-  // Frames [from, size()) as one contiguous span (first() ≤ from ≤ size(); empty at size()).
-  std::span<const T> Since(int from) const {
-    assert(from >= first_ && from <= size());
-    return std::span<const T>(items_).subspan(static_cast<size_t>(from - first_ + dropped_));
-  }
+  // Frames [from, size()) as one contiguous span (from ≥ first()).
+  std::span<const T> Since(int from) const { return std::span<const T>(items_).subspan(Slot(from)); }
 
   // Frames before `frame` will not be read again.
   void ForgetBefore(int frame) {
