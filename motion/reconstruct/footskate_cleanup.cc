@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "motion/reconstruct/plausibility.h"
 #include "motion/skeleton/two_bone_ik.h"
 
 namespace mocap {
@@ -63,7 +64,7 @@ bool EstimateSaysPlanted(const Eigen::Vector3f& previous, const Eigen::Vector3f&
 
 void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const std::array<Eigen::Vector3f, 2>* before,
                         bool segment_ends, float planted_ankle_height, double frame_time,
-                        const FootskateOptions& options) {
+                        const FootskateOptions& options, const StandingHands& standing) {
   const int n = static_cast<int>(ankles.size());
   const float rate = static_cast<float>(1.0 / frame_time);
   const int ease = options.release_frames;
@@ -72,6 +73,17 @@ void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const 
   if (options.plant_min_seconds <= 0 || n == 0 || static_cast<float>(n) < min_frames) return;
   auto planted = [&](const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate) {
     return EstimateSaysPlanted(previous, estimate, planted_ankle_height, rate, options);
+  };
+  // Whether the body stands about the gap [gap_begin, gap_end): the hands' mean ground velocity
+  // over the window centred on it (clipped to the stretch).
+  const int half_window = std::max(1, HandsWindowFrames(frame_time, 1) / 2);
+  auto stands_about = [&](int gap_begin, int gap_end) {
+    if (static_cast<int>(standing.midpoints.size()) != n) return false;
+    const int centre = (gap_begin + gap_end) / 2;
+    const int low = std::max(0, centre - half_window), high = std::min(n - 1, centre + half_window);
+    if (high <= low) return false;
+    const float seconds = static_cast<float>((high - low) * frame_time);
+    return (standing.midpoints[high] - standing.midpoints[low]).norm() < standing.speed * seconds;
   };
   for (int side = 0; side < 2; ++side) {
     auto contact_at = [&](int f) {
@@ -87,6 +99,16 @@ void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const 
       }
       const int begin = f;
       while (f < n && contact_at(f)) ++f;
+      if (!contacts.empty()) {
+        const int gap_begin = contacts.back().second;
+        const bool lifted = std::any_of(ankles.begin() + gap_begin, ankles.begin() + begin, [&](const auto& frame) {
+          return frame[side].y() >= planted_ankle_height + options.contact_height;
+        });
+        if (!lifted && stands_about(gap_begin, begin)) {
+          contacts.back().second = f;
+          continue;
+        }
+      }
       contacts.emplace_back(begin, f);
     }
     std::vector<Eigen::Vector3f> offset(n, Eigen::Vector3f::Zero());

@@ -48,9 +48,21 @@ struct FootskateOptions {
 // they are: one that began before it (`before` is the estimate of the frame before, nullptr at a
 // segment's start), or that goes on past its end unless `segment_ends`, or whose easing would
 // reach outside it.
+//
+// A foot that never lifts does not step: two contacts of one foot are one contact when the
+// estimate stays within `contact_height` of the planted height all the way between them while the
+// body stands — the input wrists' midpoint (`standing.midpoints`, one per frame of the stretch,
+// over the ground) moved slower than `standing.speed` on average over the kHandsWindowsSeconds[1]
+// about the gap. The estimate then slid with the hands (a standing body's gestures move every A4
+// candidate, eq. 2, placed in the wrists' frame), not the foot. A walk's hands travel; its feet
+// lift or, where the estimate slid along with them, are left to the path.
+struct StandingHands {
+  std::span<const Eigen::Vector2f> midpoints;  // empty: no contacts are joined
+  float speed = 0;                             // m/s
+};
 void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const std::array<Eigen::Vector3f, 2>* before,
                         bool segment_ends, float planted_ankle_height, double frame_time,
-                        const FootskateOptions& options);
+                        const FootskateOptions& options, const StandingHands& standing = {});
 
 // Moves `pose` so that the ankle (the leg's end joint) reaches `target`: analytic two-bone IK on
 // the ankle's parent (knee) and grandparent (hip). Out-of-reach targets stretch the leg straight

@@ -68,8 +68,9 @@ struct ReconstructionSession::Segment {
   std::optional<AnkleCandidate> start;
   std::deque<DpFrame> dp;  // fixed-lag mode: frames dp_first.. of the running DP
   int dp_first = 0;
-  FrameHistory<AnklePair> ankles;      // decided and smoothed ankle controls
-  std::vector<AnklePair> ankle_batch;  // DecideAnkles's frames, before they join `ankles`
+  FrameHistory<AnklePair> ankles;            // decided and smoothed ankle controls
+  std::vector<AnklePair> ankle_batch;        // DecideAnkles's frames, before they join `ankles`
+  std::vector<Eigen::Vector2f> hands_batch;  // their input wrists' midpoints over the ground
   // Every per-frame history above, so that what holds for all of them is said once (a new
   // history is one line here, and ForgetSettledFrames forgets it too).
   template <typename F>
@@ -390,8 +391,15 @@ absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
   for (int f = first; f < up_to_frame; ++f) batch.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count));
   // Offline, or a window's worth at a time: planted feet at their contacts' means (A7).
   const AnklePair* before = first > 0 ? &s.ankles[first - 1] : nullptr;
+  std::vector<Eigen::Vector2f>& hands = s.hands_batch;
+  hands.clear();
+  for (int f = first; f < up_to_frame; ++f) {
+    const SmoothedWrists& w = s.wrists[f];
+    const Eigen::Vector3f midpoint = 0.5f * (w.position[0] + w.position[1]);
+    hands.emplace_back(midpoint.x(), midpoint.z());
+  }
   PlantAnkleContacts(batch, before, segment_ends, database_->planted_ankle_height(), database_->frame_time(),
-                     options_.footskate);
+                     options_.footskate, {hands, options_.motion_guard.standing_hands_speed});
   s.ankles.append(batch.begin(), batch.end());
   for (int f = first; f < up_to_frame; ++f) MOCAP_RETURN_IF_ERROR(SolveFrame(f, out));
   return absl::OkStatus();

@@ -190,5 +190,69 @@ TEST(FootskateCleanupTest, ContactsNotSeenWholeOrShortAreLeftAsTheyAre) {
   EXPECT_EQ(unchanged, landed);
 }
 
+// StepEstimates with a second contact after the first: the left ankle slides 20 cm forward over
+// `slide` frames (the last one there), `lift` above the planted height at the slide's middle, then
+// stands again.
+std::vector<AnklePair> SlideEstimates(const ReconstructionDatabase& db, int contact, int slide, float lift) {
+  float unused = 0;
+  std::vector<AnklePair> estimates = StepEstimates(db, contact, 0, &unused);
+  const std::vector<AnklePair> second = StepEstimates(db, contact, 6, &unused);
+  const AnklePair last = estimates.back();
+  for (int f = 1; f <= slide; ++f) {
+    AnklePair frame = last;
+    frame[0].z() += 0.2f * static_cast<float>(f) / static_cast<float>(slide);
+    if (f == (slide + 1) / 2) frame[0].y() += lift;
+    estimates.push_back(frame);
+  }
+  for (size_t f = 6; f < second.size(); ++f) {
+    AnklePair frame = second[f];
+    frame[0].z() += 0.2f;
+    estimates.push_back(frame);
+  }
+  return estimates;
+}
+
+TEST(FootskateCleanupTest, AFootThatSlidesWithoutLiftingWhileTheBodyStandsIsOneContact) {
+  const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
+  const ReconstructionDatabase& db = *setup.database;
+  const FootskateOptions options;
+  const int contact = static_cast<int>(std::ceil(options.plant_min_seconds / db.frame_time())) + 3, slide = 5;
+  const float standing_speed = 0.25f;
+  auto plant = [&](const std::vector<AnklePair>& estimates, float hands_speed) {
+    std::vector<Eigen::Vector2f> hands;  // the wrists' midpoint travelling forward at hands_speed
+    for (size_t f = 0; f < estimates.size(); ++f) {
+      hands.emplace_back(0.0f, hands_speed * static_cast<float>(f * db.frame_time()));
+    }
+    std::vector<AnklePair> planted = estimates;
+    PlantAnkleContacts(planted, nullptr, true, db.planted_ankle_height(), db.frame_time(), options,
+                       {hands, standing_speed});
+    return planted;
+  };
+  const int first = 6, last = first + 2 * contact + slide;  // the two contacts and the slide between
+  auto mean_z = [&](const std::vector<AnklePair>& ankles, int begin, int end) {
+    float sum = 0;
+    for (int f = begin; f < end; ++f) sum += ankles[f][0].z();
+    return sum / static_cast<float>(end - begin);
+  };
+  // Standing hands, a foot that never lifts: one contact, planted at the mean of all its frames.
+  const std::vector<AnklePair> slid = SlideEstimates(db, contact, slide, 0.0f);
+  const std::vector<AnklePair> held = plant(slid, 0.0f);
+  const float whole_mean = mean_z(slid, first, last);
+  for (int f = first; f < last; ++f) EXPECT_NEAR(held[f][0].z(), whole_mean, 1e-5f) << f;
+  // The hands travel (a walk): two contacts, each at its own mean; the slide is eased between them.
+  const std::vector<AnklePair> walked = plant(slid, 4.0f * standing_speed);
+  EXPECT_NEAR(walked[first][0].z(), mean_z(slid, first, first + contact), 1e-5f);
+  EXPECT_NEAR(walked[last - 1][0].z(), mean_z(slid, last - contact, last), 1e-5f);
+  // The foot lifts between them (a step): two contacts too.
+  const std::vector<AnklePair> stepped = SlideEstimates(db, contact, slide, 2.0f * options.contact_height);
+  const std::vector<AnklePair> steps = plant(stepped, 0.0f);
+  EXPECT_NEAR(steps[first][0].z(), mean_z(stepped, first, first + contact), 1e-5f);
+  EXPECT_NEAR(steps[last - 1][0].z(), mean_z(stepped, last - contact, last), 1e-5f);
+  // No hands given: never joined.
+  std::vector<AnklePair> alone = slid;
+  PlantAnkleContacts(alone, nullptr, true, db.planted_ankle_height(), db.frame_time(), options);
+  EXPECT_NEAR(alone[first][0].z(), mean_z(slid, first, first + contact), 1e-5f);
+}
+
 }  // namespace
 }  // namespace mocap
