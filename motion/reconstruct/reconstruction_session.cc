@@ -556,7 +556,9 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // for the input from there.
       body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
       const Eigen::Vector3f solved = world_positions[l.pelvis];
-      const Eigen::Vector3f hands = 0.5f * (s.input[e][0] + s.input[e][1]);
+      // The hands as A2 smoothed them: a noisy tracker's jitter (phone AR's 2-3 cm) is no motion
+      // of the hands, and over a stream's first frames it read as metres a second.
+      const Eigen::Vector3f hands = 0.5f * (s.wrists[e].position[0] + s.wrists[e].position[1]);
       const Eigen::Vector3f offset = motion_guard_.Next(frame.time, solved, hands, &frame.motion_limited) - solved;
       frame.pose.root_position += offset;
       // A planted foot stays where it is planted when the body moved a little (the standing
