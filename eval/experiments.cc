@@ -74,14 +74,14 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   return runs;
 }
 
-std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base) {
-  std::vector<Experiment> main = MakeExperiments(base, 0.0, false);
+std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base, bool every_run) {
+  std::vector<Experiment> main = MakeExperiments(base, 0.0, every_run);
   std::vector<Experiment> runs;
   std::vector<DeviceModel> devices = StandardDevices();
   for (const DeviceModel& dropout : DropoutDevices()) devices.push_back(dropout);
   for (const DeviceModel& device : devices) {
     for (const Experiment& e : main) {
-      if (e.name != "full" && e.name != "nearest_neighbour") continue;
+      if (e.group == "noise" || (!every_run && e.name != "full" && e.name != "nearest_neighbour")) continue;
       runs.push_back({.name = StrCat(e.name, "@", device.name),
                       .group = "device",
                       .options = e.options,

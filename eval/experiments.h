@@ -58,8 +58,10 @@ struct Experiment {
 };
 
 std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, double noise_cm, bool ablations);
-// The full method and the nearest neighbour on each of StandardDevices()' input, group "device",
-// named "full@DEVICE" and "nearest_neighbour@DEVICE".
-std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base);
+// The full method and the nearest neighbour on each of StandardDevices()' and DropoutDevices()'
+// input, group "device", named "full@DEVICE" and "nearest_neighbour@DEVICE"; with `every_run`,
+// every run of MakeExperiments (ablations, windows and lags; not the noise levels, which the
+// device replaces) as "RUN@DEVICE", for `--runs` to choose from.
+std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base, bool every_run = false);
 
 }  // namespace mocap::eval

@@ -79,6 +79,21 @@ int RunLandmarkTests(const mocap::eval::EvaluationDatabases& databases, const mo
   return 0;
 }
 
+// Every run `--runs` names is one of `experiments` (the runs this invocation can make): a name
+// that matches none — a typo, an ablation without --ablations, a device run without --devices —
+// is an error naming what it can be, not a run silently left out.
+bool KnowsEveryRun(const std::vector<std::string>& only_runs, const std::vector<mocap::eval::Experiment>& experiments) {
+  bool known = true;
+  for (const std::string& name : only_runs) {
+    if (std::any_of(experiments.begin(), experiments.end(), [&](const auto& e) { return e.name == name; })) continue;
+    std::cerr << "mocap-eval: --runs " << name
+              << ": no such run here (ablations need --ablations, RUN@DEVICE needs --devices; the runs are listed "
+                 "in docs/evaluation.md)\n";
+    known = false;
+  }
+  return known;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -162,7 +177,9 @@ int main(int argc, char** argv) {
   app.add_flag("--no-motion-guard", no_motion_guard,
                "do not bound the output pelvis by the database's speed and acceleration (issue #22)");
   std::vector<std::string> only_runs;
-  app.add_option("--runs", only_runs, "only these runs (full, nearest_neighbour, nearest_average, wrists_only, ...)");
+  app.add_option("--runs", only_runs,
+                 "only these runs (full, nearest_neighbour, nearest_average, wrists_only, ...; any of them as "
+                 "RUN@DEVICE with --devices); a name that is no run is an error");
   app.add_flag("--no-bvh", no_bvh, "do not write the reconstructions as BVH");
   std::string confidence_samples;
   app.add_option("--confidence-samples", confidence_samples,
@@ -278,7 +295,7 @@ int main(int argc, char** argv) {
     add_limits();
     std::vector<mocap::eval::Experiment> experiments = make_experiments();
     if (devices) {
-      for (auto& e : mocap::eval::MakeDeviceExperiments(base)) {
+      for (auto& e : mocap::eval::MakeDeviceExperiments(base, !only_runs.empty())) {
         if (only_runs.empty() || std::find(only_runs.begin(), only_runs.end(), e.name) != only_runs.end())
           experiments.push_back(std::move(e));
       }
@@ -297,6 +314,7 @@ int main(int argc, char** argv) {
           experiments.push_back(sized);
       }
     }
+    if (!KnowsEveryRun(only_runs, experiments)) return kExitError;
     return RunLandmarkTests(*databases, *landmark_tests, experiments, context, out_dir, seed, threads,
                             confidence_samples);
   }
@@ -346,6 +364,7 @@ int main(int argc, char** argv) {
   context["k2"] = base.pose_neighbours;
   context["quick"] = quick;
   auto experiments = make_experiments();
+  if (!KnowsEveryRun(only_runs, experiments)) return kExitError;
   mocap::eval::EvaluationConfig config{.seed = seed,
                                        .threads = threads,
                                        .bvh_dir = no_bvh ? "" : std::filesystem::path(out_dir) / "bvh",
