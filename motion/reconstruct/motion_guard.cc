@@ -44,6 +44,12 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
   }
 }
 
+void MotionGuard::SetLeadingHands(double seconds, const Eigen::Vector3f& displacement) {
+  pending_seconds_ = seconds;
+  pending_displacement_ = displacement;
+  leading_pending_ = true;
+}
+
 Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, const Eigen::Vector3f& hands,
                                   bool* limited) {
   *limited = false;
@@ -53,7 +59,14 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   // start of a stream. Across a gap, their mean speed over it: where the hands went while the input
   // was missing is where the body may have gone (reset at the gap, a walk's first frame after
   // it had only a standing body's speed to catch up with).
-  if (!has_previous_) hands_count_ = 0;
+  if (!has_previous_) {
+    hands_count_ = 0;
+    stream_start_ = time;
+    has_leading_ = leading_pending_;
+    leading_seconds_ = pending_seconds_;
+    leading_displacement_ = pending_displacement_;
+  }
+  leading_pending_ = false;  // given for a stream that goes on: its windows know the hands
   const int window = static_cast<int>(hands_.size());
   hands_[hands_next_] = {time, hands};
   hands_next_ = (hands_next_ + 1) % window;
@@ -70,6 +83,12 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   };
   std::array<float, kHandsWindowsSeconds.size()> hands_speed;
   for (size_t w = 0; w < hands_speed.size(); ++w) hands_speed[w] = mean_velocity(bound_window_frames_[w]).norm();
+  // The shorter window not yet filled since the stream began: over the input ahead, when that
+  // spans longer than the frames so far.
+  const double since_start = time - stream_start_;
+  if (has_leading_ && since_start < kHandsWindowsSeconds[0] && leading_seconds_ > since_start) {
+    hands_speed[0] = static_cast<float>(leading_displacement_.norm() / leading_seconds_);
+  }
   const Eigen::Vector3f standing_velocity =
       mean_velocity(std::min(window - 1, static_cast<int>(std::lround(standing_window_seconds_ / frame_time_))));
   const float ground_speed = std::hypot(standing_velocity.x(), standing_velocity.z());  // over the ground

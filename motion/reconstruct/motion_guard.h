@@ -55,6 +55,14 @@ class MotionGuard {
   Eigen::Vector3f Next(double time, const Eigen::Vector3f& solved, const Eigen::Vector3f& hands, bool* limited);
   void Reset() { has_previous_ = false; }
 
+  // Where the input ahead is known when a stream starts (a whole clip, a window of one): how far
+  // the hands' midpoint went from the stream's first frame over the shorter window of
+  // kHandsWindowsSeconds (or over the input there is, if shorter). Until that window has filled,
+  // the hands' mean speed over it is read over this span rather than over the few frames so far:
+  // two frames of a tracker's jitter are no walk. Read by the next Next if it starts a stream (the
+  // first, or a new clock); ignored if the stream goes on.
+  void SetLeadingHands(double seconds, const Eigen::Vector3f& displacement);
+
   float speed_limit() const { return speed_limit_; }
 
  private:
@@ -75,6 +83,9 @@ class MotionGuard {
   };
   std::vector<HandsSample> hands_;
   int hands_next_ = 0, hands_count_ = 0;
+  double leading_seconds_ = 0, pending_seconds_ = 0, stream_start_ = 0;
+  Eigen::Vector3f leading_displacement_ = Eigen::Vector3f::Zero(), pending_displacement_ = Eigen::Vector3f::Zero();
+  bool has_leading_ = false, leading_pending_ = false;
 };
 
 // Flags input samples no hand could produce, from the resampled input's last three frames.

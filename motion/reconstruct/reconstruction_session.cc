@@ -559,6 +559,11 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // The hands as A2 smoothed them: a noisy tracker's jitter (phone AR's 2-3 cm) is no motion
       // of the hands, and over a stream's first frames it read as metres a second.
       const Eigen::Vector3f hands = 0.5f * (s.wrists[e].position[0] + s.wrists[e].position[1]);
+      if (e == 0) {  // a segment's first frame: the hands ahead, as far as they are known
+        const int last = std::min(HandsWindowFrames(database_->frame_time(), 0), s.wrists.size() - 1);
+        auto midpoint = [&](int f) { return 0.5f * (s.wrists[f].position[0] + s.wrists[f].position[1]); };
+        motion_guard_.SetLeadingHands(last * database_->frame_time(), midpoint(last) - midpoint(0));
+      }
       const Eigen::Vector3f offset = motion_guard_.Next(frame.time, solved, hands, &frame.motion_limited) - solved;
       frame.pose.root_position += offset;
       // A planted foot stays where it is planted when the body moved a little (the standing

@@ -199,6 +199,36 @@ TEST(MotionGuardTest, GesturingHandsLetTheBodyGoOnlyAsFastAsTheDatabasesDidWithS
   }
 }
 
+// A stream's first frames: the hands' two first samples 3 cm apart (a tracker's jitter) read as
+// 0.9 m/s over one frame, and the bound by such hands let the body's first step go as fast. With
+// the input ahead known (the hands go nowhere over the next half second) the bound is a standing
+// body's from the first step; a stream that goes on ignores a span given later, and a new stream
+// without one reads the frames so far again.
+TEST(MotionGuardTest, AStreamsFirstStepIsBoundedByTheHandsAheadWhenTheyAreKnown) {
+  MotionLimits limits = Limits();
+  limits.pelvis_speed_by_hands_speed[0] = {0.3f, 0.5f, 0.8f, 1.0f, 1.2f, 1.4f, 1.6f, 1.8f, 2.0f, 2.0f};
+  const Eigen::Vector3f hands(0, 1.0f, 0.3f), jittered = hands + Eigen::Vector3f(0.03f, 0, 0);
+  const Eigen::Vector3f far(0.1f, 0.9f, 0);  // the second frame's solve, 10 cm on: 3 m/s
+  auto first_step = [&](MotionGuard& guard, double start, bool ahead) {
+    bool limited = false;
+    if (ahead) guard.SetLeadingHands(0.5, Eigen::Vector3f(0.01f, 0, 0));
+    const Eigen::Vector3f a = guard.Next(start, Eigen::Vector3f(0, 0.9f, 0), hands, &limited);
+    const Eigen::Vector3f b = guard.Next(start + kDt, far, jittered, &limited);
+    return (b - a).norm() / kDt;
+  };
+  MotionGuard unknown(limits, kDt, Exact()), known(limits, kDt, Exact());
+  EXPECT_NEAR(first_step(unknown, 0.0, false), 1.9f, 1e-3f);  // 0.9 m/s of hands + 1.0 beyond them
+  EXPECT_NEAR(first_step(known, 0.0, true), 0.3f, 1e-3f);     // 0.02 m/s: a standing body's
+  // The stream goes on: a span given now (hands that would go 2 m/s) is not read.
+  bool limited = false;
+  const Eigen::Vector3f before = known.Next(2 * kDt, far, hands, &limited);
+  known.SetLeadingHands(0.5, Eigen::Vector3f(1.0f, 0, 0));
+  const Eigen::Vector3f after = known.Next(3 * kDt, Eigen::Vector3f(1.0f, 0.9f, 0), hands, &limited);
+  EXPECT_LE((after - before).norm() / kDt, 0.3f + 1e-3f);
+  // A new clock (a reused session) without a span: the frames so far again.
+  EXPECT_NEAR(first_step(known, 0.0, false), 1.9f, 1e-3f);
+}
+
 TEST(MotionGuardTest, AGapAllowsWhatItsLengthAllows) {
   MotionGuard guard(Limits(), kDt, Exact());
   bool limited = false;
