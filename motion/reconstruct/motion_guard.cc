@@ -45,9 +45,7 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
 }
 
 void MotionGuard::SetLeadingHands(double seconds, const Eigen::Vector3f& displacement) {
-  pending_seconds_ = seconds;
-  pending_displacement_ = displacement;
-  leading_pending_ = true;
+  pending_leading_ = LeadingSpan{seconds, displacement};
 }
 
 Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, const Eigen::Vector3f& hands,
@@ -62,11 +60,9 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   if (!has_previous_) {
     hands_count_ = 0;
     stream_start_ = time;
-    has_leading_ = leading_pending_;
-    leading_seconds_ = pending_seconds_;
-    leading_displacement_ = pending_displacement_;
+    leading_ = pending_leading_;
   }
-  leading_pending_ = false;  // given for a stream that goes on: its windows know the hands
+  pending_leading_.reset();  // given for a stream that goes on: its windows know the hands
   const int window = static_cast<int>(hands_.size());
   hands_[hands_next_] = {time, hands};
   hands_next_ = (hands_next_ + 1) % window;
@@ -86,8 +82,8 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   // The shorter window not yet filled since the stream began: over the input ahead, when that
   // spans longer than the frames so far.
   const double since_start = time - stream_start_;
-  if (has_leading_ && since_start < kHandsWindowsSeconds[0] && leading_seconds_ > since_start) {
-    hands_speed[0] = static_cast<float>(leading_displacement_.norm() / leading_seconds_);
+  if (leading_ && since_start < kHandsWindowsSeconds[0] && leading_->seconds > since_start) {
+    hands_speed[0] = static_cast<float>(leading_->displacement.norm() / leading_->seconds);
   }
   const Eigen::Vector3f standing_velocity =
       mean_velocity(std::min(window - 1, static_cast<int>(std::lround(standing_window_seconds_ / frame_time_))));

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -83,9 +84,12 @@ class MotionGuard {
   };
   std::vector<HandsSample> hands_;
   int hands_next_ = 0, hands_count_ = 0;
-  double leading_seconds_ = 0, pending_seconds_ = 0, stream_start_ = 0;
-  Eigen::Vector3f leading_displacement_ = Eigen::Vector3f::Zero(), pending_displacement_ = Eigen::Vector3f::Zero();
-  bool has_leading_ = false, leading_pending_ = false;
+  struct LeadingSpan {
+    double seconds;
+    Eigen::Vector3f displacement;
+  };
+  std::optional<LeadingSpan> pending_leading_, leading_;  // given for the next stream; this stream's
+  double stream_start_ = 0;
 };
 
 // Flags input samples no hand could produce, from the resampled input's last three frames.

@@ -18,6 +18,10 @@
 namespace mocap {
 namespace {
 
+// The midpoint of the two smoothed wrists (world metres): where the motion guard and the planted
+// feet read the hands.
+Eigen::Vector3f WristsMidpoint(const SmoothedWrists& w) { return 0.5f * (w.position[0] + w.position[1]); }
+
 using Clock = std::chrono::steady_clock;
 
 // How far the motion guard may move the body (metres) with its planted feet kept where they are.
@@ -394,8 +398,7 @@ absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
   std::vector<Eigen::Vector2f>& hands = s.hands_batch;
   hands.clear();
   for (int f = first; f < up_to_frame; ++f) {
-    const SmoothedWrists& w = s.wrists[f];
-    const Eigen::Vector3f midpoint = 0.5f * (w.position[0] + w.position[1]);
+    const Eigen::Vector3f midpoint = WristsMidpoint(s.wrists[f]);
     hands.emplace_back(midpoint.x(), midpoint.z());
   }
   PlantAnkleContacts(batch, before, segment_ends, database_->planted_ankle_height(), database_->frame_time(),
@@ -558,11 +561,11 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       const Eigen::Vector3f solved = world_positions[l.pelvis];
       // The hands as A2 smoothed them: a noisy tracker's jitter (phone AR's 2-3 cm) is no motion
       // of the hands, and over a stream's first frames it read as metres a second.
-      const Eigen::Vector3f hands = 0.5f * (s.wrists[e].position[0] + s.wrists[e].position[1]);
+      const Eigen::Vector3f hands = WristsMidpoint(s.wrists[e]);
       if (e == 0) {  // a segment's first frame: the hands ahead, as far as they are known
         const int last = std::min(HandsWindowFrames(database_->frame_time(), 0), s.wrists.size() - 1);
-        auto midpoint = [&](int f) { return 0.5f * (s.wrists[f].position[0] + s.wrists[f].position[1]); };
-        motion_guard_.SetLeadingHands(last * database_->frame_time(), midpoint(last) - midpoint(0));
+        motion_guard_.SetLeadingHands(last * database_->frame_time(),
+                                      WristsMidpoint(s.wrists[last]) - WristsMidpoint(s.wrists[0]));
       }
       const Eigen::Vector3f offset = motion_guard_.Next(frame.time, solved, hands, &frame.motion_limited) - solved;
       frame.pose.root_position += offset;
