@@ -29,6 +29,7 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
       standing_hands_speed_(options.standing_hands_speed),
       moving_hands_speed_(options.moving_hands_speed),
       standing_window_seconds_(options.standing_window_seconds),
+      start_ease_seconds_(options.start_ease_seconds),
       bound_window_frames_{HandsWindowFrames(frame_time, 0), HandsWindowFrames(frame_time, 1)},
       hands_(std::max(bound_window_frames_.back(),
                       static_cast<int>(std::lround(options.standing_window_seconds / frame_time))) +
@@ -92,9 +93,21 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   if (has_previous_ && continuous && standing_smoothing_seconds_ > 0) {
     // Standing: the ground position eases towards the solve (exponential filter, time constant
     // standing_smoothing_seconds), fading out as the hands start to travel.
-    const float standing =
-        std::clamp((moving_hands_speed_ - ground_speed) / std::max(1e-3f, moving_hands_speed_ - standing_hands_speed_),
-                   0.0f, 1.0f);
+    auto standing_at = [&](float hands_ground_speed) {
+      return std::clamp(
+          (moving_hands_speed_ - hands_ground_speed) / std::max(1e-3f, moving_hands_speed_ - standing_hands_speed_),
+          0.0f, 1.0f);
+    };
+    float standing = standing_at(ground_speed);
+    // A stream's first frames ease in, as far as the hands ahead stand (all the way when unknown).
+    if (since_start < start_ease_seconds_) {
+      const float ahead =
+          leading_ && leading_->seconds > 0
+              ? standing_at(static_cast<float>(std::hypot(leading_->displacement.x(), leading_->displacement.z()) /
+                                               leading_->seconds))
+              : 1.0f;
+      standing = std::max(standing, ahead * static_cast<float>(1.0 - since_start / start_ease_seconds_));
+    }
     const float dt = static_cast<float>(time - previous_time_);
     const float follow = 1.0f - standing * (1.0f - dt / (standing_smoothing_seconds_ + dt));
     target = previous_target_ + follow * (solved - previous_target_);

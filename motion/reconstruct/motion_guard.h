@@ -43,6 +43,12 @@ struct MotionGuardOptions {
   float standing_hands_speed = 0.25f, moving_hands_speed = 0.6f;
   // The window of that mean ground speed.
   float standing_window_seconds = 1.0f;
+  // A stream's first frames know the least: its first solves hop between neighbours' stances
+  // (raise-ups and waves of the standard split went 1.2-2.6 m/s in their first 0.2 s, causally)
+  // while the hands' windows hold a few frames. Over its first `start_ease_seconds` the body
+  // eases in through the standing filter, fading linearly: fully where the hands ahead are not
+  // known (lag 0), else as far as they stand over the span known (SetLeadingHands). 0 = off.
+  float start_ease_seconds = 0.2f;
 };
 
 class MotionGuard {
@@ -70,7 +76,8 @@ class MotionGuard {
   double frame_time_;
   float speed_limit_, acceleration_limit_;
   MotionLimits hands_limits_;  // only the bounds by the hands' speed are read, margins applied
-  float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_, standing_window_seconds_;
+  float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_, standing_window_seconds_,
+      start_ease_seconds_;
   std::array<int, kHandsWindowsSeconds.size()> bound_window_frames_;  // the windows of the speed bound
   bool has_previous_ = false, has_velocity_ = false;
   double previous_time_ = 0;

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <random>
 #include <span>
 #include <string>
@@ -33,11 +34,13 @@ MotionLimits Limits() {
   return limits;
 }
 
-// The database's bounds as they are, no margins.
+// The database's bounds as they are, no margins, and no ease-in at a stream's start (tested on
+// its own).
 MotionGuardOptions Exact() {
   MotionGuardOptions options;
   options.speed_margin = options.acceleration_margin = options.beyond_hands_margin = 1.0f;
   options.input_speed_margin = options.input_acceleration_margin = 1.0f;
+  options.start_ease_seconds = 0;
   return options;
 }
 
@@ -227,6 +230,38 @@ TEST(MotionGuardTest, AStreamsFirstStepIsBoundedByTheHandsAheadWhenTheyAreKnown)
   EXPECT_LE((after - before).norm() / kDt, 0.3f + 1e-3f);
   // A new clock (a reused session) without a span: the frames so far again.
   EXPECT_NEAR(first_step(known, 0.0, false), 1.9f, 1e-3f);
+}
+
+// A stream's first solves hop between neighbours' stances while the hands' windows hold a few
+// frames (a raise-up's hands moving 1-2 m/s let its body hop 2 m/s): over its first
+// start_ease_seconds the body eases in through the standing filter where the hands ahead are
+// unknown (lag 0), and as far as they stand where they are known.
+TEST(MotionGuardTest, AStreamEasesInOverItsFirstFramesUnlessTheHandsAheadTravel) {
+  MotionGuardOptions options = Exact();
+  options.start_ease_seconds = MotionGuardOptions().start_ease_seconds;
+  const Eigen::Vector3f solved(0, 0.9f, 0), hop(0.06f, 0.9f, 0);  // the second solve 6 cm on
+  // The hands rise and come forward at 1.5 m/s: not a standing body's by their speed alone.
+  auto hands = [](int f) { return Eigen::Vector3f(0, 1.0f + 0.04f * f, 0.3f + 0.03f * f); };
+  auto first_step = [&](const MotionGuardOptions& o, std::optional<Eigen::Vector3f> ahead) {
+    MotionGuard guard(Limits(), kDt, o);
+    if (ahead) guard.SetLeadingHands(0.2, *ahead);
+    bool limited = false;
+    const Eigen::Vector3f a = guard.Next(0.0, solved, hands(0), &limited);
+    const Eigen::Vector3f b = guard.Next(kDt, hop, hands(1), &limited);
+    return (b - a).x();
+  };
+  MotionGuardOptions off = options;
+  off.start_ease_seconds = 0;
+  EXPECT_NEAR(first_step(off, std::nullopt), 0.06f, 1e-5f);  // followed at once
+  // Unknown hands ahead: through the 0.1 s filter at nearly full weight (1/6 of the ease gone).
+  const float dt = static_cast<float>(kDt), standing = 1.0f - dt / options.start_ease_seconds;
+  const float follow = 1.0f - standing * (1.0f - dt / (options.standing_smoothing_seconds + dt));
+  EXPECT_NEAR(first_step(options, std::nullopt), 0.06f * follow, 1e-5f);
+  EXPECT_LT(first_step(options, std::nullopt), 0.03f);
+  // Hands ahead that stand (they rise in place): the same.
+  EXPECT_NEAR(first_step(options, Eigen::Vector3f(0, 0.3f, 0.01f)), 0.06f * follow, 1e-5f);
+  // Hands ahead that travel (a walk's 1.3 m/s over the ground): no ease, the solve at once.
+  EXPECT_NEAR(first_step(options, Eigen::Vector3f(0, 0, 0.26f)), 0.06f, 1e-5f);
 }
 
 TEST(MotionGuardTest, AGapAllowsWhatItsLengthAllows) {
