@@ -250,9 +250,7 @@ TEST(MotionGuardTest, AStreamEasesInOverItsFirstFramesUnlessTheHandsAheadTravel)
     const Eigen::Vector3f b = guard.Next(kDt, hop, hands(1), &limited);
     return (b - a).x();
   };
-  MotionGuardOptions off = options;
-  off.start_ease_seconds = 0;
-  EXPECT_NEAR(first_step(off, std::nullopt), 0.06f, 1e-5f);  // followed at once
+  EXPECT_NEAR(first_step(Exact(), std::nullopt), 0.06f, 1e-5f);  // no ease-in: followed at once
   // Unknown hands ahead: through the 0.1 s filter at nearly full weight (1/6 of the ease gone).
   const float dt = static_cast<float>(kDt), standing = 1.0f - dt / options.start_ease_seconds;
   const float follow = 1.0f - standing * (1.0f - dt / (options.standing_smoothing_seconds + dt));
