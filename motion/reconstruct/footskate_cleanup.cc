@@ -30,11 +30,24 @@ void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& t
 }
 
 FootskateCleaner::FootskateCleaner(const BodyModel& body, float planted_ankle_height, double frame_time,
-                                   const FootskateOptions& options)
+                                   const FootskateOptions& options, bool streaming)
     : body_(body),
       planted_height_(planted_ankle_height),
       rate_(static_cast<float>(1.0 / frame_time)),
-      options_(options) {}
+      options_(options),
+      hold_frames_(streaming ? std::clamp(static_cast<int>(std::lround(options.stream_hold_seconds * rate_)), 0,
+                                          static_cast<int>(std::tuple_size_v<decltype(Foot::recent)>) - 1)
+                             : 0),
+      pin_at_mean_(streaming && options.stream_pin_at_mean) {}
+
+bool FootskateCleaner::StillPlanted(const Foot& foot, const Eigen::Vector3f& estimate) const {
+  if (estimate.y() >= planted_height_ + options_.contact_height) return false;
+  const long span = std::min<long>(hold_frames_, foot.seen);
+  if (span == 0) return true;
+  const Eigen::Vector3f& then = foot.recent[static_cast<size_t>((foot.seen - span) % foot.recent.size())];
+  const Eigen::Vector2f moved(estimate.x() - then.x(), estimate.z() - then.z());
+  return moved.norm() * rate_ < options_.contact_speed * static_cast<float>(span);
+}
 
 void FootskateCleaner::Reset() { feet_ = {}; }
 
@@ -147,25 +160,46 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     const Eigen::Vector3f& estimate = estimated_ankles[side];
     bool estimated = true;
     if (use_estimate) {
-      estimated = foot.has_previous && EstimateSaysPlanted(foot.previous, estimate, planted_height_, rate_, options_);
+      estimated =
+          foot.planted && hold_frames_ > 0
+              ? StillPlanted(foot, estimate)
+              : foot.has_previous && EstimateSaysPlanted(foot.previous, estimate, planted_height_, rate_, options_);
     }
     contact[side] = database[side] && estimated;
+    foot.recent[static_cast<size_t>(foot.seen % static_cast<long>(foot.recent.size()))] = estimate;
+    ++foot.seen;
     foot.previous = estimate;
     foot.has_previous = true;
     if (!options_.enabled) continue;
     body_.WorldTransforms(*pose, &rotations_, &positions_);
     const Eigen::Vector3f solved = positions_[ankle_joints[side]];
     if (contact[side]) {
-      if (!foot.planted) foot.pin = solved;
+      if (!foot.planted) {
+        foot.pin = solved;
+        foot.contact_start_estimate = estimate;
+        foot.contact_estimate_sum.setZero();
+        foot.contact_frames = 0;
+      }
       foot.planted = true;
       foot.release_left = 0;
-      SolveLegIk(body_, ankle_joints[side], foot.pin, pose);
-      if (targets) (*targets)[side] = foot.pin;
+      if (pin_at_mean_) {
+        // Where the contact began, moved along the ground by how far the estimate's mean over the
+        // contact lies from its first frame.
+        foot.contact_estimate_sum += estimate;
+        ++foot.contact_frames;
+        const Eigen::Vector3f mean = foot.contact_estimate_sum / static_cast<float>(foot.contact_frames);
+        foot.current_pin = foot.pin + Eigen::Vector3f(mean.x() - foot.contact_start_estimate.x(), 0.0f,
+                                                      mean.z() - foot.contact_start_estimate.z());
+      } else {
+        foot.current_pin = foot.pin;
+      }
+      SolveLegIk(body_, ankle_joints[side], foot.current_pin, pose);
+      if (targets) (*targets)[side] = foot.current_pin;
       continue;
     }
     if (foot.planted) {
       foot.planted = false;
-      foot.release_offset = foot.pin - solved;
+      foot.release_offset = foot.current_pin - solved;
       foot.release_left = options_.release_frames;
     }
     if (foot.release_left > 0) {

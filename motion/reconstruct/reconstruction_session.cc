@@ -53,7 +53,7 @@ struct ReconstructionSession::Segment {
   Segment(int id, const ReconstructionDatabase& db, const ReconstructionOptions& o)
       : id(id),
         smoother(o.smoothing, db.frame_time()),
-        cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), o.footskate) {}
+        cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), o.footskate, o.mode == StreamMode::kFixedLag) {}
   int id;
   WristSmoother smoother;
   float cloud_heading = 0.0f, pose_heading = 0.0f;

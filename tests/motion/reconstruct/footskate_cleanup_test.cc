@@ -79,6 +79,61 @@ TEST(FootskateCleanupTest, APlantedFootStaysWhereItLandedAndIsReleasedSmoothly) 
   EXPECT_LT(previous_offset, 1e-5f);
 }
 
+// A stream's planted foot: its estimate wobbles 2 cm back and forth along the ground every frame
+// (0.6 m/s from one frame to the next at 30 fps, twice the contact speed) about where it stands.
+// Whole-clip rules end the contact at every wobble; a stream's hold the contact through it and
+// pin the foot at the wobble's mean, and end it within the hold span once the foot really moves.
+TEST(FootskateCleanupTest, AStreamHoldsAWobblingPlantedFootAtItsMeanAndReleasesARealStep) {
+  const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
+  const ReconstructionDatabase& db = *setup.database;
+  const int ankle = setup.rig.topology.landmarks.left_ankle;
+  const float ground = db.planted_ankle_height();
+  const FootskateOptions options;
+  ASSERT_GT(0.02f / static_cast<float>(db.frame_time()), options.contact_speed);
+  auto wobble = [&](int f) { return Eigen::Vector3f(0.1f, ground, f % 2 == 0 ? 0.0f : 0.02f); };
+  const Eigen::Vector3f high(-0.1f, 0.5f, 0.0f);
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  for (const bool streaming : {false, true}) {
+    SCOPED_TRACE(streaming ? "stream" : "whole clip");
+    FootskateCleaner cleaner(db.body(), ground, db.frame_time(), options, streaming);
+    // Frame 0 has no speed; frame 1 steps 2 cm; the wobble starts after two still frames.
+    std::vector<Eigen::Vector3f> estimates = {wobble(0), wobble(0), wobble(0)};
+    for (int f = 0; f < 20; ++f) estimates.push_back(wobble(f + 1));
+    int contacts = 0;
+    Eigen::Vector3f last_ankle = Eigen::Vector3f::Zero();
+    for (size_t f = 0; f < estimates.size(); ++f) {
+      BodyPose pose = PoseOfRow(db, 20);
+      const auto contact = cleaner.Process({estimates[f], high}, nullptr, &pose);
+      db.body().WorldTransforms(pose, &rotations, &positions);
+      if (f >= 3) contacts += contact[0] ? 1 : 0;
+      last_ankle = positions[ankle];
+    }
+    if (!streaming) {
+      EXPECT_EQ(contacts, 0);  // every frame's step is above the contact speed
+      continue;
+    }
+    EXPECT_EQ(contacts, 20);
+    // The pin moved from where the contact began (z = 0) towards the wobble's mean (z = 1 cm).
+    BodyPose unpinned = PoseOfRow(db, 20);
+    std::vector<Eigen::Quaternionf> r0;
+    std::vector<Eigen::Vector3f> p0;
+    db.body().WorldTransforms(unpinned, &r0, &p0);
+    EXPECT_NEAR(last_ankle.z() - p0[ankle].z(), 0.01f * 20.0f / 22.0f, 2e-3f);
+    // A real step: 1.5 cm a frame (0.45 m/s) along the ground, steadily. The contact ends within
+    // the hold span (0.1 s) plus a frame.
+    const int hold = static_cast<int>(std::lround(options.stream_hold_seconds / db.frame_time()));
+    int released_after = -1;
+    for (int f = 1; f <= 10 && released_after < 0; ++f) {
+      BodyPose pose = PoseOfRow(db, 20);
+      const Eigen::Vector3f step(0.1f, ground, 0.01f + 0.015f * static_cast<float>(f));
+      if (!cleaner.Process({step, high}, nullptr, &pose)[0]) released_after = f;
+    }
+    EXPECT_GE(released_after, 1);
+    EXPECT_LE(released_after, hold + 1);
+  }
+}
+
 TEST(FootskateCleanupTest, ContactsCanComeFromTheChosenDatabaseFrame) {
   const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
   const ReconstructionDatabase& db = *setup.database;
