@@ -40,15 +40,6 @@ FootskateCleaner::FootskateCleaner(const BodyModel& body, float planted_ankle_he
                              : 0),
       pin_at_mean_(streaming && options.stream_pin_at_mean) {}
 
-bool FootskateCleaner::StillPlanted(const Foot& foot, const Eigen::Vector3f& estimate) const {
-  if (estimate.y() >= planted_height_ + options_.contact_height) return false;
-  const long span = std::min<long>(hold_frames_, foot.seen);
-  if (span == 0) return true;
-  const Eigen::Vector3f& then = foot.recent[static_cast<size_t>((foot.seen - span) % foot.recent.size())];
-  const Eigen::Vector2f moved(estimate.x() - then.x(), estimate.z() - then.z());
-  return moved.norm() * rate_ < options_.contact_speed * static_cast<float>(span);
-}
-
 void FootskateCleaner::Reset() { feet_ = {}; }
 
 std::array<bool, 2> PlantedFeet(const DatabaseFrame& frame, float planted_ankle_height,
@@ -144,6 +135,11 @@ void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const 
   }
 }
 
+bool FootskateCleaner::StillPlanted(const Foot& foot, const Eigen::Vector3f& estimate) const {
+  const long span = std::min<long>(hold_frames_, foot.seen);
+  return EstimateSaysPlanted(foot.Back(span), estimate, planted_height_, rate_ / static_cast<float>(span), options_);
+}
+
 std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles,
                                               const DatabaseFrame* source_frame, BodyPose* pose,
                                               AnkleTargets* targets) {
@@ -160,16 +156,13 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     const Eigen::Vector3f& estimate = estimated_ankles[side];
     bool estimated = true;
     if (use_estimate) {
-      estimated =
-          foot.planted && hold_frames_ > 0
-              ? StillPlanted(foot, estimate)
-              : foot.has_previous && EstimateSaysPlanted(foot.previous, estimate, planted_height_, rate_, options_);
+      estimated = foot.planted && hold_frames_ > 0
+                      ? StillPlanted(foot, estimate)
+                      : foot.seen > 0 && EstimateSaysPlanted(foot.Back(1), estimate, planted_height_, rate_, options_);
     }
     contact[side] = database[side] && estimated;
     foot.recent[static_cast<size_t>(foot.seen % static_cast<long>(foot.recent.size()))] = estimate;
     ++foot.seen;
-    foot.previous = estimate;
-    foot.has_previous = true;
     if (!options_.enabled) continue;
     body_.WorldTransforms(*pose, &rotations_, &positions_);
     const Eigen::Vector3f solved = positions_[ankle_joints[side]];

@@ -108,17 +108,21 @@ class FootskateCleaner {
     Eigen::Vector3f pin = Eigen::Vector3f::Zero();
     Eigen::Vector3f release_offset = Eigen::Vector3f::Zero();
     int release_left = 0;
-    bool has_previous = false;
-    Eigen::Vector3f previous = Eigen::Vector3f::Zero();
-    // Streams: the last estimates (a ring), and the contact's so far.
+    // The last estimates (a ring; the one before this frame's is Back(1)), and in streams the
+    // contact's so far.
     std::array<Eigen::Vector3f, 16> recent{};
     long seen = 0;
+    // The estimate `frames` frames back (1 ≤ frames ≤ min(seen, recent.size())).
+    const Eigen::Vector3f& Back(long frames) const {
+      return recent[static_cast<size_t>((seen - frames) % static_cast<long>(recent.size()))];
+    }
     Eigen::Vector3f contact_start_estimate = Eigen::Vector3f::Zero();
     Eigen::Vector3f contact_estimate_sum = Eigen::Vector3f::Zero();
     int contact_frames = 0;
     Eigen::Vector3f current_pin = Eigen::Vector3f::Zero();  // where the ankle is held this frame
   };
-  // Whether a planted foot's estimate still stands (streams): its mean ground speed over the hold span.
+  // Whether a planted foot's estimate still stands (streams): its mean ground speed over the hold
+  // span (a planted foot has seen at least two estimates).
   bool StillPlanted(const Foot& foot, const Eigen::Vector3f& estimate) const;
   const BodyModel& body_;
   float planted_height_;
