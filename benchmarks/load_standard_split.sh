@@ -43,5 +43,7 @@ print(f'{r["streams"]:3d} streams: {r["streams_ok"]} ok, {r["frames_per_second"]
       f'p50 {l["p50"]:.1f} p90 {l["p90"]:.1f} p99 {l["p99"]:.1f} max {l["max"]:.1f}, server reply ms mean '
       f'{r["server_reply_ms"]["mean"]:.1f} (pipeline per frame {r["server_stage_ms_per_frame"]["pipeline"]:.2f}), '
       f'worst late send {r["worst_late_send_ms"]:.0f} ms, errors {r["errors"] or 0}')
+print('    p99 ms by second of the run: ' +
+      ' '.join(f'{s["p99"]:.0f}' if s["count"] else '-' for s in r.get("latency_by_second_ms", [])))
 PY
 done

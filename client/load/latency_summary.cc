@@ -27,4 +27,19 @@ LatencySummary Summarise(std::vector<double> milliseconds) {
   return summary;
 }
 
+std::vector<LatencySummary> SummariseBySecond(const std::vector<double>& milliseconds,
+                                              const std::vector<double>& seconds_after_start) {
+  std::vector<std::vector<double>> by_second;
+  const size_t n = std::min(milliseconds.size(), seconds_after_start.size());
+  for (size_t i = 0; i < n; ++i) {
+    const auto second = static_cast<size_t>(std::max(0.0, std::floor(seconds_after_start[i])));
+    if (second >= by_second.size()) by_second.resize(second + 1);
+    by_second[second].push_back(milliseconds[i]);
+  }
+  std::vector<LatencySummary> summaries;
+  summaries.reserve(by_second.size());
+  for (std::vector<double>& second : by_second) summaries.push_back(Summarise(std::move(second)));
+  return summaries;
+}
+
 }  // namespace mocap::load

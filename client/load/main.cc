@@ -2,10 +2,12 @@
 // (30 Hz by default), reporting frame latency p50/p90/p99, throughput and errors. Built on the SDK.
 //
 //   mocap-load --address 127.0.0.1:50051 --key mk_... --database walks --bvh clip.bvh --streams 20
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <map>
 #include <random>
+#include <string>
 #include <thread>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -81,6 +83,24 @@ v1::SessionConfig Config(const Options& o, int stream) {
   return config;
 }
 
+nlohmann::json LatencyBySecondJson(const std::vector<LatencySummary>& by_second) {
+  nlohmann::json seconds = nlohmann::json::array();
+  for (size_t s = 0; s < by_second.size(); ++s) {
+    const LatencySummary& l = by_second[s];
+    seconds.push_back({{"second", s}, {"count", l.count}, {"p50", l.p50_ms}, {"p99", l.p99_ms}, {"max", l.max_ms}});
+  }
+  return seconds;
+}
+
+std::string LatencyBySecondText(const std::vector<LatencySummary>& by_second) {
+  std::string text;
+  for (const LatencySummary& l : by_second) {
+    if (!text.empty()) text += " ";
+    text += l.count > 0 ? std::to_string(static_cast<long>(std::lround(l.p99_ms))) : "-";
+  }
+  return text;
+}
+
 std::chrono::steady_clock::duration Seconds(double seconds) {
   return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
 }
@@ -135,7 +155,7 @@ int Run(const Options& o) {
   for (std::thread& thread : threads) thread.join();
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
 
-  std::vector<double> latencies;
+  std::vector<double> latencies, latency_seconds;  // the latter: when each one's sample was sent
   std::map<std::string, int> errors;
   long frames = 0, sent = 0, rejected = 0, sessions = 0, cancelled = 0;
   double late = 0, server_mean = 0, server_max = 0;
@@ -145,6 +165,8 @@ int Run(const Options& o) {
   int ok = 0;
   for (const StreamOutcome& outcome : outcomes) {
     latencies.insert(latencies.end(), outcome.latencies_ms.begin(), outcome.latencies_ms.end());
+    for (const auto sent : outcome.latency_sent)
+      latency_seconds.push_back(std::chrono::duration<double>(sent - start).count());
     frames += outcome.frames;
     sent += outcome.samples_sent;
     rejected += outcome.rejected;
@@ -167,6 +189,7 @@ int Run(const Options& o) {
     for (double* mean : {&server_mean, &cloud_ms, &path_ms, &pose_ms, &cleanup_ms}) *mean /= ok;
   }
   const double pipeline_ms = cloud_ms + path_ms + pose_ms + cleanup_ms;
+  const std::vector<LatencySummary> by_second = SummariseBySecond(latencies, latency_seconds);
   const LatencySummary latency = Summarise(std::move(latencies));
   const bool p99_ok = o.max_p99_ms <= 0 || latency.p99_ms <= o.max_p99_ms;
 
@@ -188,6 +211,7 @@ int Run(const Options& o) {
                                {"p90", latency.p90_ms},
                                {"p99", latency.p99_ms},
                                {"max", latency.max_ms}}},
+                             {"latency_by_second_ms", LatencyBySecondJson(by_second)},
                              {"server_reply_ms", {{"mean", server_mean}, {"max", server_max}}},
                              {"server_stage_ms_per_frame",
                               {{"ankle_cloud", cloud_ms},
@@ -205,6 +229,7 @@ int Run(const Options& o) {
               << "frame latency ms: mean " << latency.mean_ms << "  p50 " << latency.p50_ms << "  p90 "
               << latency.p90_ms << "  p99 " << latency.p99_ms << "  max " << latency.max_ms << "  (" << latency.count
               << " frames)\n"
+              << "frame latency p99 ms by second of the run: " << LatencyBySecondText(by_second) << "\n"
               << "server reply ms: mean " << server_mean << "  max " << server_max << "; worst late send " << late
               << " ms\n"
               << "server ms per frame: pipeline " << pipeline_ms << " (A2+A3 ankle cloud " << cloud_ms

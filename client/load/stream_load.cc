@@ -67,6 +67,7 @@ StreamOutcome RunStream(client::Client& client, const StreamPlan& plan) {
         if (plan.samples.empty() || plan.samples[completing].time() < due) continue;
         if (auto sent = send_times.Get(completing)) {
           outcome.latencies_ms.push_back(std::chrono::duration<double, std::milli>(now - *sent).count());
+          outcome.latency_sent.push_back(*sent);
         }
       }
     }
@@ -128,6 +129,7 @@ StreamOutcome RunStream(client::Client& client, const StreamPlan& plan) {
 void Accumulate(StreamOutcome& total, StreamOutcome one) {
   if (total.status.ok()) total.status = one.status;
   total.latencies_ms.insert(total.latencies_ms.end(), one.latencies_ms.begin(), one.latencies_ms.end());
+  total.latency_sent.insert(total.latency_sent.end(), one.latency_sent.begin(), one.latency_sent.end());
   total.samples_sent += one.samples_sent;
   total.frames += one.frames;
   total.rejected += one.rejected;

@@ -33,6 +33,9 @@ struct StreamPlan {
 struct StreamOutcome {
   absl::Status status;               // the session's end (OK, or the server's error)
   std::vector<double> latencies_ms;  // one per frame received
+  // When the sample that completed each of those frames was sent (the same order): where in the
+  // run the latency was, so a stall can be told from a steady backlog.
+  std::vector<std::chrono::steady_clock::time_point> latency_sent;
   long samples_sent = 0;
   long frames = 0;
   long rejected = 0;

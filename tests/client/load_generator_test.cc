@@ -26,6 +26,18 @@ TEST(LatencySummaryTest, NearestRankPercentiles) {
   EXPECT_EQ(load::Summarise({}).count, 0);
 }
 
+TEST(LatencySummaryTest, BySecondOfTheRun) {
+  // Seconds 0 and 2 have latencies, 1 has none; a send a little before the start counts in 0.
+  const std::vector<load::LatencySummary> by_second = load::SummariseBySecond({3, 5, 40, 7}, {0.2, -0.01, 2.5, 2.9});
+  ASSERT_EQ(by_second.size(), 3u);
+  EXPECT_EQ(by_second[0].count, 2);
+  EXPECT_DOUBLE_EQ(by_second[0].max_ms, 5);
+  EXPECT_EQ(by_second[1].count, 0);
+  EXPECT_EQ(by_second[2].count, 2);
+  EXPECT_DOUBLE_EQ(by_second[2].p99_ms, 40);
+  EXPECT_TRUE(load::SummariseBySecond({}, {}).empty());
+}
+
 class LoadGeneratorTest : public testing::ServerFixture {
  protected:
   // A server whose tenant "acme" has the database "walks".
@@ -64,6 +76,11 @@ TEST_F(LoadGeneratorTest, ConcurrentStreamsReturnEveryFrameWithLatencies) {
   EXPECT_EQ(report["latency_ms"]["count"], 3 * (45 - 2));
   EXPECT_GT(report["latency_ms"]["p50"].get<double>(), 0.0);
   EXPECT_LE(report["latency_ms"]["p50"].get<double>(), report["latency_ms"]["p99"].get<double>());
+  // The same latencies by second of the run (1.5 s of input from a start within 0.2 s + 0.2 s).
+  long by_second = 0;
+  for (const nlohmann::json& second : report["latency_by_second_ms"]) by_second += second["count"].get<long>();
+  EXPECT_EQ(by_second, report["latency_ms"]["count"].get<long>());
+  EXPECT_GE(report["latency_by_second_ms"].size(), 2u);
   EXPECT_TRUE(report["errors"].empty());
 }
 
