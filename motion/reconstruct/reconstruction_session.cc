@@ -413,22 +413,23 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   Segment& s = *segment_;
   const auto start = Clock::now();
   const ReconstructionDatabase& db = *database_;
-  const double dt = db.frame_time();
   const SmoothedWrists& wrists = s.wrists[f];
   const bool full = method_->uses_ankles();
   const ReferenceFrame ref =
       WristReferenceFrame(wrists.position[0], wrists.position[1], s.pose_heading, &s.pose_heading);
   FrameFeatures query = WristQueryFeatures(ref, wrists);
   AnklePair ankles = {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};  // zero where the method estimates none
+  // The ankles' velocities are those of the database frame A4 chose, in its wrist frame as the
+  // eq. 8 index holds them (docs/method.md A5), not the path's frame-to-frame difference: where
+  // the path changes its mind (a stream's decision each frame, a stream's first frames) that
+  // difference is metres a second no ankle moved, and the query lands far from every frame.
+  const DatabaseFrame* chosen = full ? &db.frames()[s.raw_rows[f]] : nullptr;
   for (int side = 0; side < 2 && full; ++side) {
     ankles[side] = s.ankles[f][side];
-    const Eigen::Vector3f velocity =
-        f > 0 ? Eigen::Vector3f((s.ankles[f][side] - s.ankles[f - 1][side]) / dt) : Eigen::Vector3f::Zero();
     const Eigen::Vector3f ap = ref.ToLocal(ankles[side]);
-    const Eigen::Vector3f av = ref.DirectionToLocal(velocity);
     for (int axis = 0; axis < 3; ++axis) {
       query.ankle_position[side][axis] = ap[axis];
-      query.ankle_velocity[side][axis] = av[axis];
+      query.ankle_velocity[side][axis] = chosen->ankle_velocity[side][axis];
     }
   }
   MOCAP_ASSIGN_OR_RETURN(const std::vector<Neighbour> neighbours, method_->Neighbours(db, query));
