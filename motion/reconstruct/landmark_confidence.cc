@@ -14,22 +14,22 @@ namespace {
 // noise) in two regimes weighted alike — the development split (the database has the performer's
 // style) and the same takes with their style left out of the database — then each a_k raised by
 // the mean of exp(residual) so that the mean error, not the median, is predicted.
-constexpr std::array<float, kNumBodyLandmarks> kLogBase = {-3.2379f, -3.1716f, -3.1880f, -3.1987f, -3.2464f,
-                                                           -3.2916f, -4.6098f, -4.6116f, -3.2320f, -3.2138f,
-                                                           -3.0743f, -2.9693f, -2.9267f, -2.8450f};
-constexpr float kDistanceExponent = 0.0444f;
-constexpr float kWristFitExponent = 0.1274f;
-constexpr float kCostExponent = 0.0400f;
-constexpr float kSessionCostExponent = 0.2853f;
+constexpr std::array<float, kNumBodyLandmarks> kLogBase = {-3.4399f, -3.3447f, -3.3783f, -3.3913f, -3.4470f,
+                                                           -3.4849f, -4.7989f, -4.8166f, -3.4359f, -3.4146f,
+                                                           -3.3197f, -3.2293f, -3.1313f, -3.0885f};
+constexpr float kDistanceExponent = 0.0724f;
+constexpr float kWristFitExponent = 0.0804f;
+constexpr float kCostExponent = 0.0389f;
+constexpr float kSessionCostExponent = 0.3186f;
 // A landmark whose input is not real (u = UntrackedSecondsFor > 0): the solve's cues say little
 // there (the body meets a guess well), so a model of its own,
 //   log e_k = a'_k + b_u·log(1 + u / 0.1 s),
 // fitted the same way on the development split's takes streamed with dropouts of 0.1–5 s and with
 // the left hand alone lost for 1–5 s (eval/device_input.h); a'_k shared by a left and right pair.
-constexpr std::array<float, kNumBodyLandmarks> kUntrackedLogBase = {-3.2393f, -3.1684f, -3.1393f, -3.1393f, -2.6771f,
-                                                                    -2.6771f, -2.3851f, -2.3851f, -3.2269f, -3.2269f,
-                                                                    -3.0404f, -3.0404f, -2.8407f, -2.8407f};
-constexpr float kUntrackedExponent = 0.3746f;
+constexpr std::array<float, kNumBodyLandmarks> kUntrackedLogBase = {-3.3065f, -3.2541f, -3.2027f, -3.2027f, -2.7423f,
+                                                                    -2.7423f, -2.4169f, -2.4169f, -3.2948f, -3.2948f,
+                                                                    -3.0926f, -3.0926f, -2.8614f, -2.8614f};
+constexpr float kUntrackedExponent = 0.3550f;
 constexpr float kUntrackedScaleSeconds = 0.1f;
 
 // The hand an arm's landmark follows (0 left, 1 right), -1 for the rest of the body:
