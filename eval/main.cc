@@ -147,8 +147,10 @@ int main(int argc, char** argv) {
   app.add_option("--k1", base.ankle_candidates, "A3 ankle candidates K1");
   app.add_option("--k2", base.pose_neighbours, "A5 pose neighbours K2");
   app.add_option("--window", base.window, "A4 window L for the full run (0 = whole clip)");
-  std::string contacts = "estimated";
-  app.add_option("--contacts", contacts, "A7 foot contacts from the chosen database frame or the estimated ankles")
+  std::string contacts = "both";
+  app.add_option(
+         "--contacts", contacts,
+         "A7 foot contacts from the chosen database frame, the estimated ankles, or both (planted where both say so)")
       ->check(CLI::IsMember({"database", "estimated", "both"}))
       ->capture_default_str();
   app.add_option("--contact-speed", base.footskate.contact_speed, "A7 planted below this ground speed, m/s")

@@ -60,6 +60,8 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
   }
   const v1::MethodOverrides& o = config.overrides();
   switch (o.foot_contacts()) {
+    case v1::FOOT_CONTACTS_DEFAULT:
+      break;  // ReconstructionOptions' own
     case v1::FOOT_CONTACTS_ESTIMATED_ANKLES:
       options.footskate.contact_source = ContactSource::kEstimatedAnkles;
       break;
@@ -91,6 +93,18 @@ v1::SessionConfig EffectiveConfig(const v1::SessionConfig& config, const Reconst
     out.mutable_sub_interval()->set_window_frames(options.window);
   }
   WriteMethodOverrides(options, out.mutable_overrides());
+  // The enum is written apart (method_overrides.h): the contacts the session uses, not "default".
+  switch (options.footskate.contact_source) {
+    case ContactSource::kEstimatedAnkles:
+      out.mutable_overrides()->set_foot_contacts(v1::FOOT_CONTACTS_ESTIMATED_ANKLES);
+      break;
+    case ContactSource::kDatabaseFrame:
+      out.mutable_overrides()->set_foot_contacts(v1::FOOT_CONTACTS_DATABASE_FRAME);
+      break;
+    case ContactSource::kBoth:
+      out.mutable_overrides()->set_foot_contacts(v1::FOOT_CONTACTS_BOTH);
+      break;
+  }
   return out;
 }
 

@@ -30,7 +30,7 @@ struct ReconstructOptions {
   double noise_cm = 0.0;
   unsigned seed = 1;
   std::string method = "full";
-  std::string foot_contacts = "estimated";
+  std::string foot_contacts = "both";
   int window = -1, lag = -1;
   // Tunables asked for by flag (proto/convert/method_overrides.h), in the order given.
   std::vector<std::pair<const MethodTunable*, double>> tunables;
@@ -58,9 +58,9 @@ absl::StatusOr<v1::SessionConfig> Config(const ReconstructOptions& o) {
   if (o.lag >= 0) config.mutable_fixed_lag()->set_lag_frames(o.lag);
   if (o.window >= 0) config.mutable_sub_interval()->set_window_frames(o.window);
   for (const auto& [tunable, value] : o.tunables) SetMethodOverride(*tunable, value, config.mutable_overrides());
-  config.mutable_overrides()->set_foot_contacts(o.foot_contacts == "database" ? v1::FOOT_CONTACTS_DATABASE_FRAME
-                                                : o.foot_contacts == "both"   ? v1::FOOT_CONTACTS_BOTH
-                                                                              : v1::FOOT_CONTACTS_ESTIMATED_ANKLES);
+  config.mutable_overrides()->set_foot_contacts(o.foot_contacts == "database"    ? v1::FOOT_CONTACTS_DATABASE_FRAME
+                                                : o.foot_contacts == "estimated" ? v1::FOOT_CONTACTS_ESTIMATED_ANKLES
+                                                                                 : v1::FOOT_CONTACTS_BOTH);
   config.set_performer_height(o.performer_height);
   // The body sized by the wrists' reach: once for the whole input, as it streams in otherwise.
   config.set_estimate_performer_height(o.estimate_height && o.performer_height == 0.0f && o.target_rig_text.empty());
@@ -398,7 +398,8 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   }
   command
       ->add_option("--foot-contacts", o->foot_contacts,
-                   "A7 foot contacts: estimated (most accurate), database (least skating) or both")
+                   "A7 foot contacts: both (planted where the estimated ankle and the chosen database frame say so), "
+                   "estimated or database (least skating for the database's own performers, worse for others)")
       ->check(CLI::IsMember({"estimated", "database", "both"}))
       ->capture_default_str();
   command

@@ -50,7 +50,7 @@ TEST(OptionsFromConfigTest, AnEmptyConfigIsTheDefaultOfflineFullMethod) {
   EXPECT_EQ(options->pose_neighbours, defaults.pose_neighbours);
   EXPECT_EQ(options->joint_smoothing_sigma, defaults.joint_smoothing_sigma);
   EXPECT_EQ(options->max_gap_seconds, defaults.max_gap_seconds);
-  EXPECT_EQ(options->footskate.contact_source, ContactSource::kEstimatedAnkles);
+  EXPECT_EQ(options->footskate.contact_source, ContactSource::kBoth);
 }
 
 TEST(OptionsFromConfigTest, ModesMethodsAndOverridesAreTaken) {
@@ -184,6 +184,13 @@ TEST(OptionsFromConfigTest, TheEffectiveConfigReadsBackIntoTheSameOptions) {
   EXPECT_EQ(o.ankle_candidates(), 123);
   EXPECT_EQ(o.pose_neighbours(), ReconstructionOptions().pose_neighbours);
   EXPECT_EQ(o.foot_contacts(), v1::FOOT_CONTACTS_DATABASE_FRAME);
+  // Left to the server, the contacts read back as the ones it uses.
+  v1::SessionConfig unset = config;
+  unset.mutable_overrides()->clear_foot_contacts();
+  auto defaults = OptionsFromConfig(unset);
+  ASSERT_TRUE(defaults.ok()) << defaults.status();
+  EXPECT_EQ(defaults->footskate.contact_source, ContactSource::kBoth);
+  EXPECT_EQ(EffectiveConfig(unset, *defaults).overrides().foot_contacts(), v1::FOOT_CONTACTS_BOTH);
   // Sent again, it means the same session.
   auto again = OptionsFromConfig(effective);
   ASSERT_TRUE(again.ok()) << again.status();

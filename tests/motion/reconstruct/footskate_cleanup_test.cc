@@ -150,8 +150,10 @@ TEST(FootskateCleanupTest, ContactsCanComeFromTheChosenDatabaseFrame) {
   frame.ankle_position[0][1] = db.planted_ankle_height();
 
   // The estimate races along (no contact by its own speed), but the database frame says planted:
-  // the database source pins the foot, the estimate source does not.
-  for (ContactSource source : {ContactSource::kDatabaseFrame, ContactSource::kEstimatedAnkles}) {
+  // the database source pins the foot, the estimate source does not, and both (the default) need
+  // both to say so.
+  EXPECT_EQ(FootskateOptions{}.contact_source, ContactSource::kBoth);
+  for (ContactSource source : {ContactSource::kDatabaseFrame, ContactSource::kEstimatedAnkles, ContactSource::kBoth}) {
     FootskateCleaner cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), {.contact_source = source});
     std::array<bool, 2> contact{};
     for (int f = 0; f < 3; ++f) {
