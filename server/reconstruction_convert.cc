@@ -1,7 +1,9 @@
 #include "server/reconstruction_convert.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "motion/core/str_cat.h"
 #include "motion/reconstruct/body_model.h"
@@ -9,6 +11,14 @@
 
 namespace mocap {
 namespace {
+
+// The A7 contact sources the API names, both ways (FOOT_CONTACTS_DEFAULT is none of them: the
+// options' own).
+constexpr std::array<std::pair<v1::FootContacts, ContactSource>, 3> kFootContacts = {{
+    {v1::FOOT_CONTACTS_ESTIMATED_ANKLES, ContactSource::kEstimatedAnkles},
+    {v1::FOOT_CONTACTS_DATABASE_FRAME, ContactSource::kDatabaseFrame},
+    {v1::FOOT_CONTACTS_BOTH, ContactSource::kBoth},
+}};
 
 void ToProto(const Eigen::Vector3f& v, float scale, v1::Vec3* out) {
   out->set_x(v.x() * scale);
@@ -59,21 +69,14 @@ absl::StatusOr<ReconstructionOptions> OptionsFromConfig(const v1::SessionConfig&
     if (auto s = CheckRange("sub_interval.window_frames", options.window, 0, kMaxWindowFrames); !s.ok()) return s;
   }
   const v1::MethodOverrides& o = config.overrides();
-  switch (o.foot_contacts()) {
-    case v1::FOOT_CONTACTS_DEFAULT:
-      break;  // ReconstructionOptions' own
-    case v1::FOOT_CONTACTS_ESTIMATED_ANKLES:
-      options.footskate.contact_source = ContactSource::kEstimatedAnkles;
-      break;
-    case v1::FOOT_CONTACTS_DATABASE_FRAME:
-      options.footskate.contact_source = ContactSource::kDatabaseFrame;
-      break;
-    case v1::FOOT_CONTACTS_BOTH:
-      options.footskate.contact_source = ContactSource::kBoth;
-      break;
-    default:
+  if (o.foot_contacts() != v1::FOOT_CONTACTS_DEFAULT) {  // DEFAULT: ReconstructionOptions' own
+    const auto* named = std::find_if(kFootContacts.begin(), kFootContacts.end(),
+                                     [&](const auto& pair) { return pair.first == o.foot_contacts(); });
+    if (named == kFootContacts.end()) {
       return absl::InvalidArgumentError(
           StrCat("overrides.foot_contacts: unknown value ", static_cast<int>(o.foot_contacts())));
+    }
+    options.footskate.contact_source = named->second;
   }
   if (auto s = ApplyMethodOverrides(o, &options); !s.ok()) return s;
   if (auto s = CheckRange("min_confidence", config.min_confidence(), 0, 1); !s.ok()) return s;
@@ -94,16 +97,8 @@ v1::SessionConfig EffectiveConfig(const v1::SessionConfig& config, const Reconst
   }
   WriteMethodOverrides(options, out.mutable_overrides());
   // The enum is written apart (method_overrides.h): the contacts the session uses, not "default".
-  switch (options.footskate.contact_source) {
-    case ContactSource::kEstimatedAnkles:
-      out.mutable_overrides()->set_foot_contacts(v1::FOOT_CONTACTS_ESTIMATED_ANKLES);
-      break;
-    case ContactSource::kDatabaseFrame:
-      out.mutable_overrides()->set_foot_contacts(v1::FOOT_CONTACTS_DATABASE_FRAME);
-      break;
-    case ContactSource::kBoth:
-      out.mutable_overrides()->set_foot_contacts(v1::FOOT_CONTACTS_BOTH);
-      break;
+  for (const auto& [proto, source] : kFootContacts) {
+    if (source == options.footskate.contact_source) out.mutable_overrides()->set_foot_contacts(proto);
   }
   return out;
 }
