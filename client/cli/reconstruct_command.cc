@@ -12,6 +12,7 @@
 
 #include "client/cli/input_frame_flags.h"
 #include "client/cli/reconstruction_bvh.h"
+#include "client/cli/reconstruction_json.h"
 #include "client/cli/refusal_summary.h"
 #include "client/cli/target_rig_file.h"
 #include "client/wrist_input/wrist_source.h"
@@ -87,7 +88,8 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
     while (true) {
       absl::StatusOr<std::optional<v1::ReconstructResponse>> reply = (*stream)->Read();
       if (!reply.ok() || !*reply) break;
-      for (const v1::Frame& frame : (*reply)->frames().frames()) *result.add_frames() = frame;
+      for (v1::Frame& frame : *(*reply)->mutable_frames()->mutable_frames())
+        result.mutable_frames()->Add(std::move(frame));
       if ((*reply)->frames().has_skeleton())  // the body sized at the end of the input
         *result.mutable_started()->mutable_skeleton() = (*reply)->frames().skeleton();
       if ((*reply)->has_rejected()) *result.add_rejected() = (*reply)->rejected();
@@ -254,14 +256,18 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
   if (result->frames().empty()) {  // nothing half-made is written, and the run fails
     return ReportError(absl::InvalidArgumentError(NothingReconstructedMessage(refusals, samples->size())));
   }
-  const std::vector<v1::Frame> frames(result->frames().begin(), result->frames().end());
+  // The frames apart from the rest of the answer, moved, not copied (a target rig's are large).
+  std::vector<v1::Frame> frames;
+  frames.reserve(static_cast<size_t>(result->frames_size()));
+  for (v1::Frame& frame : *result->mutable_frames()) frames.push_back(std::move(frame));
+  result->clear_frames();
   absl::StatusOr<std::string> bvh = o.target_rig.empty()
                                         ? ReconstructionBvh(result->started(), frames)
                                         : RetargetedBvhText(o.target_rig_text, result->started(), frames);
   if (!bvh.ok()) return ReportError(bvh.status());
   const std::string bvh_path = o.output + ".bvh", json_path = o.output + ".json";
   if (absl::Status s = WriteFile(bvh_path, *bvh); !s.ok()) return ReportError(s);
-  if (absl::Status s = WriteFile(json_path, Json(*result)); !s.ok()) return ReportError(s);
+  if (absl::Status s = WriteReconstructionJson(json_path, *result, frames); !s.ok()) return ReportError(s);
   const v1::SessionSummary& summary = result->summary();
   const std::optional<Plausibility> plausibility = PlausibilityOf(result->started(), frames);
   const auto expected_errors = MeanExpectedErrors(frames);
