@@ -88,8 +88,10 @@ absl::StatusOr<v1::ReconstructTrajectoryResponse> Stream(client::Client& client,
     while (true) {
       absl::StatusOr<std::optional<v1::ReconstructResponse>> reply = (*stream)->Read();
       if (!reply.ok() || !*reply) break;
-      for (v1::Frame& frame : *(*reply)->mutable_frames()->mutable_frames())
-        result.mutable_frames()->Add(std::move(frame));
+      if ((*reply)->has_frames()) {  // (mutable_frames() would switch the reply's oneof to frames)
+        for (v1::Frame& frame : *(*reply)->mutable_frames()->mutable_frames())
+          result.mutable_frames()->Add(std::move(frame));
+      }
       if ((*reply)->frames().has_skeleton())  // the body sized at the end of the input
         *result.mutable_started()->mutable_skeleton() = (*reply)->frames().skeleton();
       if ((*reply)->has_rejected()) *result.add_rejected() = (*reply)->rejected();
