@@ -156,6 +156,8 @@ void SessionDriver::SizeFromReach() {
   held_next_ = 0;
 }
 
+bool SessionDriver::solves_windows() const { return session_->options().mode == StreamMode::kSubInterval; }
+
 absl::Status SessionDriver::PushHeld(std::vector<v1::ReconstructResponse>* replies) {
   if (!has_backlog()) return absl::OkStatus();
   const auto deadline = std::chrono::steady_clock::now() + limits_.held_slice_budget;

@@ -69,6 +69,10 @@ class SessionDriver {
   // minutes of them at once held a compute thread for as long). Push leaves them after a slice
   // of SessionLimits::held_slice_budget; call Continue until there are none before the next Push.
   bool has_backlog() const { return held_next_ < held_.size() && !estimate_height_; }
+  // The session solves its ankle path in windows (a whole trajectory, or A4's sub-intervals): a
+  // sample that completes one takes the window's work, up to about 0.6 s, in one task. A fixed
+  // lag's work is a few frames a sample.
+  bool solves_windows() const;
   absl::Status Continue(std::vector<v1::ReconstructResponse>* replies);
   // The end of the input, a slice at a time: the remaining frames, then the summary. Sets
   // `*done` once the summary is in `replies`; until then call it again (not Push).

@@ -26,7 +26,7 @@ class TrajectoryReactor : public OwnedReactor<grpc::ServerUnaryReactor> {
 
   void Begin();
   void Start(absl::StatusOr<ReconstructionDatabases::Database> database);
-  void PostSlice(int begin);
+  void PostSlice(int begin) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void Slice(int begin) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void Complete(absl::Status status) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 

@@ -17,12 +17,14 @@
 //
 // Where work is not cut yet (a whole-trajectory session solves each window of its ankle path in
 // one task: up to about 0.6 s), one thread is kept for short work: a key whose task worked longer
-// than kLongTask in the last kLongMemory is "long", and with more than one thread, long keys
-// together hold at most all threads but one. The other thread serves short keys (a live stream's
-// slices) at once, or waits for one; long work of a tenant alone uses the rest of the pool. A
-// task's work is its thread's CPU time, not the wall time it took: on a loaded machine a short
-// task preempted for 20 ms would make its key long, and a tenant of 30 live streams then held
-// one thread where it needed two (the queue, and its latency, grew to seconds).
+// than kLongTask in the last kLongMemory is "long", and so is a task posted as kMayBeLong (work
+// that may turn out long, told before it starts: a task that turns out long only when it ends
+// has held its thread by then, and two of them held both while a live stream waited 0.2–0.3 s);
+// with more than one thread, long keys and such tasks together hold at most all threads but one. The other thread
+// serves short keys (a live stream's slices) at once, or waits for one; long work of a tenant alone uses the rest of
+// the pool. A task's work is its thread's CPU time, not the wall time it took: on a loaded machine a short task
+// preempted for 20 ms would make its key long, and a tenant of 30 live streams then held one thread where it needed two
+// (the queue, and its latency, grew to seconds).
 #pragma once
 
 #include <cstdint>
@@ -41,8 +43,11 @@ class WorkPool {
   static constexpr Key kSharedKey = 0;  // work not attributed to a tenant (yet)
   // Nanoseconds of a monotonic clock; tests pass a clock their tasks advance.
   using Clock = std::function<std::int64_t()>;
-  static constexpr std::int64_t kMinimumCharge = 50'000;      // ns
-  static constexpr std::int64_t kLongTask = 20'000'000;       // ns: longer than any sliced task
+  enum class TaskLength { kShort, kMayBeLong };
+  static constexpr std::int64_t kMinimumCharge = 50'000;  // ns
+  // Longer than any sliced task, and than a live session's setup (16–34 ms measured on a loaded
+  // 2-core machine: at 20 ms a setup made a live stream long for kLongMemory).
+  static constexpr std::int64_t kLongTask = 50'000'000;       // ns
   static constexpr std::int64_t kLongMemory = 2'000'000'000;  // ns
 
   // `clock` times the fair shares; `work_clock` what a task itself worked (the calling thread's
@@ -55,7 +60,7 @@ class WorkPool {
 
   // Thread-safe. A task that throws is logged and dropped (last resort: callers catch their own).
   void Post(std::function<void()> task) { Post(kSharedKey, std::move(task)); }
-  void Post(Key key, std::function<void()> task);
+  void Post(Key key, std::function<void()> task, TaskLength length = TaskLength::kShort);
 
   // Tasks queued and not yet started, over all keys.
   size_t queued() const;
@@ -67,10 +72,11 @@ class WorkPool {
   struct Queued {
     std::uint64_t sequence;  // posting order, over all keys
     std::function<void()> task;
+    bool may_be_long = false;  // posted as TaskLength::kMayBeLong
   };
   struct Running {
     std::int64_t started = 0;
-    bool long_key = false;  // counted in long_running_
+    bool long_key = false;  // a long key's or a kMayBeLong task: counted in long_running_
   };
   struct KeyState {
     std::deque<Queued> queue;

@@ -246,7 +246,7 @@ TEST(WorkPoolTest, AKeyIsChargedForItsRunningTaskBeforeItEnds) {
 }
 
 TEST(WorkPoolTest, KeysWithLongTasksLeaveOneThreadForShortWork) {
-  // Key 1's tasks are long (one ran 30 ms). While one of them runs, its next waits though a
+  // Key 1's tasks are long (one ran 60 ms). While one of them runs, its next waits though a
   // thread is free, and key 2's short task takes that thread.
   Journal journal;
   std::latch done(4);
@@ -254,7 +254,7 @@ TEST(WorkPoolTest, KeysWithLongTasksLeaveOneThreadForShortWork) {
   WorkPool pool(2, clock.clock(), clock.clock());
   std::latch first_done(1), long_started(1), short_ran(1);
   pool.Post(1, [&] {
-    clock.AdvanceMilliseconds(30);
+    clock.AdvanceMilliseconds(60);
     first_done.count_down();
     done.count_down();
   });
@@ -283,6 +283,45 @@ TEST(WorkPoolTest, KeysWithLongTasksLeaveOneThreadForShortWork) {
   release.set_value();
   done.wait();
   EXPECT_EQ(journal.labels(), (std::vector<std::string>{"short", "long", "second long"}));
+}
+
+TEST(WorkPoolTest, TasksPostedAsMayBeLongLeaveOneThreadForShortWork) {
+  // Nothing of key 1 has run long yet, but its tasks say they may (a session solving windows):
+  // while one runs, the next waits though a thread is free, and key 2's short task takes it.
+  Journal journal;
+  std::latch done(3), long_started(1), short_ran(1);
+  ManualClock clock;
+  WorkPool pool(2, clock.clock(), clock.clock());
+  std::promise<void> release;
+  std::shared_future<void> may_end = release.get_future().share();
+  pool.Post(
+      1,
+      [&, may_end] {
+        long_started.count_down();
+        may_end.wait();
+        journal.Add("window");
+        done.count_down();
+      },
+      WorkPool::TaskLength::kMayBeLong);
+  long_started.wait();
+  pool.Post(
+      1,
+      [&] {
+        journal.Add("second window");
+        done.count_down();
+      },
+      WorkPool::TaskLength::kMayBeLong);
+  pool.Post(2, [&] {
+    journal.Add("live");
+    short_ran.count_down();
+    done.count_down();
+  });
+  short_ran.wait();
+  EXPECT_EQ(pool.queued(), 1u);
+  EXPECT_EQ(journal.labels(), std::vector<std::string>{"live"});
+  release.set_value();
+  done.wait();
+  EXPECT_EQ(journal.labels(), (std::vector<std::string>{"live", "window", "second window"}));
 }
 
 TEST(WorkPoolTest, ATaskThatTookLongButWorkedLittleLeavesItsKeyShort) {
