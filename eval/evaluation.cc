@@ -11,6 +11,7 @@
 #include "motion/core/str_cat.h"
 #include "motion/core/units.h"
 #include "motion/preprocess/clip_labels.h"
+#include "motion/preprocess/frame_features.h"
 #include "motion/reconstruct/reconstruction_export.h"
 #include "motion/reconstruct/wrist_reach.h"
 #include "motion/skeleton/forward_kinematics.h"
@@ -52,9 +53,25 @@ absl::StatusOr<EvaluationDatabases> LoadDatabases(const std::vector<std::filesys
   return databases;
 }
 
+namespace {
+
+void ScaleBody(float scale, const RigModel& rig, PreparedClip* clip) {
+  std::vector<Joint> joints = clip->skeleton.joints();
+  for (Joint& joint : joints) {
+    joint.offset *= scale;
+    if (joint.end_site) *joint.end_site *= scale;
+  }
+  clip->skeleton = Skeleton(std::move(joints));
+  for (Eigen::ArrayXXf* t : {&clip->motion.tx, &clip->motion.ty, &clip->motion.tz}) *t *= scale;
+  clip->features = ComputeFrameFeatures(ForwardKinematics(clip->skeleton, clip->motion), rig.topology.landmarks,
+                                        rig.pelvis_up_local, clip->motion.frame_time);
+}
+
+}  // namespace
+
 absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files,
                                                     const RigModel& rig, int max_frames,
-                                                    const std::string& content_prefix) {
+                                                    const std::string& content_prefix, float body_scale) {
   std::vector<TestClip> tests(files.size());
   MOCAP_RETURN_IF_ERROR(PrepareAll(files, rig, [&](size_t i, PreparedClip&& prepared) {
     TestClip& t = tests[i];
@@ -67,6 +84,7 @@ absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::files
         a->conservativeResize(max_frames, Eigen::NoChange);
       prepared.features.resize(max_frames);
     }
+    if (body_scale != 1.0f) ScaleBody(body_scale, rig, &prepared);
     t.truth = ForwardKinematics(prepared.skeleton, prepared.motion);
     t.clip = std::move(prepared);
   }));

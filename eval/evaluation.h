@@ -62,9 +62,11 @@ struct EvaluationDatabases {
 };
 absl::StatusOr<EvaluationDatabases> LoadDatabases(const std::vector<std::filesystem::path>& files);
 // Test clips on `rig`, cut to `max_frames` (0 = whole). Clips on another rig are an error.
+// `body_scale` ≠ 1 makes each performer that much larger (every bone and the root's path; the
+// rotations kept): people of other sizes on the database's own motion (mocap-eval --test-body-scale).
 absl::StatusOr<std::vector<TestClip>> LoadTestClips(const std::vector<std::filesystem::path>& files,
                                                     const RigModel& rig, int max_frames,
-                                                    const std::string& content_prefix);
+                                                    const std::string& content_prefix, float body_scale = 1.0f);
 
 // The input a test gives the engine: `frames` samples `frame_time` apart from time 0, the wrists of
 // each frame (left, right; metres, Y up) plus Gaussian noise of σ `noise_cm` drawn from `seed`.

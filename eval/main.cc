@@ -102,6 +102,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> database_dirs, test_paths;
   bool quick = false, ablations = false, generalisation = false, no_bvh = false, development = false;
   double noise_cm = 0.5;
+  float test_body_scale = 1.0f;
   unsigned seed = 1;
   int max_frames = 0, max_clips = 0, threads = 2;
   mocap::ReconstructionOptions base;
@@ -139,6 +140,10 @@ int main(int argc, char** argv) {
                "a height declared as the service takes it (performer_height, with a 3% error)");
   app.add_flag("--generalisation", generalisation,
                "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
+  app.add_option("--test-body-scale", test_body_scale,
+                 "test takes on the database's rig: every performer this much larger (bones and root path, the "
+                 "rotations kept): people of other sizes on the standard or development split")
+      ->check(CLI::Range(0.5f, 2.0f));
   app.add_option("--noise-cm", noise_cm, "wrist noise σ in cm (docs/method.md A8: 0.5)");
   app.add_option("--seed", seed, "noise seed");
   app.add_option("--max-frames", max_frames, "cut test clips to this many frames (0 = whole)");
@@ -283,7 +288,7 @@ int main(int argc, char** argv) {
   bool by_landmarks = landmarks || cross_dataset;
   absl::StatusOr<std::vector<mocap::eval::TestClip>> tests = std::vector<mocap::eval::TestClip>{};
   if (!by_landmarks) {
-    tests = mocap::eval::LoadTestClips(test_files, database->rig(), max_frames, "");
+    tests = mocap::eval::LoadTestClips(test_files, database->rig(), max_frames, "", test_body_scale);
     by_landmarks = tests.status().code() == absl::StatusCode::kFailedPrecondition;  // a clip on another rig
   }
   if (by_landmarks) {  // every test clip is scored on its body landmarks
