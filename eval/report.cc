@@ -97,7 +97,8 @@ absl::Status WriteReport(const std::filesystem::path& out_dir, const nlohmann::j
                           {"ratio", best_error > 0 ? mpjpe(f) / best_error : 0.0}});
     };
     row("all", full->overall, [](const ExperimentResult& r) { return &r.overall; });
-    for (const auto& [content, metrics] : full->by_content) {
+    for (const auto& [name, metrics] : full->by_content) {
+      const std::string& content = name;  // (clang 14 cannot capture a structured binding)
       row(content, metrics, [&content](const ExperimentResult& r) -> const Metrics* {
         auto it = r.by_content.find(content);
         return it == r.by_content.end() ? nullptr : &it->second;
