@@ -7,7 +7,7 @@
 
 namespace mocap::storage {
 
-inline constexpr int kSchemaVersion = 3;
+inline constexpr int kSchemaVersion = 4;
 // Read-only opens (which cannot migrate) accept these older versions too: their tables read the same.
 inline constexpr int kMinReadOnlySchemaVersion = 2;
 

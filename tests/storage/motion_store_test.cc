@@ -298,6 +298,38 @@ TEST_F(MotionStoreTest, MigratingVersionTwoKeepsIdsAndStopsReuse) {
   EXPECT_GT(store->CreateDatabase("runs", rig_, 30.0)->ref.id(), 7);
 }
 
+// Issue #24: every session's start reads its database's clip count, frame total and content
+// stamp. A clip's row is a page or more (its motion blobs), so these must come from an index
+// alone: through the table they read every clip's page (9.5 MB for a 2,316-clip database).
+TEST_F(MotionStoreTest, ClipCountsFrameTotalsAndStampsAreReadFromIndexesAlone) {
+  std::filesystem::create_directories(path_.parent_path());
+  {
+    SQLite::Database raw(path_.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    ASSERT_TRUE(storage::MigrateSchema(raw, 3).ok());  // a store written before the index
+  }
+  auto store = std::move(MotionStore::Open(path_)).value();
+  auto walks = store->CreateDatabase("walks", rig_, 30.0);
+  ASSERT_TRUE(walks.ok());
+  ASSERT_TRUE(store->InsertClip(walks->ref, "a.bvh", "h1", {}, prepared_, rig_).ok());
+  ASSERT_TRUE(store->InsertClip(walks->ref, "b.bvh", "h2", {}, prepared_, rig_).ok());
+  auto summary = store->FindDatabase("walks");
+  ASSERT_TRUE(summary.ok());
+  EXPECT_EQ(summary->num_clips, 2);
+  EXPECT_EQ(summary->num_frames, 2 * prepared_.num_frames());
+  SQLite::Database raw(path_.string());
+  auto plan = [&](const std::string& sql) {
+    SQLite::Statement explain(raw, "EXPLAIN QUERY PLAN " + sql);
+    std::string details;
+    while (explain.executeStep()) details += explain.getColumn(3).getString() + "\n";
+    return details;
+  };
+  for (const std::string sql : {"SELECT COUNT(*), COALESCE(SUM(num_frames), 0) FROM clips WHERE database_id = 1",
+                                "SELECT id, content_hash FROM clips WHERE database_id = 1 ORDER BY id"}) {
+    const std::string details = plan(sql);
+    EXPECT_NE(details.find("COVERING INDEX"), std::string::npos) << sql << ":\n" << details;
+  }
+}
+
 // Issue #24 finding 2: the content stamp keys the server's indices, which carry database and
 // file names. Even where an id did repeat (a store from before schema 3), the stamp of another
 // tenant's database must differ.
