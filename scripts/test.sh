@@ -5,7 +5,7 @@
 #   usage: scripts/test.sh [--sanitize | --tsan] [extra ctest arguments]
 #   --sanitize: a second build in build-asan with AddressSanitizer + UndefinedBehaviorSanitizer,
 #               by clang at -O1 with line tables only, as the TSan build: gcc at -O2 with full debug
-#               information took 37 min of a cold CI machine's 2 cores to build it, clang 12 min
+#               information took 37 min of a cold CI machine's 2 cores to build it, clang 14 min
 #               (also skips mocap-eval --quick, minutes under the sanitizers; its code is unit-tested)
 #               (skips the every-file landmark sweep, which the plain run covers, the Docker
 #               runtime check, which sanitizer runtimes would fail, the browser page test, whose
