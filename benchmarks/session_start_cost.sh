@@ -14,13 +14,12 @@ store=${STORE:-$repo/build/fairness/store.db}
 data="${MOCAP_DATA_CACHE_DIR:-$HOME/.cache/mocap/data}"
 clip="$data/bandai-namco-2/dataset-2_walk_normal_003.bvh"
 [ -f "$store" ] || { echo "no store at $store: run benchmarks/fairness_flood.sh first (it builds one)" >&2; exit 1; }
-key=$("$mocapd" tenant add-key --store "$store" flood 2>/dev/null)
+source "$repo/scripts/temporary_server.sh"
 log=$(mktemp)
-coproc SERVER { exec "$mocapd" serve --store "$store" --listen 127.0.0.1:0 2>"$log"; }
-server_pid=$SERVER_PID
-trap 'kill $server_pid 2>/dev/null; wait $server_pid 2>/dev/null || true; "$mocapd" tenant revoke-key --store "$store" flood "$key" >/dev/null 2>&1 || true; rm -f "$log"' EXIT
-read -r -t 60 line <&"${SERVER[0]}"
-address=${line#listening on }
+key=$("$mocapd" tenant add-key --store "$store" flood 2>/dev/null)
+trap 'stop_temporary_server; "$mocapd" tenant revoke-key --store "$store" flood "$key" >/dev/null 2>&1 || true; rm -f "$log"' EXIT
+start_temporary_server "$mocapd" "$store" "$log"
+server_pid=$temporary_server_pid
 # Warm-up: the database's index is built before the count starts.
 "$load" --address "$address" --key "$key" --database walks --bvh "$clip" --streams 1 --seconds 1 --json >/dev/null
 cpu_ticks() { awk '{print $14 + $15}' "/proc/$server_pid/stat"; }
