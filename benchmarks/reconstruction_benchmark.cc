@@ -1,9 +1,12 @@
 // The whole reconstruction pipeline (docs/method.md A2–A7) on the standard split, single thread,
 // default options: frames per second and time per stage per frame, whole clip and streamed at a
 // fixed lag; plus the resident memory of the loaded database and indices per database frame; and
-// one engine serving 1 or 30 interleaved streams (BM_InterleavedSessions).
+// one engine serving 1 or 30 interleaved streams (BM_InterleavedSessions); and the longest call of
+// a whole-trajectory session, sliced as the server runs it or not (BM_WholeTrajectoryLongestCall).
 //   build/benchmarks/mocap_reconstruction_benchmark --benchmark_counters_tabular=true
 #include <unistd.h>
+#include <chrono>
+#include <cmath>
 #include <fstream>
 #include <memory>
 #include <vector>
@@ -169,6 +172,62 @@ void BM_InterleavedSessions(benchmark::State& state) {
   state.counters["fps"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_InterleavedSessions)->ArgName("sessions")->Arg(1)->Arg(30)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Issue #24: the longest single call of a whole-trajectory session as the server runs it (windows
+// of 600 frames), each call given the server's 20 ms slice (SetSliceDeadline; pending frames taken
+// by Continue) or not: how long one compute task can hold a thread. 60 s of the held-out walk,
+// played forwards and back, one sample per call.
+void BM_WholeTrajectoryLongestCall(benchmark::State& state) {
+  const Fixture* shared = SharedOrSkip(state);
+  if (shared == nullptr) return;
+  const Fixture& f = *shared;
+  ReconstructionOptions options;
+  options.max_window_frames = 600;  // SessionLimits' default
+  const bool sliced = state.range(0) != 0;
+  const BodyLandmarks& l = f.database->rig().topology.landmarks;
+  const eval::TestClip& walk = f.tests.front();
+  const int length = walk.truth.num_frames();
+  const int samples = static_cast<int>(std::lround(60.0 / f.database->frame_time()));
+  double longest = 0;
+  long calls = 0, frames = 0;
+  std::vector<ReconstructedFrame> out;
+  // One call: timed, its deadline set first when sliced.
+  auto call = [&](ReconstructionSession& session, auto&& work) {
+    const auto start = std::chrono::steady_clock::now();
+    if (sliced) session.SetSliceDeadline(start + std::chrono::milliseconds(20));
+    (void)work();
+    longest =
+        std::max(longest, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    ++calls;
+  };
+  for (auto _ : state) {
+    auto session = *ReconstructionSession::Create(f.database, options);
+    out.clear();
+    for (int t = 0; t < samples; ++t) {
+      const int m = t % (2 * length - 2);
+      const int k = m < length ? m : 2 * length - 2 - m;
+      call(*session, [&] {
+        return session->Push(
+            {t * f.database->frame_time(), walk.truth.position(k, l.left_wrist), walk.truth.position(k, l.right_wrist)},
+            &out);
+      });
+      while (session->has_pending_frames()) call(*session, [&] { return session->Continue(&out); });
+    }
+    do {
+      call(*session, [&] { return session->Finish(&out); });
+    } while (session->has_pending_frames());
+    frames += static_cast<long>(out.size());
+  }
+  state.counters["longest_call_ms"] = longest;
+  state.counters["calls"] = static_cast<double>(calls);
+  state.counters["frames"] = static_cast<double>(frames);
+}
+BENCHMARK(BM_WholeTrajectoryLongestCall)
+    ->ArgName("sliced")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace mocap

@@ -61,24 +61,21 @@ ReconstructReactor::TaskToken::~TaskToken() {
 void ReconstructReactor::Post(std::function<void()> work) {
   // Called with mutex_ held.
   auto token = std::make_shared<TaskToken>(TaskToken(*this));
-  state_.compute.Post(
-      pool_key_.load(),
-      [this, token, work = std::move(work)] {
-        const TaskToken task = std::move(*token);  // released last, when this task returns or throws
-        absl::Status failed;
-        try {
-          work();
-        } catch (const std::exception& error) {
-          failed = absl::InternalError(StrCat("reconstruction failed: ", error.what()));
-        } catch (...) {
-          failed = absl::InternalError("reconstruction failed");
-        }
-        if (!failed.ok()) {
-          MutexLock lock(&mutex_);
-          CompleteLocked(failed, true);
-        }
-      },
-      task_length_.load());
+  state_.compute.Post(pool_key_.load(), [this, token, work = std::move(work)] {
+    const TaskToken task = std::move(*token);  // released last, when this task returns or throws
+    absl::Status failed;
+    try {
+      work();
+    } catch (const std::exception& error) {
+      failed = absl::InternalError(StrCat("reconstruction failed: ", error.what()));
+    } catch (...) {
+      failed = absl::InternalError("reconstruction failed");
+    }
+    if (!failed.ok()) {
+      MutexLock lock(&mutex_);
+      CompleteLocked(failed, true);
+    }
+  });
 }
 
 void ReconstructReactor::PostSliceLocked() {
@@ -171,7 +168,6 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
           status = driver.status();
           if (driver.ok()) {
             driver_ = std::move(*driver);
-            if (driver_->solves_windows()) task_length_ = WorkPool::TaskLength::kMayBeLong;
             session_started_ = true;
             replies.emplace_back().mutable_started()->CopyFrom(driver_->started());
             spdlog::info(

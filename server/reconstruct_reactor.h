@@ -127,8 +127,6 @@ class ReconstructReactor
   std::int64_t samples_rejected_ ABSL_GUARDED_BY(session_mutex_) = 0;
   std::atomic<bool> cancelled_{false};  // set once the outcome is decided: stops the session's compute
   std::atomic<WorkPool::Key> pool_key_{WorkPool::kSharedKey};  // the tenant, once authenticated
-  // A session that solves windows posts its tasks as WorkPool::TaskLength::kMayBeLong.
-  std::atomic<WorkPool::TaskLength> task_length_{WorkPool::TaskLength::kShort};
 
   // Guarded by the base's mutex_ (owned_reactor.h).
   Phase phase_ ABSL_GUARDED_BY(mutex_) = Phase::kAuthenticating;

@@ -86,8 +86,14 @@ absl::Status SessionDriver::Reject(long index, double time, const std::string& r
   return absl::OkStatus();
 }
 
+void SessionDriver::StartSlice() {
+  slice_deadline_ = std::chrono::steady_clock::now() + limits_.slice_budget;
+  session_->SetSliceDeadline(slice_deadline_);
+}
+
 absl::Status SessionDriver::Push(const v1::WristSamples& samples, int begin, int end,
                                  std::vector<v1::ReconstructResponse>* replies) {
+  StartSlice();
   for (int i = begin; i < end; ++i) {
     const v1::WristSample& sample = samples.samples(i);
     ++samples_;
@@ -107,6 +113,7 @@ absl::Status SessionDriver::Push(const v1::WristSamples& samples, int begin, int
 }
 
 absl::Status SessionDriver::Continue(std::vector<v1::ReconstructResponse>* replies) {
+  StartSlice();
   MOCAP_RETURN_IF_ERROR(PushHeld(replies));
   AppendFrames(replies);
   return absl::OkStatus();
@@ -156,14 +163,18 @@ void SessionDriver::SizeFromReach() {
   held_next_ = 0;
 }
 
-bool SessionDriver::solves_windows() const { return session_->options().mode == StreamMode::kSubInterval; }
+bool SessionDriver::has_backlog() const {
+  return (held_next_ < held_.size() && !estimate_height_) || session_->has_pending_frames();
+}
 
 absl::Status SessionDriver::PushHeld(std::vector<v1::ReconstructResponse>* replies) {
-  if (!has_backlog()) return absl::OkStatus();
-  const auto deadline = std::chrono::steady_clock::now() + limits_.held_slice_budget;
-  while (held_next_ < held_.size()) {
-    MOCAP_RETURN_IF_ERROR(PushScaled(held_[held_next_++], replies));
-    if (std::chrono::steady_clock::now() >= deadline) break;
+  while (has_backlog()) {
+    if (session_->has_pending_frames()) {  // the frames a window decided, before the samples after it
+      MOCAP_RETURN_IF_ERROR(session_->Continue(&pending_));
+    } else {
+      MOCAP_RETURN_IF_ERROR(PushScaled(held_[held_next_++], replies));
+    }
+    if (std::chrono::steady_clock::now() >= slice_deadline_) break;
   }
   if (held_next_ == held_.size()) {
     std::vector<MonitoredSample>().swap(held_);
@@ -199,6 +210,7 @@ absl::Status SessionDriver::Finish(std::vector<v1::ReconstructResponse>* replies
 
 absl::Status SessionDriver::FinishStep(std::vector<v1::ReconstructResponse>* replies, bool* done) {
   *done = false;
+  StartSlice();
   if (!input_ended_) {
     input_ended_ = true;
     monitor_->Finish(&ready_, &warnings_);
@@ -213,6 +225,7 @@ absl::Status SessionDriver::FinishStep(std::vector<v1::ReconstructResponse>* rep
   }
   MOCAP_RETURN_IF_ERROR(session_->Finish(&pending_));
   AppendFrames(replies);
+  if (session_->has_pending_frames()) return absl::OkStatus();  // its last window, a slice at a time
   v1::SessionSummary* summary = replies->emplace_back().mutable_summary();
   ToProto(session_->statistics(), summary);
   summary->set_samples(samples_);

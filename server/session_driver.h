@@ -37,10 +37,10 @@ struct SessionLimits {
   // estimate_performer_height holds the input until it ends to read its reach; past this span the
   // body is sized on what is held and the rest streams on (48 bytes a sample: ~17 MB at 60 Hz).
   double max_reach_hold_seconds = 600.0;
-  // Held samples go into the session a slice at a time: until this much time has passed (a sample
-  // that completes an ankle-path window takes that window's work, so a slice is at most about one
-  // window). Issue #24: ten minutes of held samples were one task of ~30 s.
-  std::chrono::microseconds held_slice_budget{20'000};
+  // A call's work goes into the session a slice at a time: until this much time has passed (a
+  // window's frames are solved a few at a time, so a slice is this plus about one frame's work).
+  // Issue #24: ten minutes of held samples were one task of ~30 s, a 600-frame window ~0.4 s.
+  std::chrono::microseconds slice_budget{20'000};
 };
 
 class SessionDriver {
@@ -65,14 +65,12 @@ class SessionDriver {
   absl::Status Push(const v1::WristSamples& samples, std::vector<v1::ReconstructResponse>* replies) {
     return Push(samples, 0, samples.samples_size(), replies);
   }
-  // Held samples the body was sized on and that wait to go into the session (issue #24: pushing
-  // minutes of them at once held a compute thread for as long). Push leaves them after a slice
-  // of SessionLimits::held_slice_budget; call Continue until there are none before the next Push.
-  bool has_backlog() const { return held_next_ < held_.size() && !estimate_height_; }
-  // The session solves its ankle path in windows (a whole trajectory, or A4's sub-intervals): a
-  // sample that completes one takes the window's work, up to about 0.6 s, in one task. A fixed
-  // lag's work is a few frames a sample.
-  bool solves_windows() const;
+  // Work a call left after a slice of SessionLimits::slice_budget (issue #24: such work in
+  // one task held a compute thread for as long): held samples the body was sized on, and the
+  // frames of a window the session decided at once (a whole trajectory's or A4's sub-interval:
+  // up to ~0.3 s of solving), with the samples that came after them. Call Continue until there
+  // is none before the next Push.
+  bool has_backlog() const;
   absl::Status Continue(std::vector<v1::ReconstructResponse>* replies);
   // The end of the input, a slice at a time: the remaining frames, then the summary. Sets
   // `*done` once the summary is in `replies`; until then call it again (not Push).
@@ -98,7 +96,9 @@ class SessionDriver {
   // config.estimate_performer_height, at the end of the input: the body's size from the wrists'
   // reach (wrist_reach.h); the held samples then go into the session through PushHeld.
   void SizeFromReach();
-  // Held samples into the session, in order, until limits_.held_slice_budget has passed.
+  // The slice a call may take: until limits_.slice_budget from now, the session's too.
+  void StartSlice();
+  // The backlog (has_backlog) into the session, in order, until the slice's deadline.
   absl::Status PushHeld(std::vector<v1::ReconstructResponse>* replies);
   absl::Status ReportInput(std::vector<v1::ReconstructResponse>* replies);
 
@@ -120,6 +120,7 @@ class SessionDriver {
   bool input_reported_ = false;
   std::optional<FrameTransform> output_transform_;  // native → caller; unset: the server's frame
   SessionLimits limits_;
+  std::chrono::steady_clock::time_point slice_deadline_;
   v1::SessionStarted started_;
   std::vector<ReconstructedFrame> pending_;  // decided, not yet converted
   std::optional<Retargeter> retargeter_;     // config.target_rig: frames answered on that rig

@@ -38,18 +38,14 @@ void TrajectoryReactor::Start(absl::StatusOr<ReconstructionDatabases::Database> 
 }
 
 void TrajectoryReactor::PostSlice(int begin) {
-  // A session that solves windows may take one's work in a slice (SessionDriver::solves_windows).
-  state_.compute.Post(
-      pool_key_,
-      [this, begin] {
-        MutexLock lock(&mutex_);
-        try {
-          Slice(begin);
-        } catch (const std::exception& error) {
-          Complete(absl::InternalError(StrCat("reconstruction failed: ", error.what())));
-        }
-      },
-      driver_->solves_windows() ? WorkPool::TaskLength::kMayBeLong : WorkPool::TaskLength::kShort);
+  state_.compute.Post(pool_key_, [this, begin] {
+    MutexLock lock(&mutex_);
+    try {
+      Slice(begin);
+    } catch (const std::exception& error) {
+      Complete(absl::InternalError(StrCat("reconstruction failed: ", error.what())));
+    }
+  });
 }
 
 void TrajectoryReactor::Slice(int begin) {

@@ -59,10 +59,10 @@ std::int64_t WorkPool::SteadyNanoseconds() {
       .count();
 }
 
-void WorkPool::Post(Key key, std::function<void()> task, TaskLength length) {
+void WorkPool::Post(Key key, std::function<void()> task) {
   {
     MutexLock lock(&mutex_);
-    keys_[key].queue.push_back({next_sequence_++, std::move(task), length == TaskLength::kMayBeLong});
+    keys_[key].queue.push_back({next_sequence_++, std::move(task)});
     ++queued_;
   }
   ready_.notify_one();
@@ -88,7 +88,7 @@ std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::
       }
       continue;
     }
-    if (long_keys_wait && (state.long_until > now || state.queue.front().may_be_long)) {
+    if (long_keys_wait && state.long_until > now) {
       ++it;
       continue;
     }
@@ -145,7 +145,7 @@ void WorkPool::Work() {
       KeyState& state = picked->second;
       state.finish = std::max(state.finish, virtual_time_) + kMinimumCharge;  // the rest when it ends
       virtual_time_ = tag;
-      running.long_key = state.long_until > running.started || state.queue.front().may_be_long;
+      running.long_key = state.long_until > running.started;
       if (running.long_key) ++long_running_;
       task = std::move(state.queue.front().task);
       state.queue.pop_front();

@@ -15,16 +15,13 @@
 // must be cut into short tasks (a reconstruction runs a few samples per task, a pose search a few
 // milliseconds of comparisons), which bounds how long another key waits for a thread.
 //
-// Where work is not cut yet (a whole-trajectory session solves each window of its ankle path in
-// one task: up to about 0.6 s), one thread is kept for short work: a key whose task worked longer
-// than kLongTask in the last kLongMemory is "long", and so is a task posted as kMayBeLong (work
-// that may turn out long, told before it starts: a task that turns out long only when it ends
-// has held its thread by then, and two of them held both while a live stream waited 0.2–0.3 s);
-// with more than one thread, long keys and such tasks together hold at most all threads but one. The other thread
-// serves short keys (a live stream's slices) at once, or waits for one; long work of a tenant alone uses the rest of
-// the pool. A task's work is its thread's CPU time, not the wall time it took: on a loaded machine a short task
-// preempted for 20 ms would make its key long, and a tenant of 30 live streams then held one thread where it needed two
-// (the queue, and its latency, grew to seconds).
+// Where work is not cut (a task that turns out long: an import's batch, a caller's mistake), one
+// thread is kept for short work: a key whose task worked longer than kLongTask in the last
+// kLongMemory is "long", and with more than one thread long keys hold at most all threads but
+// one. The other thread serves short keys (a live stream's slices) at once, or waits for one;
+// long work of a tenant alone uses the rest of the pool. A task's work is its thread's CPU time, not the wall time it
+// took: on a loaded machine a short task preempted for 20 ms would make its key long, and a tenant of 30 live streams
+// then held one thread where it needed two (the queue, and its latency, grew to seconds).
 #pragma once
 
 #include <cstdint>
@@ -43,7 +40,6 @@ class WorkPool {
   static constexpr Key kSharedKey = 0;  // work not attributed to a tenant (yet)
   // Nanoseconds of a monotonic clock; tests pass a clock their tasks advance.
   using Clock = std::function<std::int64_t()>;
-  enum class TaskLength { kShort, kMayBeLong };
   static constexpr std::int64_t kMinimumCharge = 50'000;  // ns
   // Longer than any sliced task, and than a live session's setup (16–34 ms measured on a loaded
   // 2-core machine: at 20 ms a setup made a live stream long for kLongMemory).
@@ -60,7 +56,7 @@ class WorkPool {
 
   // Thread-safe. A task that throws is logged and dropped (last resort: callers catch their own).
   void Post(std::function<void()> task) { Post(kSharedKey, std::move(task)); }
-  void Post(Key key, std::function<void()> task, TaskLength length = TaskLength::kShort);
+  void Post(Key key, std::function<void()> task);
 
   // Tasks queued and not yet started, over all keys.
   size_t queued() const;
@@ -72,11 +68,10 @@ class WorkPool {
   struct Queued {
     std::uint64_t sequence;  // posting order, over all keys
     std::function<void()> task;
-    bool may_be_long = false;  // posted as TaskLength::kMayBeLong
   };
   struct Running {
     std::int64_t started = 0;
-    bool long_key = false;  // a long key's or a kMayBeLong task: counted in long_running_
+    bool long_key = false;  // a long key's: counted in long_running_
   };
   struct KeyState {
     std::deque<Queued> queue;

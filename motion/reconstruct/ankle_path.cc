@@ -34,6 +34,30 @@ std::vector<float> AnkleStartCosts(const std::optional<AnkleCandidate>& start, c
   return cost;
 }
 
+void AnkleWindowDp::Start(const std::optional<AnkleCandidate>& start, const std::vector<AnkleCandidate>& cloud) {
+  cost_ = AnkleStartCosts(start, cloud, frame_time_, options_);
+  from_.assign(1, std::vector<int>(cloud.size(), -1));
+}
+
+void AnkleWindowDp::Step(const std::vector<AnkleCandidate>& previous, const std::vector<AnkleCandidate>& cloud) {
+  std::vector<int>& from = from_.emplace_back();
+  AnkleDagStep(previous, cost_, cloud, frame_time_, options_, &next_cost_, &from);
+  AddAnkleDataCost(cloud, options_, &next_cost_);
+  cost_.swap(next_cost_);
+}
+
+AnkleWindowResult AnkleWindowDp::Best(const std::vector<std::vector<AnkleCandidate>>& clouds) const {
+  const int frames = this->frames();
+  AnkleWindowResult result;
+  result.nodes.resize(frames);
+  const auto last = std::min_element(cost_.begin(), cost_.end());
+  result.cost = *last;
+  result.nodes[frames - 1] = static_cast<int>(last - cost_.begin());
+  for (int t = frames - 1; t > 0; --t) result.nodes[t - 1] = from_[t][result.nodes[t]];
+  for (int t = 0; t < frames; ++t) result.ankles.push_back(AnklesOf(clouds[t][result.nodes[t]]));
+  return result;
+}
+
 absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector<AnkleCandidate>>& clouds,
                                                    const std::optional<AnkleCandidate>& start, double frame_time,
                                                    const AnklePathOptions& options, const std::atomic<bool>* cancel) {
@@ -41,26 +65,14 @@ absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector
   for (size_t t = 0; t < clouds.size(); ++t) {
     if (clouds[t].empty()) return absl::InvalidArgumentError(StrCat("ankle cloud of frame ", t, " is empty"));
   }
-  const float dt = static_cast<float>(frame_time);
-  const int frames = static_cast<int>(clouds.size());
-  std::vector<std::vector<float>> cost(frames);
-  std::vector<std::vector<int>> from(frames);
-  cost[0] = AnkleStartCosts(start, clouds[0], dt, options);
-  from[0].assign(clouds[0].size(), -1);
-  for (int t = 1; t < frames; ++t) {
+  AnkleWindowDp dp(frame_time, options);
+  dp.Start(start, clouds[0]);
+  for (size_t t = 1; t < clouds.size(); ++t) {
     if (cancel != nullptr && cancel->load(std::memory_order_relaxed))
       return absl::CancelledError("ankle path cancelled");
-    AnkleDagStep(clouds[t - 1], cost[t - 1], clouds[t], dt, options, &cost[t], &from[t]);
-    AddAnkleDataCost(clouds[t], options, &cost[t]);
+    dp.Step(clouds[t - 1], clouds[t]);
   }
-  AnkleWindowResult result;
-  result.nodes.resize(frames);
-  const auto last = std::min_element(cost[frames - 1].begin(), cost[frames - 1].end());
-  result.cost = *last;
-  result.nodes[frames - 1] = static_cast<int>(last - cost[frames - 1].begin());
-  for (int t = frames - 1; t > 0; --t) result.nodes[t - 1] = from[t][result.nodes[t]];
-  for (int t = 0; t < frames; ++t) result.ankles.push_back(AnklesOf(clouds[t][result.nodes[t]]));
-  return result;
+  return dp.Best(clouds);
 }
 
 std::vector<AnklePair> SmoothAnkles(const std::vector<AnklePair>& ankles, float sigma_frames) {

@@ -71,6 +71,29 @@ void AddAnkleDataCost(const std::vector<AnkleCandidate>& cloud, const AnklePathO
 std::vector<float> AnkleStartCosts(const std::optional<AnkleCandidate>& start, const std::vector<AnkleCandidate>& first,
                                    float frame_time, const AnklePathOptions& options);
 
+// A4's forward pass over one window, a frame at a time as its clouds arrive, so a stream spreads
+// a window's DP over the samples that fill it (issue #24: a 600-frame window's DP was ~140 ms of
+// one task at its end). The clouds stay the caller's; each call gets the same clouds the window's
+// earlier calls got. SolveAnkleWindow is this over a whole window at once.
+class AnkleWindowDp {
+ public:
+  AnkleWindowDp(double frame_time, const AnklePathOptions& options)
+      : frame_time_(static_cast<float>(frame_time)), options_(options) {}
+  // The window's first frame: `start` as in SolveAnkleWindow. Clears what the DP held.
+  void Start(const std::optional<AnkleCandidate>& start, const std::vector<AnkleCandidate>& cloud);
+  // The next frame, `previous` being the frame added before it.
+  void Step(const std::vector<AnkleCandidate>& previous, const std::vector<AnkleCandidate>& cloud);
+  int frames() const { return static_cast<int>(from_.size()); }
+  // The cheapest path through the frames added (clouds[t] the cloud of frame t), ankles included.
+  AnkleWindowResult Best(const std::vector<std::vector<AnkleCandidate>>& clouds) const;
+
+ private:
+  float frame_time_;
+  AnklePathOptions options_;
+  std::vector<float> cost_, next_cost_;  // the newest frame's path costs, and Step's scratch
+  std::vector<std::vector<int>> from_;   // per frame: each node's best predecessor
+};
+
 // One window: clouds[t] for its frames; `start` is the previous window's last chosen candidate
 // (the only start node), or nullopt at the beginning of a segment. InvalidArgument for an empty
 // window or an empty cloud.

@@ -53,6 +53,7 @@ struct ReconstructionSession::Segment {
   Segment(int id, const ReconstructionDatabase& db, const ReconstructionOptions& o)
       : id(id),
         smoother(o.smoothing, db.frame_time()),
+        window_dp(db.frame_time(), o.ankle_path),
         cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), o.footskate, o.mode == StreamMode::kFixedLag) {}
   int id;
   WristSmoother smoother;
@@ -69,12 +70,17 @@ struct ReconstructionSession::Segment {
   FrameHistory<AnklePair> raw;  // decided (unsmoothed) path
   FrameHistory<int> raw_rows;
   std::vector<std::vector<AnkleCandidate>> window;  // sub-interval mode: the open window's clouds
+  AnkleWindowDp window_dp;                          // and its DP, a frame at a time
   std::optional<AnkleCandidate> start;
   std::deque<DpFrame> dp;  // fixed-lag mode: frames dp_first.. of the running DP
   int dp_first = 0;
   FrameHistory<AnklePair> ankles;            // decided and smoothed ankle controls
   std::vector<AnklePair> ankle_batch;        // DecideAnkles's frames, before they join `ankles`
   std::vector<Eigen::Vector2f> hands_batch;  // their input wrists' midpoints over the ground
+  // Frames [solved, decided) have their controls and wait for A5–A7 (SolvePending); `ending`:
+  // once they are solved the segment ends (EndSegment).
+  int solved = 0, decided = 0;
+  bool ending = false;
   // Every per-frame history above, so that what holds for all of them is said once (a new
   // history is one line here, and ForgetSettledFrames forgets it too).
   template <typename F>
@@ -220,9 +226,24 @@ absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<
 }
 
 absl::Status ReconstructionSession::Finish(std::vector<ReconstructedFrame>* out) {
-  MOCAP_RETURN_IF_ERROR(EndSegment(out));
-  resampler_.Reset();
-  one_hand_bridge_.Reset();
+  if (!finishing_) {
+    finishing_ = true;
+    resampler_.Reset();
+    one_hand_bridge_.Reset();
+  }
+  MOCAP_RETURN_IF_ERROR(EndSegment(true, out));
+  if (!segment_) finishing_ = false;
+  return absl::OkStatus();
+}
+
+absl::Status ReconstructionSession::Continue(std::vector<ReconstructedFrame>* out) {
+  return finishing_ ? Finish(out) : SolvePending(true, out);
+}
+
+absl::Status ReconstructionSession::CompletePending(std::vector<ReconstructedFrame>* out) {
+  if (!finishing_) return SolvePending(false, out);
+  MOCAP_RETURN_IF_ERROR(EndSegment(false, out));
+  finishing_ = false;
   return absl::OkStatus();
 }
 
@@ -286,7 +307,8 @@ void ReconstructionSession::TrackBodyJitter(Segment& s, const ReconstructedFrame
 
 absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, std::vector<ReconstructedFrame>* out) {
   MOCAP_RETURN_IF_ERROR(CheckCancelled());
-  if (sample.starts_segment) MOCAP_RETURN_IF_ERROR(EndSegment(out));
+  MOCAP_RETURN_IF_ERROR(CompletePending(out));  // what a sliced call left, before anything newer
+  if (sample.starts_segment) MOCAP_RETURN_IF_ERROR(EndSegment(false, out));
   if (!segment_) {
     segment_ = std::make_unique<Segment>(next_segment_id_++, *database_, options_);
     ++statistics_.segments;
@@ -307,6 +329,7 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
 
 absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>* out) {
   MOCAP_RETURN_IF_ERROR(CheckCancelled());
+  MOCAP_RETURN_IF_ERROR(SolvePending(false, out));
   Segment& s = *segment_;
   const int t = static_cast<int>(s.wrists.size());
   auto start = Clock::now();
@@ -318,7 +341,8 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
   if (!method_->uses_ankles()) {
     s.wrist_distance.push_back(0.0f);
     statistics_.cloud_seconds += SecondsSince(start);
-    return SolveFrame(t, out);
+    s.decided = t + 1;
+    return SolvePending(true, out);
   }
   std::vector<AnkleCandidate> cloud;
   MOCAP_RETURN_IF_ERROR(FindAnkleCloud(database_->wrist_index(), database_->frames(),
@@ -329,15 +353,15 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
   start = Clock::now();
   const float dt = static_cast<float>(database_->frame_time());
   if (options_.mode == StreamMode::kSubInterval) {
+    if (s.window.empty()) {
+      s.window_dp.Start(s.start, cloud);
+    } else {
+      s.window_dp.Step(s.window.back(), cloud);
+    }
     s.window.push_back(std::move(cloud));
     const int window = options_.window > 0 ? options_.window : options_.max_window_frames;
     if (window > 0 && static_cast<int>(s.window.size()) == window) {
-      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved,
-                             SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
-      s.start = s.window.back()[solved.nodes.back()];
-      for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
-      s.raw.append(solved.ankles.begin(), solved.ankles.end());
-      s.window.clear();
+      DecideWindow(s);
       statistics_.path_seconds += SecondsSince(start);
       return DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, false, out);
     }
@@ -404,8 +428,34 @@ absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
   PlantAnkleContacts(batch, before, segment_ends, database_->planted_ankle_height(), database_->frame_time(),
                      options_.footskate, {hands, options_.motion_guard.standing_hands_speed});
   s.ankles.append(batch.begin(), batch.end());
-  for (int f = first; f < up_to_frame; ++f) MOCAP_RETURN_IF_ERROR(SolveFrame(f, out));
+  s.decided = up_to_frame;
+  return SolvePending(true, out);
+}
+
+void ReconstructionSession::DecideWindow(Segment& s) {
+  const AnkleWindowResult solved = s.window_dp.Best(s.window);
+  s.start = s.window.back()[solved.nodes.back()];
+  for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
+  s.raw.append(solved.ankles.begin(), solved.ankles.end());
+  s.window.clear();
+}
+
+absl::Status ReconstructionSession::SolvePending(bool sliced, std::vector<ReconstructedFrame>* out) {
+  if (!segment_) return absl::OkStatus();
+  Segment& s = *segment_;
+  while (s.solved < s.decided) {
+    MOCAP_RETURN_IF_ERROR(SolveFrame(s.solved, out));
+    ++s.solved;
+    if (sliced && Clock::now() >= slice_deadline_) break;
+  }
+  if (s.solved < s.decided || !s.ending) return absl::OkStatus();
+  EmitFiltered(true, out);
+  segment_.reset();
   return absl::OkStatus();
+}
+
+bool ReconstructionSession::has_pending_frames() const {
+  return segment_ && (segment_->solved < segment_->decided || segment_->ending || finishing_);
 }
 
 absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedFrame>* out) {
@@ -682,37 +732,40 @@ void ReconstructionSession::ForgetSettledFrames() {
   s.ForEachHistory([keep_from](auto& history) { history.ForgetBefore(keep_from); });
 }
 
-absl::Status ReconstructionSession::EndSegment(std::vector<ReconstructedFrame>* out) {
+absl::Status ReconstructionSession::EndSegment(bool sliced, std::vector<ReconstructedFrame>* out) {
   if (!segment_) return absl::OkStatus();
-  Segment& s = *segment_;
-  while (s.wrists.size() < s.input.size()) MOCAP_RETURN_IF_ERROR(ProcessFrame(out));  // one-sided A2 window at the end
-  const auto start = Clock::now();
-  const float dt = static_cast<float>(database_->frame_time());
-  if (method_->uses_ankles()) {
-    if (options_.mode == StreamMode::kSubInterval && !s.window.empty()) {
-      MOCAP_ASSIGN_OR_RETURN(AnkleWindowResult solved,
-                             SolveAnkleWindow(s.window, s.start, dt, options_.ankle_path, cancel_));
-      for (size_t i = 0; i < s.window.size(); ++i) s.raw_rows.push_back(s.window[i][solved.nodes[i]].row);
-      s.raw.append(solved.ankles.begin(), solved.ankles.end());
-      s.window.clear();
-    } else if (options_.mode == StreamMode::kFixedLag && !s.dp.empty() &&
-               s.dp_first + static_cast<int>(s.dp.size()) > static_cast<int>(s.raw.size())) {
-      // The final best path through the frames not decided yet.
-      const int t = s.dp_first + static_cast<int>(s.dp.size()) - 1;
-      const int decided = static_cast<int>(s.raw.size());
-      const std::vector<int> nodes = BestPathFrom(s.dp, s.dp_first, decided);
-      for (int f = decided; f <= t; ++f) {
-        const AnkleCandidate& c = s.dp[f - s.dp_first].cloud[nodes[f - decided]];
-        s.raw.push_back(AnklesOf(c));
-        s.raw_rows.push_back(c.row);
-      }
+  if (!segment_->ending) {
+    Segment& s = *segment_;
+    // The one-sided A2 window at the end, a frame at a time (a window one completes is sliced too).
+    while (true) {
+      MOCAP_RETURN_IF_ERROR(SolvePending(sliced, out));
+      if (s.solved < s.decided) return absl::OkStatus();  // the rest in the next call
+      if (s.wrists.size() >= s.input.size()) break;
+      MOCAP_RETURN_IF_ERROR(ProcessFrame(out));
     }
-    statistics_.path_seconds += SecondsSince(start);
-    MOCAP_RETURN_IF_ERROR(DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, true, out));
+    const auto start = Clock::now();
+    s.ending = true;  // once the frames decided below are solved (SolvePending)
+    if (method_->uses_ankles()) {
+      if (options_.mode == StreamMode::kSubInterval && !s.window.empty()) {
+        DecideWindow(s);
+      } else if (options_.mode == StreamMode::kFixedLag && !s.dp.empty() &&
+                 s.dp_first + static_cast<int>(s.dp.size()) > static_cast<int>(s.raw.size())) {
+        // The final best path through the frames not decided yet.
+        const int t = s.dp_first + static_cast<int>(s.dp.size()) - 1;
+        const int decided = static_cast<int>(s.raw.size());
+        const std::vector<int> nodes = BestPathFrom(s.dp, s.dp_first, decided);
+        for (int f = decided; f <= t; ++f) {
+          const AnkleCandidate& c = s.dp[f - s.dp_first].cloud[nodes[f - decided]];
+          s.raw.push_back(AnklesOf(c));
+          s.raw_rows.push_back(c.row);
+        }
+      }
+      statistics_.path_seconds += SecondsSince(start);
+      MOCAP_RETURN_IF_ERROR(
+          DecideAnkles(static_cast<int>(s.raw.size()), static_cast<int>(s.raw.size()), {}, true, out));
+    }
   }
-  EmitFiltered(true, out);
-  segment_.reset();
-  return absl::OkStatus();
+  return SolvePending(sliced, out);  // ends the segment once its last frames are solved
 }
 
 absl::StatusOr<std::vector<ReconstructedFrame>> ReconstructOffline(

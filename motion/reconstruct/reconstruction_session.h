@@ -15,6 +15,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <vector>
 
@@ -119,8 +120,18 @@ class ReconstructionSession {
   // One input sample; frames decided by it are appended to `out`. A refused sample (NaN, time
   // not increasing) returns InvalidArgument and leaves the session as it was.
   absl::Status Push(const WristSample& sample, std::vector<ReconstructedFrame>* out);
-  // End of input: every remaining frame.
+  // End of input: every remaining frame (with a slice deadline, those solved by then: call
+  // Continue, or Finish again, until has_pending_frames() is false).
   absl::Status Finish(std::vector<ReconstructedFrame>* out);
+  // Frames decided together (a sub-interval's window, a whole segment's: up to max_window_frames,
+  // ~0.3 s of A5–A7 work) are solved only until `deadline` (at least one frame per call), so a
+  // server can cut that work into bounded tasks (issue #24); the rest wait for Continue, and the
+  // next Push or Finish solves them first. Default: no deadline.
+  void SetSliceDeadline(std::chrono::steady_clock::time_point deadline) { slice_deadline_ = deadline; }
+  // Decided frames not solved yet, or a finished segment whose last frames are still to come.
+  bool has_pending_frames() const;
+  // Pending frames (after Finish: the rest of the finish), until the slice deadline.
+  absl::Status Continue(std::vector<ReconstructedFrame>* out);
   // Once `*cancel` is set (by another thread: the client went away, the deadline passed), Push
   // and Finish stop within one frame's work and return Cancelled; the session is then unusable.
   // The flag must outlive the session.
@@ -143,7 +154,16 @@ class ReconstructionSession {
   absl::Status AcceptGridSample(const GridSample& sample, std::vector<ReconstructedFrame>* out);
   // A2 and onwards for the segment's next frame whose input has arrived.
   absl::Status ProcessFrame(std::vector<ReconstructedFrame>* out);
-  absl::Status EndSegment(std::vector<ReconstructedFrame>* out);
+  // Ends the open segment: its last frames decided, then solved (`sliced`: until the slice
+  // deadline; the segment ends once all are).
+  absl::Status EndSegment(bool sliced, std::vector<ReconstructedFrame>* out);
+  // Sub-interval mode: the open window's best path (its DP has every frame) into the raw path.
+  void DecideWindow(Segment& s);
+  // Solves the decided frames in order (`sliced`: until slice_deadline_), then ends the segment
+  // if it is ending.
+  absl::Status SolvePending(bool sliced, std::vector<ReconstructedFrame>* out);
+  // All a sliced call left (a finish included), whatever the deadline.
+  absl::Status CompletePending(std::vector<ReconstructedFrame>* out);
   // Smooths the decided ankle path up to `up_to_frame` (the tentative continuation up to
   // `available` taken into the filter), plants its feet (PlantAnkleContacts) and solves those
   // frames; `segment_ends`: no frame follows.
@@ -192,6 +212,8 @@ class ReconstructionSession {
   std::unique_ptr<const PoseMethod> method_;  // the options' method: neighbours and pose (pose_method.h)
   SessionStatistics statistics_;
   const std::atomic<bool>* cancel_ = nullptr;
+  std::chrono::steady_clock::time_point slice_deadline_ = std::chrono::steady_clock::time_point::max();
+  bool finishing_ = false;  // Finish was called and has frames to come (has_pending_frames)
 };
 
 // The offline path: the same session fed every sample, then finished.

@@ -212,7 +212,8 @@ TEST_F(SessionDriverTest, FixedLagSessionsAnswerEachSampleAfterTheLag) {
 }
 
 TEST_F(SessionDriverTest, FinishEmitsTheWholeTrajectoryInRepliesOfAtMostTheBatchSize) {
-  auto driver = Create(Config(-1));
+  // One slice for the whole end (slicing is AWindowsFramesAreSolvedASliceAtATimeWithTheSameFrames's).
+  auto driver = Create(Config(-1), SessionLimits{.slice_budget = std::chrono::hours(1)});
   ASSERT_TRUE(driver.ok()) << driver.status();
   const v1::WristSamples samples = WireSamples(kTestFrames);
   std::vector<v1::ReconstructResponse> replies;
@@ -458,8 +459,8 @@ TEST_F(SessionDriverTest, ALongInputIsSizedOnItsFirstPartAndStreamsOn) {
   // One slice for all held samples: a 20 ms slice on a loaded machine may end before the first
   // window is out (slicing is HeldSamplesGoIntoTheSessionASliceAtATimeWithTheSameFrames's).
   auto driver = Create(
-      config, SessionLimits{
-                  .max_window_frames = 50, .max_reach_hold_seconds = 3.0, .held_slice_budget = std::chrono::hours(1)});
+      config,
+      SessionLimits{.max_window_frames = 50, .max_reach_hold_seconds = 3.0, .slice_budget = std::chrono::hours(1)});
   ASSERT_TRUE(driver.ok()) << driver.status();
   std::vector<v1::ReconstructResponse> replies;
   ASSERT_TRUE((*driver)->Push(WireSamples(kTestFrames, 1.3), &replies).ok());
@@ -494,10 +495,10 @@ TEST_F(SessionDriverTest, HeldSamplesGoIntoTheSessionASliceAtATimeWithTheSameFra
     SCOPED_TRACE(hold_seconds);
     auto at_once = Create(config, SessionLimits{.max_window_frames = 50,
                                                 .max_reach_hold_seconds = hold_seconds,
-                                                .held_slice_budget = std::chrono::hours(1)});
+                                                .slice_budget = std::chrono::hours(1)});
     auto sliced = Create(config, SessionLimits{.max_window_frames = 50,
                                                .max_reach_hold_seconds = hold_seconds,
-                                               .held_slice_budget = std::chrono::microseconds(0)});
+                                               .slice_budget = std::chrono::microseconds(0)});
     ASSERT_TRUE(at_once.ok() && sliced.ok());
     std::vector<v1::ReconstructResponse> whole, steps;
     ASSERT_TRUE((*at_once)->Push(WireSamples(kTestFrames, 1.3), &whole).ok());
@@ -526,6 +527,39 @@ TEST_F(SessionDriverTest, HeldSamplesGoIntoTheSessionASliceAtATimeWithTheSameFra
     const std::vector<std::string> expected = FramesOf(whole), got = FramesOf(steps);
     ASSERT_EQ(got.size(), static_cast<size_t>(kTestFrames));
     EXPECT_TRUE(got == expected) << "the frames differ from those pushed at once";
+  }
+}
+
+// A window's frames are solved a slice at a time too (issue #24: a 600-frame window was one task
+// of ~0.4 s): the sample that completes a window leaves most of its frames, and the samples after
+// it, as backlog; Continue and FinishStep take them in order, with the frames of one call.
+TEST_F(SessionDriverTest, AWindowsFramesAreSolvedASliceAtATimeWithTheSameFrames) {
+  for (const int window : {0, 40}) {  // 0: the whole trajectory, in windows of max_window_frames
+    SCOPED_TRACE(window);
+    v1::SessionConfig config = Config(-1);
+    config.mutable_sub_interval()->set_window_frames(window);
+    // 300 frames: the last window (20 frames) is decided at the end of the input.
+    auto at_once = Create(config, SessionLimits{.max_window_frames = 70, .slice_budget = std::chrono::hours(1)});
+    auto sliced = Create(config, SessionLimits{.max_window_frames = 70, .slice_budget = std::chrono::microseconds(0)});
+    ASSERT_TRUE(at_once.ok() && sliced.ok());
+    std::vector<v1::ReconstructResponse> whole, steps;
+    ASSERT_TRUE((*at_once)->Push(WireSamples(kTestFrames, 1.0), &whole).ok());
+    EXPECT_FALSE((*at_once)->has_backlog());
+    ASSERT_TRUE((*at_once)->Finish(&whole).ok());
+
+    ASSERT_TRUE((*sliced)->Push(WireSamples(kTestFrames, 1.0), &steps).ok());
+    EXPECT_TRUE((*sliced)->has_backlog());
+    EXPECT_LT(Sort(steps).frames.size(), 5u);  // a frame a slice at this budget
+    int continues = 0;
+    for (; (*sliced)->has_backlog(); ++continues) ASSERT_TRUE((*sliced)->Continue(&steps).ok());
+    EXPECT_GT(continues, kTestFrames / 2);
+    int finish_steps = 0;
+    for (bool done = false; !done; ++finish_steps) ASSERT_TRUE((*sliced)->FinishStep(&steps, &done).ok());
+    EXPECT_GT(finish_steps, 5);  // the last window's frames, a few a step
+    EXPECT_EQ(Sort(steps).summaries.size(), 1u);
+    const std::vector<std::string> expected = FramesOf(whole), got = FramesOf(steps);
+    ASSERT_EQ(got.size(), static_cast<size_t>(kTestFrames));
+    EXPECT_TRUE(got == expected) << "the frames differ from those solved at once";
   }
 }
 

@@ -285,45 +285,6 @@ TEST(WorkPoolTest, KeysWithLongTasksLeaveOneThreadForShortWork) {
   EXPECT_EQ(journal.labels(), (std::vector<std::string>{"short", "long", "second long"}));
 }
 
-TEST(WorkPoolTest, TasksPostedAsMayBeLongLeaveOneThreadForShortWork) {
-  // Nothing of key 1 has run long yet, but its tasks say they may (a session solving windows):
-  // while one runs, the next waits though a thread is free, and key 2's short task takes it.
-  Journal journal;
-  std::latch done(3), long_started(1), short_ran(1);
-  ManualClock clock;
-  WorkPool pool(2, clock.clock(), clock.clock());
-  std::promise<void> release;
-  std::shared_future<void> may_end = release.get_future().share();
-  pool.Post(
-      1,
-      [&, may_end] {
-        long_started.count_down();
-        may_end.wait();
-        journal.Add("window");
-        done.count_down();
-      },
-      WorkPool::TaskLength::kMayBeLong);
-  long_started.wait();
-  pool.Post(
-      1,
-      [&] {
-        journal.Add("second window");
-        done.count_down();
-      },
-      WorkPool::TaskLength::kMayBeLong);
-  pool.Post(2, [&] {
-    journal.Add("live");
-    short_ran.count_down();
-    done.count_down();
-  });
-  short_ran.wait();
-  EXPECT_EQ(pool.queued(), 1u);
-  EXPECT_EQ(journal.labels(), std::vector<std::string>{"live"});
-  release.set_value();
-  done.wait();
-  EXPECT_EQ(journal.labels(), (std::vector<std::string>{"live", "window", "second window"}));
-}
-
 TEST(WorkPoolTest, ATaskThatTookLongButWorkedLittleLeavesItsKeyShort) {
   // A task's work is its thread's CPU time: one that took 30 ms of the pool's clock (preempted on a
   // loaded machine, or waiting) without working does not make its key long, so the key's next
