@@ -351,7 +351,6 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
   s.wrist_distance.push_back(cloud.front().wrist_distance);
   statistics_.cloud_seconds += SecondsSince(start);
   start = Clock::now();
-  const float dt = static_cast<float>(database_->frame_time());
   if (options_.mode == StreamMode::kSubInterval) {
     if (s.window.empty()) {
       s.window_dp.Start(s.start, cloud);
@@ -369,6 +368,7 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
     return absl::OkStatus();
   }
   // Fixed lag: extend the running DP by one frame, then decide frame t − D_a on today's best path.
+  const float dt = static_cast<float>(database_->frame_time());
   DpFrame frame;
   if (s.dp.empty()) {
     frame.cost.assign(cloud.size(), 0.0f);
