@@ -59,6 +59,9 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions faster = base;
   faster.reach_lean.max_shift_speed = 0.5f;  // the shift twice as fast
   add("full_shift_speed_0.5", "main", 0, faster, noise_cm);
+  ReconstructionOptions gaussian = base;
+  gaussian.joint_low_pass = false;  // the joint filter a Gaussian of σ = 1 frame, as at a fixed lag
+  add("full_gaussian_joint_filter", "main", 0, gaussian, noise_cm);
   for (int window : {10, 50, 100}) {
     ReconstructionOptions o = base;
     o.window = window;

@@ -123,8 +123,8 @@ int main(int argc, char** argv) {
       "collar bones turning first (full_no_collars), without the body's shift "
       "towards it (full_no_reach_shift), with the shift over the ground only (full_horizontal_shift), "
       "twice as fast (full_shift_speed_0.5), with ankles left under the floor (full_feet_under_floor), with the "
-      "torso's turn unsmoothed (full_unsmoothed_lean) and with the joint filter not widened for a jittering body "
-      "(full_jittery_body)");
+      "torso's turn unsmoothed (full_unsmoothed_lean), with the joint filter not widened for a jittering body "
+      "(full_jittery_body) and with the whole clip's joint filter a Gaussian (full_gaussian_joint_filter)");
   bool cross_dataset = false, landmarks = false, devices = false, size_oracle = false;
   app.add_flag("--cross-dataset", cross_dataset,
                "the cross-dataset protocol of shared/data/README: database = all of bandai-namco-2; tests = "
@@ -160,7 +160,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--contact-speed", base.footskate.contact_speed, "A7 planted below this ground speed, m/s")
       ->capture_default_str();
-  app.add_option("--joint-smoothing", base.joint_smoothing_sigma, "A7 joint-space Gaussian σ, frames")
+  app.add_option("--joint-smoothing", base.joint_smoothing_sigma, "A7 joint-space filter σ, frames")
       ->capture_default_str();
   app.add_option("--hand-sigma", base.hand_target_sigma,
                  "hand IK target: input smoothed by a centred Gaussian of this σ (frames); < 0: no hand IK")

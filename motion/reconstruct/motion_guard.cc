@@ -175,4 +175,9 @@ bool InputJumpDetector::Implausible(const Eigen::Vector3f* before_previous, cons
   return (velocity - previous_velocity).norm() * rate_ > acceleration_limit_;
 }
 
+Eigen::Vector3f PlantedFootOffset(const Eigen::Vector3f& body_offset, float leg_give) {
+  const float norm = body_offset.norm();
+  return norm > leg_give ? Eigen::Vector3f((1.0f - leg_give / norm) * body_offset) : Eigen::Vector3f::Zero();
+}
+
 }  // namespace mocap

@@ -113,4 +113,10 @@ class InputJumpDetector {
   float rate_, speed_limit_, acceleration_limit_;
 };
 
+// Where a planted foot goes when the guard moves the body by `body_offset`: nowhere while the
+// leg can bend for it (`leg_give` metres), and beyond that by the part of the offset past it, so
+// the foot never steps as the offset crosses the bound (issue #25: all or nothing at the bound
+// stepped the feet by up to `leg_give` between frames).
+Eigen::Vector3f PlantedFootOffset(const Eigen::Vector3f& body_offset, float leg_give);
+
 }  // namespace mocap

@@ -46,6 +46,11 @@ struct ReconstructionOptions {
   PoseSolverOptions solver;            // A6: energy weights, LM
   FootskateOptions footskate;          // A7: contacts, leg IK
   float joint_smoothing_sigma = 1.0f;  // A7: Gaussian in joint space, frames (0 = none)
+  // A7: in a whole clip (window 0: the output waits for the whole input anyway) the joint filter
+  // is a sharp low-pass with the Gaussian's cutoff (low_pass_kernel.h) instead of the Gaussian:
+  // the motion below the cutoff passes and the jitter above it does not. Sub-intervals and fixed
+  // lags keep the Gaussian: a sharp filter needs 8σ of look-ahead, which would be their latency.
+  bool joint_low_pass = true;
   // Where the input is weak — a hand the tracker has lost (held by the other, one_hand_bridge.h),
   // both hands bridged across a dropout — and for `weak_input_hold_seconds` after (the returning
   // hand's cross-fade), the joint filter leans on the motion around the frame: its σ widens to

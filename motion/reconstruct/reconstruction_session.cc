@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "motion/core/gaussian_kernel.h"
+#include "motion/core/low_pass_kernel.h"
 #include "motion/core/rotation_vector.h"
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
@@ -128,12 +129,15 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
       method_(MakePoseMethod(options)) {
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
   ankle_kernel_ = GaussianKernel(options_.ankle_path.smoothing_sigma_frames);
-  joint_kernels_ = {GaussianKernel(options_.joint_smoothing_sigma)};
+  // The sharp filter's lag (8σ) costs nothing only where the output waits for the whole input.
+  const bool low_pass = options_.joint_low_pass && options_.mode == StreamMode::kSubInterval && options_.window == 0;
+  auto joint_kernel = [low_pass](float sigma) { return low_pass ? LowPassKernel(sigma) : GaussianKernel(sigma); };
+  joint_kernels_ = {joint_kernel(options_.joint_smoothing_sigma)};
   if (options_.joint_smoothing_sigma > 0) {
     const float widest = options_.weak_input_joint_smoothing_sigma;
     const int steps = static_cast<int>(std::ceil((widest - options_.joint_smoothing_sigma) / 0.1f - 1e-3f));
     for (int i = 1; i <= steps; ++i)
-      joint_kernels_.push_back(GaussianKernel(std::min(widest, options_.joint_smoothing_sigma + 0.1f * i)));
+      joint_kernels_.push_back(joint_kernel(std::min(widest, options_.joint_smoothing_sigma + 0.1f * i)));
   }
   // The hands' targets widen with it (by as many frames of σ): a body smoothed more than the hands
   // it reaches for bends its elbows to make up the difference.
@@ -621,17 +625,14 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       const Eigen::Vector3f offset = motion_guard_.Next(frame.time, solved, hands, &frame.motion_limited) - solved;
       frame.pose.root_position += offset;
       // A planted foot stays where it is planted when the body moved a little (the standing
-      // filter's centimetres: its legs take the difference); it goes along when the guard held
-      // the body back further than a leg can bend for.
-      const bool feet_stay = offset.norm() <= kPlantedFootReach;
+      // filter's centimetres: its legs take the difference); it goes along by as much as the
+      // guard held the body back further than a leg can bend for.
+      const Eigen::Vector3f foot_offset = PlantedFootOffset(offset, kPlantedFootReach);
       for (int side = 0; side < 2; ++side) {
         auto& target = frame.ankle_targets[side];
         if (!target) continue;
-        if (feet_stay) {
-          SolveLegIk(body, ankle_joints[side], *target, &frame.pose);
-        } else {
-          *target += offset;
-        }
+        *target += foot_offset;
+        SolveLegIk(body, ankle_joints[side], *target, &frame.pose);
       }
     }
     std::optional<SmoothedWrists> hand_target;

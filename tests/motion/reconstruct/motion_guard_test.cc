@@ -44,6 +44,24 @@ MotionGuardOptions Exact() {
   return options;
 }
 
+// A planted foot stays while the leg can bend for the guard's offset and goes along by the rest:
+// no step where the offset crosses the bound, the foot never further from the body's move than it.
+TEST(MotionGuardTest, APlantedFootGoesAlongOnlyBeyondWhatTheLegGivesAndNeverSteps) {
+  const float give = 0.05f;
+  const Eigen::Vector3f direction = Eigen::Vector3f(0.6f, 0.0f, -0.8f);
+  EXPECT_TRUE(PlantedFootOffset(Eigen::Vector3f::Zero(), give).isZero());
+  EXPECT_TRUE(PlantedFootOffset(0.049f * direction, give).isZero());
+  EXPECT_TRUE(PlantedFootOffset(0.3f * direction, give).isApprox(0.25f * direction, 1e-5f));
+  Eigen::Vector3f previous = Eigen::Vector3f::Zero();
+  for (float norm = 0.0f; norm <= 0.2f; norm += 0.001f) {  // 1 mm more offset a frame
+    const Eigen::Vector3f offset = norm * direction;
+    const Eigen::Vector3f foot = PlantedFootOffset(offset, give);
+    EXPECT_LE((foot - previous).norm(), 0.00101f) << norm;  // no more than the offset moved
+    EXPECT_LE((offset - foot).norm(), give + 1e-5f) << norm;
+    previous = foot;
+  }
+}
+
 TEST(MotionGuardTest, FollowsMotionWithinTheBoundsExactly) {
   MotionGuard guard(Limits(), kDt, Exact());
   for (int f = 0; f < 60; ++f) {
