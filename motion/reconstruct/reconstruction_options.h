@@ -45,7 +45,7 @@ struct ReconstructionOptions {
   int average_neighbours = 10;         // the kNearestAverage baseline's K
   PoseSolverOptions solver;            // A6: energy weights, LM
   FootskateOptions footskate;          // A7: contacts, leg IK
-  float joint_smoothing_sigma = 1.0f;  // A7: Gaussian in joint space, frames (0 = none)
+  float joint_smoothing_sigma = 1.0f;  // A7: the joint-space filter's σ, frames (0 = none)
   // A7: in a whole clip (window 0: the output waits for the whole input anyway) the joint filter
   // is a sharp low-pass with the Gaussian's cutoff (low_pass_kernel.h) instead of the Gaussian:
   // the motion below the cutoff passes and the jitter above it does not. Sub-intervals and fixed
