@@ -135,6 +135,20 @@ void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const 
   }
 }
 
+std::optional<EasedPin> EasePin(std::span<const float> kernel, std::span<const std::optional<Eigen::Vector3f>> pins) {
+  float total = 0, planted = 0;
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  for (size_t i = 0; i < kernel.size() && i < pins.size(); ++i) {
+    const float w = std::max(0.0f, kernel[i]);
+    total += w;
+    if (!pins[i]) continue;
+    planted += w;
+    sum += w * *pins[i];
+  }
+  if (!(planted > 0)) return std::nullopt;
+  return EasedPin{.target = sum / planted, .weight = std::min(1.0f, planted / total)};
+}
+
 bool FootskateCleaner::StillPlanted(const Foot& foot, const Eigen::Vector3f& estimate) const {
   const long span = std::min<long>(hold_frames_, foot.seen);
   return EstimateSaysPlanted(foot.Back(span), estimate, planted_height_, rate_ / static_cast<float>(span), options_);

@@ -80,6 +80,22 @@ void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const 
                         bool segment_ends, float planted_ankle_height, double frame_time,
                         const FootskateOptions& options, const StandingHands& standing = {});
 
+// A foot's A7 pins eased by a joint-space filter's kernel (the filter that looks ahead: fixed
+// lags of a frame or more, sub-intervals, whole clips). `pins` holds, for each frame the kernel
+// reaches (kernel.size() of them, the frame itself in the middle), the foot's pin where it is
+// planted and nothing where it is free. The foot goes to the kernel's mean of the pins by the
+// kernel's weight of the planted frames (its positive lobes only: the negative ones would push a
+// foot past its pin): inside a contact the kernel covers, the pin itself by 1; about its ends a
+// fraction that rises and falls as the filtered body does. A foot the cleaner released follows
+// the filtered body instead of the release's steps, which follow the unfiltered solve (issue #25:
+// a new segment's first solves hop, and the released foot hopped with them). None when no frame
+// the kernel reaches is planted.
+struct EasedPin {
+  Eigen::Vector3f target;
+  float weight;  // (0, 1]: the fraction of the way from where the body puts the foot to `target`
+};
+std::optional<EasedPin> EasePin(std::span<const float> kernel, std::span<const std::optional<Eigen::Vector3f>> pins);
+
 // Moves `pose` so that the ankle (the leg's end joint) reaches `target`: analytic two-bone IK on
 // the ankle's parent (knee) and grandparent (hip). Out-of-reach targets stretch the leg straight
 // towards them.

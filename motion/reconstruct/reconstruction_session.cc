@@ -545,9 +545,10 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       levels * static_cast<float>(database_->frame_time() / std::max(1e-3, options_.weak_input_ramp_seconds));
   const BodyModel& body = database_->body();
   const BodyLandmarks& l = database_->rig().topology.landmarks;
-  const int ankle_joints[2] = {l.left_ankle, l.right_ankle}, wrist_joints[2] = {l.left_wrist, l.right_wrist};
+  const int wrist_joints[2] = {l.left_wrist, l.right_wrist};
   std::vector<Eigen::Quaternionf> world_rotations;
   std::vector<Eigen::Vector3f> world_positions;
+  std::vector<std::optional<Eigen::Vector3f>> pins;  // a foot's, over the joint filter's reach
   while (s.emitted <= last && (flush || s.emitted + joint_filter_lag_ <= last)) {
     const int e = s.emitted;
     ReconstructedFrame frame = s.post[e - s.post_first];
@@ -588,7 +589,21 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // turn of a few degrees then swung the body by up to a metre in one frame, issue #22.)
       body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
       frame.pose.root_position += pelvis - world_positions[l.pelvis];
-      ReimposeAnklePins(&frame);
+      if (joint_filter_lag_ > 0) {  // a filter that looks ahead eases the feet on and off their pins
+        pins.resize(kernel.size());
+        for (int side = 0; side < 2; ++side) {
+          for (int i = -radius; i <= radius; ++i) {
+            const ReconstructedFrame& f = s.post[std::clamp(e + i, s.post_first, last) - s.post_first];
+            pins[i + radius] = f.diagnostics.contact[side] ? f.ankle_targets[side] : std::nullopt;
+          }
+          const std::optional<EasedPin> eased = EasePin(kernel, pins);
+          frame.ankle_targets[side].reset();
+          if (!eased) continue;
+          frame.ankle_targets[side] = eased->target;
+          frame.ankle_target_weight[side] = eased->weight;
+        }
+      }
+      ReimposeAnklePins(&frame, &world_rotations, &world_positions);
     }
     // The put-down detector takes only input it can trust: a guessed hand stands still or travels
     // as the guess does, not as the device.
@@ -629,11 +644,9 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // guard held the body back further than a leg can bend for.
       const Eigen::Vector3f foot_offset = PlantedFootOffset(offset, kPlantedFootReach);
       for (int side = 0; side < 2; ++side) {
-        auto& target = frame.ankle_targets[side];
-        if (!target) continue;
-        *target += foot_offset;
-        SolveLegIk(body, ankle_joints[side], *target, &frame.pose);
+        if (frame.ankle_targets[side]) *frame.ankle_targets[side] += foot_offset;
       }
+      ReimposeAnklePins(&frame, &world_rotations, &world_positions);
     }
     std::optional<SmoothedWrists> hand_target;
     if (options_.hand_target_sigma >= 0.0f) {
@@ -652,7 +665,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
           reach_lean_.Shift(body, targets, reaching, database_->frame_time(), &s.reach_shift, &frame.pose);
       // Planted feet stay on their pins (the legs bend); a free foot the shift pushed into the
       // floor is lifted by the floor rule below.
-      if (!shift.isZero()) ReimposeAnklePins(&frame);
+      if (!shift.isZero()) ReimposeAnklePins(&frame, &world_rotations, &world_positions);
     }
     if (options_.feet_above_floor) KeepFeetAboveFloor(&frame, &world_rotations, &world_positions);
     if (hand_target) {
@@ -675,12 +688,25 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
   ForgetSettledFrames();
 }
 
-void ReconstructionSession::ReimposeAnklePins(ReconstructedFrame* frame) const {
+void ReconstructionSession::ReimposeAnklePins(ReconstructedFrame* frame,
+                                              std::vector<Eigen::Quaternionf>* world_rotations,
+                                              std::vector<Eigen::Vector3f>* world_positions) const {
+  const BodyModel& body = database_->body();
   const BodyLandmarks& l = database_->rig().topology.landmarks;
   const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
+  const auto& targets = frame->ankle_targets;
+  const auto& weights = frame->ankle_target_weight;
+  // Where the body puts the feet (one leg's IK does not move the other's ankle).
+  if ((targets[0] && weights[0] < 1.0f) || (targets[1] && weights[1] < 1.0f))
+    body.WorldTransforms(frame->pose, world_rotations, world_positions);
   for (int side = 0; side < 2; ++side) {
-    if (frame->ankle_targets[side])
-      SolveLegIk(database_->body(), ankle_joints[side], *frame->ankle_targets[side], &frame->pose);
+    if (!targets[side]) continue;
+    Eigen::Vector3f target = *targets[side];
+    if (weights[side] < 1.0f) {
+      const Eigen::Vector3f& at = (*world_positions)[ankle_joints[side]];
+      target = at + weights[side] * (target - at);
+    }
+    SolveLegIk(body, ankle_joints[side], target, &frame->pose);
   }
 }
 

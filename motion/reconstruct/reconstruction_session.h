@@ -100,8 +100,13 @@ struct ReconstructedFrame {
     return hand_state[0] == TrackingState::kImplausible || hand_state[1] == TrackingState::kImplausible;
   }
   // A7: where the footskate cleanup held each ankle (planted or releasing), re-imposed by leg IK
-  // after the joint-space filter, which would otherwise let planted feet slide again.
+  // after the joint-space filter, which would otherwise let planted feet slide again. Where the
+  // filter looks ahead (fixed lags of 1 or more, sub-intervals, whole clips) these are its eased
+  // pins instead (EasePin).
   FootskateCleaner::AnkleTargets ankle_targets;
+  // How firmly each ankle is held on its target: 1 on it; less, that fraction of the way there
+  // from where the body puts it (the joint filter eases feet onto and off their pins).
+  std::array<float, 2> ankle_target_weight = {1.0f, 1.0f};
 };
 
 struct SessionStatistics {
@@ -178,8 +183,11 @@ class ReconstructionSession {
   // Reads whether the solved body jitters (ReconstructionOptions::jittery_body_ratio) at `frame`,
   // solved and not yet filtered.
   void TrackBodyJitter(Segment& s, const ReconstructedFrame& frame) const;
-  // Puts each foot with an A7 pin (`ankle_targets`) back on it by the leg IK, after the body moved.
-  void ReimposeAnklePins(ReconstructedFrame* frame) const;
+  // Puts each foot with an A7 pin (`ankle_targets`) back on it by the leg IK, after the body moved:
+  // all the way, or by `ankle_target_weight` of the way from where the body put it.
+  // `world_rotations`, `world_positions`: scratch.
+  void ReimposeAnklePins(ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
+                         std::vector<Eigen::Vector3f>* world_positions) const;
   // An ankle under the database's planted ankle height goes up to it by the leg IK.
   void KeepFeetAboveFloor(ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
                           std::vector<Eigen::Vector3f>* world_positions) const;

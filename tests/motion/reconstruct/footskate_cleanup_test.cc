@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "motion/core/gaussian_kernel.h"
+#include "motion/core/low_pass_kernel.h"
+
 #include "tests/support/synthetic_database.h"
 
 namespace mocap {
@@ -309,6 +312,81 @@ TEST(FootskateCleanupTest, AFootThatSlidesWithoutLiftingWhileTheBodyStandsIsOneC
   std::vector<AnklePair> alone = slid;
   PlantAnkleContacts(alone, nullptr, true, db.planted_ankle_height(), db.frame_time(), options);
   EXPECT_NEAR(alone[first][0].z(), mean_z(slid, first, first + contact), 1e-5f);
+}
+
+// The feet's pins as a filter that looks ahead eases them (issue #25): a contact's pin whole
+// inside it, a fraction about its ends that rises and falls smoothly, never past the pin.
+std::vector<std::optional<EasedPin>> EasedPinsOf(const std::vector<float>& kernel,
+                                                 const std::vector<std::optional<Eigen::Vector3f>>& track) {
+  const int radius = static_cast<int>(kernel.size()) / 2, n = static_cast<int>(track.size());
+  std::vector<std::optional<EasedPin>> eased;
+  std::vector<std::optional<Eigen::Vector3f>> pins(kernel.size());
+  for (int f = 0; f < n; ++f) {
+    for (int i = -radius; i <= radius; ++i) pins[i + radius] = track[std::clamp(f + i, 0, n - 1)];
+    eased.push_back(EasePin(kernel, pins));
+  }
+  return eased;
+}
+
+TEST(FootskateCleanupTest, AFilterEasesAFootOnAndOffItsPinWithoutOvershoot) {
+  // Free for 20 frames, planted at A for 20, free for 10, planted at B for 20.
+  const Eigen::Vector3f a(0.1f, 0.05f, 0.3f), b(0.1f, 0.05f, 0.9f);
+  std::vector<std::optional<Eigen::Vector3f>> track(70);
+  for (int f = 20; f < 40; ++f) track[f] = a;
+  for (int f = 50; f < 70; ++f) track[f] = b;
+  for (const std::vector<float>& kernel : {GaussianKernel(1.0f), LowPassKernel(1.0f), LowPassKernel(2.0f)}) {
+    const int radius = static_cast<int>(kernel.size()) / 2;
+    const auto eased = EasedPinsOf(kernel, track);
+    for (int f = 0; f < 20 - radius; ++f) EXPECT_FALSE(eased[f]) << "free, no contact in reach: frame " << f;
+    for (int f = 20 + radius; f < 40 - radius; ++f) {  // the whole kernel inside the contact: its pin, all the way
+      ASSERT_TRUE(eased[f]);
+      EXPECT_EQ(eased[f]->weight, 1.0f);
+      EXPECT_LT((eased[f]->target - a).norm(), 1e-6f);
+    }
+    for (int f = 0; f < 70; ++f) {
+      if (!eased[f]) continue;
+      EXPECT_GT(eased[f]->weight, 0.0f);
+      EXPECT_LE(eased[f]->weight, 1.0f);
+      // Between the two pins, on the segment joining them: no negative lobe pushes it past either.
+      const Eigen::Vector3f& t = eased[f]->target;
+      EXPECT_LT(std::abs(t.x() - a.x()) + std::abs(t.y() - a.y()), 1e-6f) << "frame " << f;
+      EXPECT_GE(t.z(), a.z() - 1e-6f);
+      EXPECT_LE(t.z(), b.z() + 1e-6f);
+    }
+    // Onto A and off it the weight rises, then falls, a frame at a time, without steps: the most
+    // one frame changes it is the kernel's largest weight.
+    const float largest = *std::max_element(kernel.begin(), kernel.end()) / [&] {
+      float positive = 0;
+      for (const float w : kernel) positive += std::max(0.0f, w);
+      return positive;
+    }();
+    float previous = 0;
+    for (int f = 0; f < 30; ++f) {
+      const float weight = eased[f] ? eased[f]->weight : 0.0f;
+      EXPECT_GE(weight, previous - 1e-6f) << "frame " << f;
+      EXPECT_LE(weight - previous, largest + 1e-6f) << "frame " << f;
+      previous = weight;
+    }
+    ASSERT_TRUE(eased[20] && eased[39]);  // a contact's first and last frames: on their way
+    EXPECT_GT(eased[20]->weight, 0.4f);
+    EXPECT_LT(eased[20]->weight, 1.0f);
+    EXPECT_GT(eased[39]->weight, 0.4f);
+    EXPECT_LT(eased[39]->weight, 1.0f);
+  }
+}
+
+TEST(FootskateCleanupTest, AOneFramePlantIsATugNotAStop) {
+  // The cleaner planted a foot for one frame: the filtered foot goes a kernel's centre weight of
+  // the way to it, not onto it and off again (a jerk of metres per second cubed).
+  std::vector<std::optional<Eigen::Vector3f>> track(21);
+  track[10] = Eigen::Vector3f(0.0f, 0.05f, 0.5f);
+  const std::vector<float> kernel = GaussianKernel(1.0f);
+  const auto eased = EasedPinsOf(kernel, track);
+  ASSERT_TRUE(eased[10]);
+  EXPECT_NEAR(eased[10]->weight, kernel[kernel.size() / 2], 1e-6f);
+  EXPECT_LT(eased[10]->weight, 0.5f);
+  EXPECT_LT((eased[10]->target - *track[10]).norm(), 1e-6f);
+  EXPECT_FALSE(EasePin(kernel, std::vector<std::optional<Eigen::Vector3f>>(kernel.size())));
 }
 
 }  // namespace
