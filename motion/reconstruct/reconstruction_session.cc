@@ -568,16 +568,19 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     const size_t hand_level = static_cast<size_t>(std::lround(s.hand_filter_level));
     const std::vector<float>& kernel = joint_kernels_[level];
     const int radius = static_cast<int>(kernel.size()) / 2;
+    // Frame e + i, within the filter's reach: the segment's edges (and the lag) clamp.
+    auto reached = [&](int i) -> const ReconstructedFrame& {
+      return s.post[std::clamp(e + i, s.post_first, last) - s.post_first];
+    };
     if (radius > 0) {
       const BodyPose& centre = s.post[e - s.post_first].pose;
       const int joints = static_cast<int>(centre.rotations.size());
       std::vector<Eigen::Vector3f> log_sum(joints, Eigen::Vector3f::Zero());
       Eigen::Vector3f pelvis = Eigen::Vector3f::Zero();
       for (int i = -radius; i <= radius; ++i) {
-        const int k = std::clamp(e + i, s.post_first, last);  // segment edges (and the lag) clamp
-        const BodyPose& p = s.post[k - s.post_first].pose;
+        const BodyPose& p = reached(i).pose;
         const float w = kernel[i + radius];
-        pelvis += w * s.post[k - s.post_first].pelvis_position;
+        pelvis += w * reached(i).pelvis_position;
         for (int j = 0; j < joints; ++j)
           log_sum[j] += w * RotationVector(Eigen::Quaternionf(centre.rotations[j].conjugate() * p.rotations[j]));
       }
@@ -593,7 +596,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
         pins.resize(kernel.size());
         for (int side = 0; side < 2; ++side) {
           for (int i = -radius; i <= radius; ++i) {
-            const ReconstructedFrame& f = s.post[std::clamp(e + i, s.post_first, last) - s.post_first];
+            const ReconstructedFrame& f = reached(i);
             pins[i + radius] = f.diagnostics.contact[side] ? f.ankle_targets[side] : std::nullopt;
           }
           const std::optional<EasedPin> eased = EasePin(kernel, pins);

@@ -1,6 +1,8 @@
 #include "motion/reconstruct/footskate_cleanup.h"
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
