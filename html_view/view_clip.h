@@ -23,12 +23,16 @@ nlohmann::json ClipJson(std::string_view name, std::string_view bvh_text);
 inline std::string ClipError(const nlohmann::json& clip) { return clip.value("error", std::string()); }
 
 // [{"label", "kind": "wrist" | "ankle", "points": [x, y, z, ...]}] (metres, Y up, one point per
-// frame) from the JSON `mocap reconstruct` writes (its "frames": left_wrist, right_wrist,
-// left_ankle, right_ankle). InvalidArgument when it holds no frames.
+// frame of the BVH beside it) from the JSON `mocap reconstruct` writes (its "frames": left_wrist,
+// right_wrist, left_ankle, right_ankle). The BVH plays on the input's clock with a dropout too
+// long to bridge filled (motion/core/frame_clock.h), the JSON has only the frames made: placed by
+// their times at the session's frame rate, the traces go straight across a filled dropout.
+// InvalidArgument when it holds no frames.
 absl::StatusOr<nlohmann::json> ReconstructionTraces(const nlohmann::json& reconstruction);
 
 // Every frame's expected landmark errors (metres, 14 per frame in kBodyLandmarkNames order,
-// flattened) from the JSON `mocap reconstruct` writes (its frames' "expected_error").
+// flattened; frames placed as the traces are, a filled dropout's 0: unknown) from the JSON
+// `mocap reconstruct` writes (its frames' "expected_error").
 // InvalidArgument when it holds no frames; NotFound when no frame has them.
 absl::StatusOr<nlohmann::json> ReconstructionConfidence(const nlohmann::json& reconstruction);
 

@@ -13,6 +13,7 @@
 #include "client/cli/input_frame_flags.h"
 #include "client/cli/reconstruction_bvh.h"
 #include "client/cli/reconstruction_json.h"
+#include "client/cli/reconstruction_timeline.h"
 #include "client/cli/refusal_summary.h"
 #include "client/cli/target_rig_file.h"
 #include "client/wrist_input/wrist_source.h"
@@ -263,9 +264,13 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
   frames.reserve(static_cast<size_t>(result->frames_size()));
   for (v1::Frame& frame : *result->mutable_frames()) frames.push_back(std::move(frame));
   result->clear_frames();
+  // The BVH plays on the input's clock: a dropout too long to bridge is filled (the JSON keeps
+  // only the frames the session made, each with its time and segment).
+  const std::optional<FilledTimeline> timeline = FillDropouts(frames, result->started().frame_rate());
+  const std::vector<v1::Frame>& bvh_frames = timeline ? timeline->frames : frames;
   absl::StatusOr<std::string> bvh = o.target_rig.empty()
-                                        ? ReconstructionBvh(result->started(), frames)
-                                        : RetargetedBvhText(o.target_rig_text, result->started(), frames);
+                                        ? ReconstructionBvh(result->started(), bvh_frames)
+                                        : RetargetedBvhText(o.target_rig_text, result->started(), bvh_frames);
   if (!bvh.ok()) return ReportError(bvh.status());
   const std::string bvh_path = o.output + ".bvh", json_path = o.output + ".json";
   if (absl::Status s = WriteFile(bvh_path, *bvh); !s.ok()) return ReportError(s);
@@ -299,6 +304,9 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
       };
     }
     out["bvh"] = bvh_path;
+    out["bvh_filled_frames"] = timeline ? timeline->filled_frames : 0;
+    out["bvh_filled_gaps"] = timeline ? timeline->gaps : 0;
+    out["bvh_unfilled_gaps"] = timeline ? timeline->unfilled_gaps : 0;
     out["json"] = json_path;
     out["session_id"] = result->started().session_id();
     std::cout << out.dump(2) << "\n";
@@ -359,6 +367,16 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
     }
     std::cout << "\n";
     std::cout.unsetf(std::ios::floatfield);
+  }
+  if (timeline && timeline->gaps) {
+    std::cout << "  the BVH plays on the input's clock: " << timeline->filled_frames << " frames across "
+              << timeline->gaps << " dropout(s) too long to bridge are filled, moving from the frame before to "
+              << "the frame after (" << json_path << " lists only the frames made)\n";
+  }
+  if (timeline && timeline->unfilled_gaps) {
+    std::cout << "  " << timeline->unfilled_gaps << " gap(s) in the input over " << kLongestFilledGapSeconds
+              << " s are not filled: in the BVH the motion after them comes early (" << json_path
+              << " has every frame's time)\n";
   }
   std::cout << "  wrote " << bvh_path << " and " << json_path << "\n";
   return 0;

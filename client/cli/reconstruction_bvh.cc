@@ -37,8 +37,6 @@ Skeleton SkeletonFromProto(const v1::Skeleton& skeleton, float scale) {
 
 }  // namespace
 
-float BodyScale(const v1::Frame& frame) { return frame.body_scale() > 0.0f ? frame.body_scale() : 1.0f; }
-
 absl::StatusOr<std::string> ReconstructionBvh(const v1::SessionStarted& started, const std::vector<v1::Frame>& frames) {
   // A stream that learned the performer's size (Frame.body_scale) grew its bones on the way; a
   // BVH has one skeleton: the size reached at the end.

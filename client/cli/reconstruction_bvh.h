@@ -15,7 +15,7 @@
 namespace mocap::cli {
 
 // Frame.body_scale, its unset 0 read as 1: the frame's bones are the skeleton's times it.
-float BodyScale(const v1::Frame& frame);
+inline float BodyScale(const v1::Frame& frame) { return frame.body_scale() > 0.0f ? frame.body_scale() : 1.0f; }
 
 // InvalidArgument when a frame's rotations do not match the skeleton.
 absl::StatusOr<std::string> ReconstructionBvh(const v1::SessionStarted& started, const std::vector<v1::Frame>& frames);

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "client/wrist_input/wrist_source.h"
+#include "motion/bvh/bvh_reader.h"
 #include "motion/bvh/bvh_writer.h"
 #include "motion/frames/frame_transform.h"
 #include "motion/frames/input_frame.h"
@@ -377,6 +378,51 @@ TEST_F(InputFrameTest, CliRunThatReconstructsNothingFailsWithTheCauseAndWritesNo
   EXPECT_NE(cm_code, 0) << cm_log;
   EXPECT_NE(cm_log.find("declared unit"), std::string::npos) << cm_log;
   EXPECT_FALSE(fs::exists(dir_ / "centimetres.bvh"));
+}
+
+// A dropout longer than the session bridges (3 s; max_gap_seconds 2) starts a new segment and the
+// session makes no frames for it; the BVH still plays on the input's clock, the gap filled, and
+// the run says so. The JSON keeps only the frames made, each at its input time.
+TEST_F(InputFrameTest, CliBvhPlaysOnTheInputsClockAcrossADropoutTooLongToBridge) {
+  SetUpData();
+  const fs::path csv = dir_ / "gap.csv";
+  {
+    std::ofstream out(csv);
+    out << "time,left_x,left_y,left_z,right_x,right_y,right_z\n";
+    for (size_t i = 0; i < query_.size(); ++i) {
+      const v1::WristSample& s = query_[i];
+      out << s.time() + (i >= query_.size() / 2 ? 3.0 : 0.0) << "," << s.left().x() << "," << s.left().y() << ","
+          << s.left().z() << "," << s.right().x() << "," << s.right().y() << "," << s.right().z() << "\n";
+    }
+  }
+  const std::string command = std::string(MOCAP_CLI_PATH) + " --json --address " + server_->address() + " --key " +
+                              keys_["acme"] + " reconstruct --database walks --csv " + csv.string() +
+                              " --k1 100 --k2 30 --quiet -o " + (dir_ / "gap").string() + " >" +
+                              (dir_ / "gap.out").string() + " 2>" + (dir_ / "gap.log").string();
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  std::ifstream summary_in(dir_ / "gap.out");
+  const nlohmann::json summary = nlohmann::json::parse(summary_in, nullptr, false);
+  ASSERT_FALSE(summary.is_discarded());
+  EXPECT_EQ(summary["bvh_filled_gaps"].get<int>(), 1) << summary.dump();
+  EXPECT_EQ(summary["bvh_unfilled_gaps"].get<int>(), 0);
+  std::ifstream json_in(dir_ / "gap.json");
+  const nlohmann::json answer = nlohmann::json::parse(json_in, nullptr, false);
+  ASSERT_FALSE(answer.is_discarded());
+  const double rate = answer["started"]["frame_rate"].get<double>();
+  const auto& frames = answer["frames"];
+  ASSERT_GT(frames.size(), 2u);
+  const double first = frames.front().value("time", 0.0), last = frames.back().value("time", 0.0);
+  double widest = 0.0;
+  for (size_t f = 1; f < frames.size(); ++f) {
+    widest = std::max(widest, frames[f].value("time", 0.0) - frames[f - 1].value("time", 0.0));
+  }
+  EXPECT_GT(widest, 2.0) << "the session bridged the dropout: no gap to fill";
+  const absl::StatusOr<BvhClip> bvh = ReadBvhFile(dir_ / "gap.bvh");
+  ASSERT_TRUE(bvh.ok()) << bvh.status();
+  EXPECT_NEAR(bvh->frame_time, 1.0 / rate, 1e-6);
+  // Frame k of the file plays at first + k / rate: the last one at the last frame's time.
+  EXPECT_NEAR(first + (bvh->num_frames() - 1) / rate, last, 1.0 / rate);
+  EXPECT_EQ(bvh->num_frames(), static_cast<int>(frames.size()) + summary["bvh_filled_frames"].get<int>());
 }
 
 }  // namespace

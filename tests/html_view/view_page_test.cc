@@ -1,5 +1,6 @@
 // html_view: the page's data and escaping (the browser side is viewer/test/view_page_test.mjs).
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -111,6 +112,37 @@ TEST(ReconstructionConfidenceTest, FourteenErrorsPerFrameWithMissingOnesZero) {
   EXPECT_EQ(ReconstructionConfidence(nlohmann::json::parse(R"({"frames": [{}]})")).status().code(),
             absl::StatusCode::kNotFound);
   EXPECT_FALSE(ReconstructionConfidence(nlohmann::json::object()).ok());
+}
+
+// The BVH beside the JSON plays on the input's clock, a dropout too long to bridge filled
+// (client/cli/reconstruction_timeline.h); the JSON has only the frames made. Placed by their times
+// at the session's rate, the traces go straight across the gap and its frames show no halo, so
+// every point is drawn at the BVH frame it belongs to.
+TEST(ReconstructionTracesTest, FramesArePlacedOnTheBvhsClockAcrossAFilledDropout) {
+  const nlohmann::json reconstruction = nlohmann::json::parse(R"({"started": {"frame_rate": 10}, "frames": [
+      {"left_wrist": {"x": 0.0, "y": 1, "z": 0}, "expected_error": {"pelvis": 0.01}},
+      {"time": 0.1, "left_wrist": {"x": 0.1, "y": 1, "z": 0}, "expected_error": {"pelvis": 0.02}},
+      {"time": 0.5, "segment": 1, "left_wrist": {"x": 0.5, "y": 1, "z": 0}, "expected_error": {"pelvis": 0.03}},
+      {"time": 0.6, "segment": 1, "left_wrist": {"x": 0.6, "y": 1, "z": 0}, "expected_error": {"pelvis": 0.04}}]})");
+  absl::StatusOr<nlohmann::json> traces = ReconstructionTraces(reconstruction);
+  ASSERT_TRUE(traces.ok()) << traces.status();
+  ASSERT_EQ(traces->size(), 1u);
+  const nlohmann::json& points = (*traces)[0]["points"];
+  ASSERT_EQ(points.size(), 7u * 3u);  // frames 0 and 1, three filled, 5 and 6
+  for (int f = 0; f < 7; ++f) EXPECT_NEAR(points[3 * f].get<double>(), 0.1 * f, 1e-9) << "frame " << f;
+  absl::StatusOr<nlohmann::json> errors = ReconstructionConfidence(reconstruction);
+  ASSERT_TRUE(errors.ok()) << errors.status();
+  ASSERT_EQ(errors->size(), 7u * kNumBodyLandmarks);
+  const std::vector<double> pelvis = {0.01, 0.02, 0.0, 0.0, 0.0, 0.03, 0.04};
+  for (int f = 0; f < 7; ++f) EXPECT_EQ((*errors)[f * kNumBodyLandmarks].get<double>(), pelvis[f]) << "frame " << f;
+  // Times closer than a frame and a half, and a gap over ten minutes (left unfilled), keep one
+  // point per frame.
+  const nlohmann::json unfilled = nlohmann::json::parse(R"({"started": {"frame_rate": 10}, "frames": [
+      {"left_wrist": {"x": 0, "y": 1, "z": 0}}, {"time": 0.14, "left_wrist": {"x": 0, "y": 1, "z": 0}},
+      {"time": 900, "left_wrist": {"x": 0, "y": 1, "z": 0}}]})");
+  traces = ReconstructionTraces(unfilled);
+  ASSERT_TRUE(traces.ok()) << traces.status();
+  EXPECT_EQ((*traces)[0]["points"].size(), 9u);
 }
 
 TEST(PageHtmlTest, DataAndTitleCannotEndTheirElements) {
