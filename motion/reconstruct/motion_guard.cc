@@ -7,6 +7,10 @@
 namespace mocap {
 namespace {
 
+// InputJumpDetector: a noise measure needs a few frames; the median norm of a 3-D standard normal.
+constexpr int kMinNoiseFrames = 5;
+constexpr float kNormalNormMedian = 1.5382f;
+
 // `v` shortened to at most `limit` (unchanged when no limit is known).
 Eigen::Vector3f Clamped(const Eigen::Vector3f& v, float limit) {
   const float norm = v.norm();
@@ -163,16 +167,47 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
 InputJumpDetector::InputJumpDetector(const MotionLimits& limits, double frame_time, const MotionGuardOptions& options)
     : rate_(static_cast<float>(1.0 / frame_time)),
       speed_limit_(OrUnbounded(limits.wrist_speed_max, options.input_speed_margin)),
-      acceleration_limit_(OrUnbounded(limits.wrist_acceleration_max, options.input_acceleration_margin)) {}
+      acceleration_limit_(OrUnbounded(limits.wrist_acceleration_max, options.input_acceleration_margin)),
+      sigmas_(options.input_noise_sigmas) {
+  const int window =
+      std::max(kMinNoiseFrames, static_cast<int>(std::lround(options.input_noise_window_seconds / frame_time)));
+  for (Noise& noise : noise_) noise.recent.assign(static_cast<size_t>(window), 0.0f);
+  scratch_.reserve(static_cast<size_t>(window));
+}
 
-bool InputJumpDetector::Implausible(const Eigen::Vector3f* before_previous, const Eigen::Vector3f* previous,
-                                    const Eigen::Vector3f& current) const {
+float InputJumpDetector::AccelerationNoise(int side) const {
+  const Noise& noise = noise_[static_cast<size_t>(side)];
+  if (sigmas_ <= 0.0f || noise.count < kMinNoiseFrames) return 0.0f;
+  scratch_.assign(noise.recent.begin(), noise.recent.begin() + noise.count);
+  const auto middle = scratch_.begin() + noise.count / 2;
+  std::nth_element(scratch_.begin(), middle, scratch_.end());
+  return *middle / kNormalNormMedian;
+}
+
+bool InputJumpDetector::Step(int side, const Eigen::Vector3f* before_previous, const Eigen::Vector3f* previous,
+                             const Eigen::Vector3f& current, bool observed) {
   if (previous == nullptr) return false;
+  // Until the hand's noise is measured (its first frames) nothing is judged: a noisy device's
+  // first steps would be read as jumps.
+  const bool measured = sigmas_ <= 0.0f || noise_[static_cast<size_t>(side)].count >= kMinNoiseFrames;
+  // White noise of `acceleration_noise` per axis in second differences is √3 / frame rate of it
+  // per axis in first differences (√2 σ rate against √6 σ rate²).
+  const float acceleration_noise = AccelerationNoise(side);
+  const float speed_noise = acceleration_noise / (std::sqrt(3.0f) * rate_);
   const Eigen::Vector3f velocity = (current - *previous) * rate_;
-  if (velocity.norm() > speed_limit_) return true;
-  if (before_previous == nullptr) return false;
-  const Eigen::Vector3f previous_velocity = (*previous - *before_previous) * rate_;
-  return (velocity - previous_velocity).norm() * rate_ > acceleration_limit_;
+  // The database's bound and the noise's allowance add as independent errors do: a hand at its
+  // hardest and the noise at `sigmas_` along it, both rare, rarely meet (in a line, a controller's
+  // 20 cm step would hide in a 5 mm tracker's noise beside a database of fast dances).
+  const bool too_fast = measured && velocity.norm() > std::hypot(speed_limit_, sigmas_ * speed_noise);
+  if (before_previous == nullptr) return too_fast;
+  const float acceleration = (velocity - (*previous - *before_previous) * rate_).norm() * rate_;
+  if (observed) {
+    Noise& noise = noise_[static_cast<size_t>(side)];
+    noise.recent[static_cast<size_t>(noise.next)] = acceleration;
+    noise.next = (noise.next + 1) % static_cast<int>(noise.recent.size());
+    noise.count = std::min(noise.count + 1, static_cast<int>(noise.recent.size()));
+  }
+  return too_fast || (measured && acceleration > std::hypot(acceleration_limit_, sigmas_ * acceleration_noise));
 }
 
 Eigen::Vector3f PlantedFootOffset(const Eigen::Vector3f& body_offset, float leg_give) {

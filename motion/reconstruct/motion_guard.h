@@ -33,6 +33,11 @@ struct MotionGuardOptions {
   // fastest wrist, or accelerates faster than `input_acceleration_margin` × its fastest.
   float input_speed_margin = 1.25f;
   float input_acceleration_margin = 1.25f;
+  // A tracker's own noise is no motion: its share of a frame's speed and acceleration is allowed
+  // beside those bounds, `input_noise_sigmas` times its spread, measured from the hand's observed
+  // input over the last `input_noise_window_seconds` (InputJumpDetector). 0 sigmas = none.
+  float input_noise_sigmas = 5.0f;
+  float input_noise_window_seconds = 1.0f;
   // While the hands' midpoint stays put over the ground (its mean ground speed over the hands'
   // window below `standing_hands_speed`), the pelvis follows the solve through an exponential
   // filter of this time constant; the filter fades out linearly up to `moving_hands_speed`. A
@@ -99,18 +104,39 @@ class MotionGuard {
   double stream_start_ = 0;
 };
 
-// Flags input samples no hand could produce, from the resampled input's last three frames.
+// Flags input samples no hand could produce, from the resampled input's last three frames: a
+// step faster, or a change of velocity harder, than the database's hands make, beyond what the
+// tracker's own noise adds. A tracker's jitter alone moves a still hand: white noise of σ per
+// axis gives second differences of √6·σ per axis, at 30 frames/s and σ = 2.5 cm (phone AR) 55
+// m/s², the hardest a whole Bandai walk database's hands accelerate being 19 (its fastest dance
+// far more). So each hand's noise is measured as it comes, robustly: the median norm of its
+// second differences over the last `input_noise_window_seconds` of observed input (a 3-D normal's
+// norm has median 1.538 σ), which a jump, a frame or two of them, does not move; its share of a
+// step, `input_noise_sigmas` times its spread, is allowed beside each bound (in quadrature: a hand
+// at its hardest and the noise at its furthest, both rare, rarely meet). Nothing is judged
+// before a hand's first few observed frames have measured it.
 class InputJumpDetector {
  public:
   InputJumpDetector(const MotionLimits& limits, double frame_time, const MotionGuardOptions& options);
-  // `before_previous`, `previous`, `current`: one wrist's input at three consecutive frames
-  // (nullptr when the segment has not reached back that far). True when the step into `current`
-  // is implausible.
-  bool Implausible(const Eigen::Vector3f* before_previous, const Eigen::Vector3f* previous,
-                   const Eigen::Vector3f& current) const;
+  // `before_previous`, `previous`, `current`: one wrist's (`side`, 0 left, 1 right) input at three
+  // consecutive frames (nullptr when the segment has not reached back that far). True when the
+  // step into `current` is implausible, judged against the noise measured before it. `observed`:
+  // the input is the device's (not a guess over a dropout): it then joins the noise measure.
+  bool Step(int side, const Eigen::Vector3f* before_previous, const Eigen::Vector3f* previous,
+            const Eigen::Vector3f& current, bool observed);
+  // The spread of the hand's noise per axis, as the acceleration it adds (m/s²); 0 until a few
+  // frames are observed.
+  float AccelerationNoise(int side) const;
 
  private:
-  float rate_, speed_limit_, acceleration_limit_;
+  float rate_, speed_limit_, acceleration_limit_, sigmas_;
+  // Per hand, the norms of the last observed second differences (m/s²; a ring).
+  struct Noise {
+    std::vector<float> recent;
+    int next = 0, count = 0;
+  };
+  std::array<Noise, 2> noise_;
+  mutable std::vector<float> scratch_;  // the median's copy, sized once
 };
 
 // Where a planted foot goes when the guard moves the body by `body_offset`: nowhere while the

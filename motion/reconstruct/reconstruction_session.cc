@@ -621,7 +621,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
         frame.hand_state[side] = TrackingState::kLost;  // held by the other hand for long
       } else if (untracked > 0) {
         frame.hand_state[side] = TrackingState::kPredicted;
-      } else if (jump_detector_.Implausible(input_at(e - 2), input_at(e - 1), s.input[e][side])) {
+      } else if (jump_detector_.Step(side, input_at(e - 2), input_at(e - 1), s.input[e][side], observed)) {
         frame.hand_state[side] = TrackingState::kImplausible;
       } else if (put_down) {
         frame.hand_state[side] = TrackingState::kPutDown;

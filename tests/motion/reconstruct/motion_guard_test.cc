@@ -309,14 +309,69 @@ TEST(MotionGuardTest, AfterAGapTheBodyMayGoWhereTheHandsWent) {
 }
 
 TEST(InputJumpDetectorTest, FlagsStepsNoHandMakes) {
-  const InputJumpDetector detector(Limits(), kDt, Exact());
+  MotionGuardOptions options = Exact();
+  options.input_noise_sigmas = 0.0f;  // the database's bounds alone (noise: the next test)
+  InputJumpDetector detector(Limits(), kDt, options);
   const Eigen::Vector3f a(0, 1, 0), b(0.02f, 1, 0), c(0.04f, 1, 0);  // 0.6 m/s, steady
-  EXPECT_FALSE(detector.Implausible(&a, &b, c));
-  EXPECT_FALSE(detector.Implausible(nullptr, nullptr, c));
+  EXPECT_FALSE(detector.Step(0, &a, &b, c, true));
+  EXPECT_FALSE(detector.Step(0, nullptr, nullptr, c, true));
   const Eigen::Vector3f step = b + Eigen::Vector3f(0.2f, 0, 0);  // 20 cm in a frame: 6 m/s
-  EXPECT_TRUE(detector.Implausible(&a, &b, step));
+  EXPECT_TRUE(detector.Step(0, &a, &b, step, true));
   const Eigen::Vector3f small_step = b + Eigen::Vector3f(0.1f, 0, 0);  // 3 m/s, but from 0.6 in a frame
-  EXPECT_TRUE(detector.Implausible(&a, &b, small_step));
+  EXPECT_TRUE(detector.Step(1, &a, &b, small_step, true));
+}
+
+// A phone held in the hand (AR tracking's 2.5 cm of jitter per axis) of a user walking, against a
+// database of walks (its hands at most 2.5 m/s and 19 m/s²): the jitter alone steps 2-3 × faster
+// than those hands ever accelerate, and is no jump; a relocalisation's 50 cm step in it is one.
+// The guessed input over a dropout does not join the noise measure.
+TEST(InputJumpDetectorTest, ATrackersJitterIsNoJumpButAStepInItIs) {
+  MotionLimits limits = Limits();
+  limits.wrist_speed_max = 2.5f;
+  limits.wrist_acceleration_max = 19.0f;
+  std::mt19937 random(7);
+  std::normal_distribution<float> jitter(0.0f, 0.025f);
+  constexpr int kFrames = 600, kStepFrame = 450;
+  std::vector<Eigen::Vector3f> input(kFrames);
+  for (int f = 0; f < kFrames; ++f) {
+    input[f] = Eigen::Vector3f(0.5f * static_cast<float>(f * kDt) + (f >= kStepFrame ? 0.5f : 0.0f), 1.0f, 0.0f) +
+               Eigen::Vector3f(jitter(random), jitter(random), jitter(random));
+  }
+  auto flags = [&](const MotionGuardOptions& options) {
+    InputJumpDetector detector(limits, kDt, options);
+    std::vector<int> flagged;
+    for (int f = 0; f < kFrames; ++f) {
+      if (detector.Step(0, f >= 2 ? &input[f - 2] : nullptr, f >= 1 ? &input[f - 1] : nullptr, input[f], true)) {
+        flagged.push_back(f);
+      }
+    }
+    EXPECT_NEAR(
+        detector.AccelerationNoise(0), std::sqrt(6.0f) * 0.025f / static_cast<float>(kDt * kDt),
+        options.input_noise_sigmas > 0 ? 15.0f : 1e-6f + std::sqrt(6.0f) * 0.025f / static_cast<float>(kDt * kDt))
+        << "m/s² per axis, measured";
+    return flagged;
+  };
+  MotionGuardOptions options = Exact();
+  const std::vector<int> flagged = flags(options);
+  for (int f : flagged) {
+    EXPECT_GE(f, kStepFrame) << "jitter flagged";
+    EXPECT_LE(f, kStepFrame + 1) << "jitter flagged";
+  }
+  EXPECT_FALSE(flagged.empty()) << "the 50 cm step was not flagged";
+  if (!flagged.empty()) {
+    EXPECT_EQ(flagged.front(), kStepFrame);
+  }
+  options.input_noise_sigmas = 0.0f;  // the database's bounds alone: the jitter is flagged
+  EXPECT_GT(flags(options).size(), static_cast<size_t>(kFrames / 4));
+
+  // Input guessed over a dropout (smooth) leaves the measure as it was.
+  InputJumpDetector detector(limits, kDt, Exact());
+  for (int f = 2; f < 60; ++f) detector.Step(1, &input[f - 2], &input[f - 1], input[f], true);
+  const float measured = detector.AccelerationNoise(1);
+  const Eigen::Vector3f still(0, 1, 0);
+  for (int f = 0; f < 60; ++f) detector.Step(1, &still, &still, still, false);
+  EXPECT_EQ(detector.AccelerationNoise(1), measured);
+  EXPECT_EQ(detector.AccelerationNoise(0), 0.0f) << "the other hand measured nothing";
 }
 
 TEST(PlausibilityTest, MeasuresSpeedHandsFeetAndFloor) {
