@@ -24,6 +24,7 @@ absl::StatusOr<std::vector<std::array<Eigen::Vector3f, 2>>> OnDatabaseGrid(doubl
       return absl::InvalidArgumentError("a wrist sample is not finite");
     MOCAP_RETURN_IF_ERROR(resampler.Push(s, &grid));
   }
+  resampler.Flush(&grid);
   std::vector<std::array<Eigen::Vector3f, 2>> out;
   out.reserve(grid.size());
   for (const GridSample& g : grid) out.push_back({g.left, g.right});

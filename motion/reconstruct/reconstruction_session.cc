@@ -231,6 +231,9 @@ absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<
 
 absl::Status ReconstructionSession::Finish(std::vector<ReconstructedFrame>* out) {
   if (!finishing_) {
+    std::vector<GridSample> waiting;  // frames that waited for a repeating hand's next position
+    resampler_.Flush(&waiting);
+    for (const GridSample& g : waiting) MOCAP_RETURN_IF_ERROR(AcceptGridSample(g, out));
     finishing_ = true;
     resampler_.Reset();
     one_hand_bridge_.Reset();

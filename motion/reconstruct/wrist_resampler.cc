@@ -7,6 +7,16 @@
 #include "motion/core/str_cat.h"
 
 namespace mocap {
+namespace {
+
+Eigen::Vector3f& Hand(GridSample& sample, int side) { return side == 0 ? sample.left : sample.right; }
+
+bool IsRealInput(int side, const std::array<float, 2>& untracked_seconds,
+                 const std::array<FadingGuess, 2>& fading_guess) {
+  return untracked_seconds[side] == 0 && fading_guess[side].weight == 0;
+}
+
+}  // namespace
 
 WristResampler::WristResampler(double frame_time, double max_gap_seconds)
     : frame_time_(frame_time), max_gap_(max_gap_seconds) {}
@@ -30,7 +40,13 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
     return absl::InvalidArgumentError(StrCat("wrist sample at t = ", sample.time, " s is not finite (NaN or inf)"));
   }
   const bool new_segment = !has_previous_ || sample.time - previous_.time > max_gap_;
+  const Eigen::Vector3f positions[2] = {sample.left, sample.right};
   if (new_segment) {
+    Release(/*flush=*/true, out);  // the previous segment's frames that waited for a repeating hand
+    for (int side = 0; side < 2; ++side) {
+      anchors_[side] = {
+          .time = sample.time, .position = positions[side], .real = IsRealInput(side, untracked_seconds, fading_guess)};
+    }
     grid_origin_ = sample.time;
     next_index_ = 0;
     typical_period_ = 0.0;
@@ -65,21 +81,58 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
         fading[side] = {.weight = (1 - a) * previous_fading_[side].weight + a * fading_guess[side].weight,
                         .seconds = (1 - a) * previous_fading_[side].seconds + a * fading_guess[side].seconds};
       }
-      out->push_back(GridSample{.starts_segment = false,
-                                .bridged = guessed,
-                                .untracked_seconds = untracked,
-                                .fading_guess = fading,
-                                .time = t,
-                                .left = (1 - a) * previous_.left + a * sample.left,
-                                .right = (1 - a) * previous_.right + a * sample.right});
+      waiting_.push_back(GridSample{.starts_segment = false,
+                                    .bridged = guessed,
+                                    .untracked_seconds = untracked,
+                                    .fading_guess = fading,
+                                    .time = t,
+                                    .left = (1 - a) * previous_.left + a * sample.left,
+                                    .right = (1 - a) * previous_.right + a * sample.right});
       ++next_index_;
     }
+    for (int side = 0; side < 2; ++side) {
+      const bool real = IsRealInput(side, untracked_seconds, fading_guess);
+      if (!IsRepeat(side, positions[side], sample.time, real)) {
+        Advance(side, {.time = sample.time, .position = positions[side], .real = real});
+      }
+    }
+    Release(/*flush=*/false, out);
   }
   previous_ = sample;
   previous_untracked_ = untracked_seconds;
   previous_fading_ = fading_guess;
   has_previous_ = true;
   return absl::OkStatus();
+}
+
+void WristResampler::Flush(std::vector<GridSample>* out) { Release(/*flush=*/true, out); }
+
+bool WristResampler::IsRepeat(int side, const Eigen::Vector3f& position, double time, bool real) const {
+  const Anchor& anchor = anchors_[side];
+  return real && anchor.real && position == anchor.position && time - anchor.time <= kRepeatHoldSeconds;
+}
+
+void WristResampler::Advance(int side, const Anchor& next) {
+  const Anchor& from = anchors_[side];
+  const double span = next.time - from.time;
+  for (GridSample& g : waiting_) {
+    if (g.time <= from.time + 0.01 * frame_time_) continue;  // placed by the anchor already
+    const float a = static_cast<float>(std::clamp((g.time - from.time) / span, 0.0, 1.0));
+    Hand(g, side) = (1 - a) * from.position + a * next.position;
+  }
+  anchors_[side] = next;
+}
+
+void WristResampler::Release(bool flush, std::vector<GridSample>* out) {
+  const double reached = std::min(anchors_[0].time, anchors_[1].time) + 0.01 * frame_time_;
+  while (!waiting_.empty() && (flush || waiting_.front().time <= reached)) {
+    GridSample& g = waiting_.front();
+    for (int side = 0; side < 2; ++side) {
+      if (g.time > anchors_[side].time + 0.01 * frame_time_) Hand(g, side) = anchors_[side].position;  // held
+    }
+    out->push_back(g);
+    waiting_.pop_front();
+  }
 }
 
 }  // namespace mocap

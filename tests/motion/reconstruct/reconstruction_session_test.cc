@@ -505,6 +505,33 @@ TEST_F(ReconstructionSessionTest, AWindowSolvedASliceAtATimeGivesTheSameFrames) 
   }
 }
 
+// A tracker that did not update sends its last positions again (wrist_resampler.h): the hands
+// neither stop nor catch up, at any lag, and every frame still comes out.
+TEST_F(ReconstructionSessionTest, ATrackerThatDidNotUpdateIsNeitherAStopNorACatchUp) {
+  const auto samples = testing::WristSamplesOf(setup_);
+  std::vector<WristSample> stalled = samples;
+  for (size_t i = 1; i + 1 < stalled.size(); i += 2) {  // every other sample repeats the one before
+    stalled[i].left = stalled[i - 1].left;
+    stalled[i].right = stalled[i - 1].right;
+  }
+  for (int lag : {0, 5}) {
+    options_.mode = StreamMode::kFixedLag;
+    options_.lag = lag;
+    auto clean = ReconstructOffline(setup_.database, options_, samples);
+    auto repeated = ReconstructOffline(setup_.database, options_, stalled);
+    ASSERT_TRUE(clean.ok() && repeated.ok());
+    ASSERT_EQ(repeated->size(), samples.size()) << "lag " << lag;
+    double wrist_gap = 0;
+    for (size_t f = 0; f < samples.size(); ++f) {
+      for (int side = 0; side < 2; ++side) wrist_gap += ((*repeated)[f].wrists[side] - (*clean)[f].wrists[side]).norm();
+      EXPECT_FALSE((*repeated)[f].implausible_input()) << "lag " << lag << " frame " << f;
+    }
+    // Read as input, the repeats put the smoothed wrists 2 cm from the clean input's on average
+    // and are flagged implausible; interpolated across, they are within 2 mm (the path's curve).
+    EXPECT_LT(wrist_gap / (2.0 * samples.size()), 0.003) << "lag " << lag;
+  }
+}
+
 TEST_F(ReconstructionSessionTest, ALongGapEndsTheSegmentAndInputAtAnyRateIsResampled) {
   auto samples = testing::WristSamplesOf(setup_);
   // Second half 3 s later (beyond max_gap_seconds): two segments. Then thin the input to 20 Hz-ish

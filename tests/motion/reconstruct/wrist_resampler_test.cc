@@ -93,5 +93,88 @@ TEST(WristResamplerTest, RefusesNonFiniteSamplesAndTimeGoingBackwardsAndCarriesO
   EXPECT_EQ(out.size(), 2u);
 }
 
+TEST(WristResamplerTest, ATrackerRepeatingItsLastPositionIsNotReadAsAStopAndACatchUp) {
+  // Controllers at 72 Hz that did not update for one to three samples: the same positions again
+  // with new times. The grid must follow the hands' real (linear) path, frame for frame.
+  for (int hand = 0; hand < 3; ++hand) {  // left repeats, right repeats, both repeat
+    WristResampler resampler(1.0 / 30.0, 0.25);
+    std::vector<GridSample> out;
+    WristSample last = At(0.0);
+    for (int i = 0; i <= 144; ++i) {  // 2 s
+      WristSample sample = At(i / 72.0);
+      if (i % 4 != 0 && i < 140) {  // three repeats of every fourth sample: 42 ms
+        if (hand != 1) sample.left = last.left;
+        if (hand != 0) sample.right = last.right;
+      }
+      last = sample;
+      ASSERT_TRUE(resampler.Push(sample, &out).ok());
+    }
+    ASSERT_EQ(out.size(), 61u) << hand;  // the last sample is new: nothing waits
+    for (size_t k = 0; k < out.size(); ++k) {
+      EXPECT_NEAR(out[k].time, k / 30.0, 1e-9);
+      EXPECT_NEAR(out[k].left.x(), out[k].time, 1e-5) << hand << " " << k;
+      EXPECT_NEAR(out[k].right.z(), 2 * out[k].time, 1e-5) << hand << " " << k;
+    }
+  }
+}
+
+TEST(WristResamplerTest, AStillHandOnAQuantisedTrackerWaitsNoLongerThanTheHold) {
+  // A hand that does not move repeats itself for as long as it is still: a repeat later than
+  // kRepeatHoldSeconds after the hand's last new position is input, so frames keep coming.
+  WristResampler resampler(1.0 / 30.0, 0.25);
+  std::vector<GridSample> out;
+  const Eigen::Vector3f still(0.3f, 1.0f, 0.2f);
+  for (int i = 0; i <= 90; ++i) {
+    const double t = i / 90.0;
+    ASSERT_TRUE(resampler.Push({t, still, Eigen::Vector3f(static_cast<float>(t), 1.0f, 0.0f)}, &out).ok());
+    ASSERT_FALSE(out.empty());
+    EXPECT_GE(out.back().time, t - WristResampler::kRepeatHoldSeconds - 1.0 / 30.0 - 1e-9) << i;
+    for (const GridSample& g : out) EXPECT_LT((g.left - still).norm(), 1e-6f);
+  }
+  resampler.Flush(&out);
+  ASSERT_EQ(out.size(), 31u);
+  EXPECT_NEAR(out.back().right.x(), 1.0f, 1e-5);
+}
+
+TEST(WristResamplerTest, WhatWaitsForARepeatingHandIsHeldAtTheEndOfTheInputAndBeforeANewSegment) {
+  WristResampler resampler(1.0 / 30.0, 0.25);
+  std::vector<GridSample> out;
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(resampler.Push(At(i / 30.0), &out).ok());
+  WristSample repeat = At(10 / 30.0);
+  repeat.left = out.back().left;  // the left tracker did not update
+  ASSERT_TRUE(resampler.Push(repeat, &out).ok());
+  EXPECT_EQ(out.size(), 10u);                       // frame 10 waits for the left hand's next position
+  ASSERT_TRUE(resampler.Push(At(1.0), &out).ok());  // 0.63 s later: a new segment
+  ASSERT_EQ(out.size(), 12u);
+  EXPECT_FALSE(out[10].starts_segment);
+  EXPECT_FLOAT_EQ(out[10].left.x(), 9 / 30.0f);  // held where it was last seen
+  EXPECT_NEAR(out[10].right.z(), 20 / 30.0f, 1e-5);
+  EXPECT_TRUE(out[11].starts_segment);
+  repeat = At(31 / 30.0);
+  repeat.right = out.back().right;
+  ASSERT_TRUE(resampler.Push(repeat, &out).ok());
+  EXPECT_EQ(out.size(), 12u);
+  resampler.Flush(&out);
+  ASSERT_EQ(out.size(), 13u);
+  EXPECT_NEAR(out.back().left.x(), 31 / 30.0f, 1e-5);
+  EXPECT_FLOAT_EQ(out.back().right.z(), 2.0f);
+  resampler.Flush(&out);  // nothing twice
+  EXPECT_EQ(out.size(), 13u);
+}
+
+TEST(WristResamplerTest, AHandHeldByTheOtherIsNoRepeat) {
+  // OneHandBridge may hold a lost hand still: its positions are the bridge's, not a tracker's
+  // repeat, and must not wait.
+  WristResampler resampler(1.0 / 30.0, 0.25);
+  std::vector<GridSample> out;
+  const Eigen::Vector3f held(0.1f, 1.2f, 0.0f);
+  for (int i = 0; i < 5; ++i) {
+    WristSample s = At(i / 30.0);
+    s.left = held;
+    ASSERT_TRUE(resampler.Push(s, &out, {0.1f * static_cast<float>(i), 0.0f}).ok());
+    EXPECT_EQ(out.size(), static_cast<size_t>(i + 1));
+  }
+}
+
 }  // namespace
 }  // namespace mocap
