@@ -287,6 +287,8 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
       if (experiment.device.dropout_s > 0 || experiment.device.gap_every_s > 0 ||
           experiment.device.left_hand_lost_s > 0)
         MeasureReentryJerk(*database, truth, *frames, wrists, maps, &per_clip[i]);
+      // Input in another posture than the capture's has no truth to calibrate against.
+      if (!experiment.device.accuracy_measured()) confidence[i].clear();
       for (ConfidenceSample& sample : confidence[i]) sample.clip = static_cast<int>(i);
       per_clip[i].seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return absl::OkStatus();
@@ -317,8 +319,11 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
     }
     if (progress) {
       const LandmarkMetrics& o = result.overall;
-      progress(StrCat(experiment.name, ": landmarks ", 100 * o.Mean(o.landmark_error_m), " cm, wrists ",
-                      100 * o.Mean(o.wrist_error_m()), " cm over ", o.frames, " frames; ", o.clips_over_allowed_speed,
+      const std::string accuracy = experiment.device.accuracy_measured()
+                                       ? StrCat("landmarks ", 100 * o.Mean(o.landmark_error_m), " cm, wrists ",
+                                                100 * o.Mean(o.wrist_error_m()), " cm")
+                                       : std::string("no truth in this posture");
+      progress(StrCat(experiment.name, ": ", accuracy, " over ", o.frames, " frames; ", o.clips_over_allowed_speed,
                       " clips over the allowed pelvis speed"));
     }
     results.push_back(std::move(result));

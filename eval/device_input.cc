@@ -1,5 +1,6 @@
 #include "eval/device_input.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -14,6 +15,8 @@ std::vector<DeviceModel> StandardDevices() {
       {.name = "tracker_90hz", .rate_hz = 90, .jitter_m = 0.003, .quantisation_m = 0.001},
       {.name = "phone_ar", .rate_hz = 60, .jitter_m = 0.025, .drift_m_per_sqrt_s = 0.01},
       {.name = "dropouts", .rate_hz = 60, .jitter_m = 0.005, .gap_every_s = 4.0},
+      {.name = "seated", .rate_hz = 90, .jitter_m = 0.003, .quantisation_m = 0.001, .posture = Posture::kSeated},
+      {.name = "desk", .rate_hz = 90, .jitter_m = 0.003, .quantisation_m = 0.001, .posture = Posture::kAtADesk},
   };
 }
 
@@ -33,6 +36,31 @@ std::vector<DeviceModel> DropoutDevices() {
   }
   return devices;
 }
+
+namespace {
+
+// The wrists of `landmarks` as `posture` would put them (device_input.h). `start`: the clip's
+// first frame, whose pelvis height above its lower ankle sizes the chair and the desk.
+std::array<Eigen::Vector3f, 2> WristsIn(Posture posture,
+                                        const std::array<Eigen::Vector3f, kNumScoredLandmarks>& landmarks,
+                                        const std::array<Eigen::Vector3f, kNumScoredLandmarks>& start) {
+  std::array<Eigen::Vector3f, 2> wrists = {landmarks[kLeftWristLandmark], landmarks[kRightWristLandmark]};
+  if (posture == Posture::kAsCaptured) return wrists;
+  const float ankles = std::min(start[kLeftAnkleLandmark].y(), start[kRightAnkleLandmark].y());
+  const float leg = start[kPelvisLandmark].y() - ankles;
+  const Eigen::Vector3f travel = landmarks[kPelvisLandmark] - start[kPelvisLandmark];
+  for (Eigen::Vector3f& wrist : wrists) {
+    wrist.x() -= travel.x();
+    wrist.z() -= travel.z();
+    // A chair's seat at half the standing pelvis height; a hand that reached for the floor stops
+    // there (no lower than the standing ankles).
+    wrist.y() = std::max(wrist.y() - 0.5f * leg, ankles);
+    if (posture == Posture::kAtADesk) wrist.y() = std::max(wrist.y(), ankles + 0.75f * leg);
+  }
+  return wrists;
+}
+
+}  // namespace
 
 std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceModel& device, double noise_cm,
                                        unsigned seed) {
@@ -73,7 +101,7 @@ std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceM
       continue;
     }
     const std::array<Eigen::Vector3f, kNumScoredLandmarks> landmarks = LandmarksAt(truth, t);
-    std::array<Eigen::Vector3f, 2> at = {landmarks[kLeftWristLandmark], landmarks[kRightWristLandmark]};
+    std::array<Eigen::Vector3f, 2> at = WristsIn(device.posture, landmarks, truth.positions.front());
     for (int hand = 0; hand < 2; ++hand) {
       at[hand] += drift[hand] + noise_vector(device.jitter_m);
       if (device.quantisation_m > 0) {

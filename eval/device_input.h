@@ -11,6 +11,17 @@
 
 namespace mocap::eval {
 
+// How the user holds the body the clip's wrists came from. Other than as captured, the input is no
+// longer the capture's motion: accuracy is not measured, only what needs no truth (plausibility).
+enum class Posture {
+  kAsCaptured,
+  kSeated,   // on a chair where the clip starts: the pelvis' travel over the ground taken out of the
+             // wrists and the upper body lowered by half the standing pelvis height (above the ankles
+             // at the start; no hand lower than those ankles)
+  kAtADesk,  // seated, hands resting on a desk at 3/4 of the standing pelvis height where they
+             // would go lower
+};
+
 struct DeviceModel {
   std::string name;                         // empty: the lab input (the clip's own rate, Gaussian noise)
   double rate_hz = 0;                       // samples per second (0: the clip's own frame rate)
@@ -22,6 +33,8 @@ struct DeviceModel {
   double gap_min_s = 0.1, gap_max_s = 2.0;  // each dropout's length, uniform
   double dropout_s = 0;                     // one dropout of this length from 40% into the clip (0: none)
   double left_hand_lost_s = 0;              // the left hand alone lost this long from 40% into the clip (0: none)
+  Posture posture = Posture::kAsCaptured;
+  bool accuracy_measured() const { return posture == Posture::kAsCaptured; }
 };
 
 // The devices every report measures (named in docs/evaluation.md's table):
@@ -29,6 +42,8 @@ struct DeviceModel {
 //   tracker_90hz      a 90 Hz optical tracker: 3 mm jitter, 1 mm quantisation
 //   phone_ar          two phones' AR tracking: 60 Hz, 2.5 cm jitter, 1 cm/√s drift
 //   dropouts          60 Hz, 5 mm jitter, a 0.1-2 s gap every 4 s on average
+//   seated            tracker_90hz on a seated user (Posture::kSeated; plausibility only)
+//   desk              tracker_90hz on a seated user's hands over a desk (Posture::kAtADesk; the same)
 std::vector<DeviceModel> StandardDevices();
 // One dropout of each length the tracking states are judged on (issue #25: 0.2-5 s), in input
 // otherwise like `dropouts`' (60 Hz, 5 mm jitter): dropout_0.2s, dropout_0.5s, dropout_1s,

@@ -13,7 +13,7 @@
 
 namespace mocap::eval {
 
-nlohmann::json LandmarkMetricsJson(const LandmarkMetrics& m);
+nlohmann::json LandmarkMetricsJson(const LandmarkMetrics& m, bool accuracy_measured = true);
 // `context`: what was run; `left_out`: test files not scored and why. Returns the summary (the
 // per-source and device tables of landmarks.md).
 absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out_dir, const nlohmann::json& context,

@@ -51,6 +51,41 @@ TEST(DeviceInputTest, ControllersQuantiseRepeatAndKeepTheirRate) {
   EXPECT_LT(repeats, 190);
 }
 
+TEST(DeviceInputTest, ASeatedUserStaysWhereTheClipStartsLowerAndAtADeskOverIt) {
+  // A walk: the pelvis (1 m above the ankles at 0.1 m) travels 1 m/s along z; the left hand swings
+  // from 0.2 m to 1.0 m high, the right one reaches for the floor.
+  LandmarkTruth truth{.frame_time = 1.0 / 30.0, .positions = {}};
+  for (int f = 0; f <= 60; ++f) {
+    const float z = f / 30.0f, swing = 0.6f + 0.4f * std::sin(f / 5.0f);
+    std::array<Eigen::Vector3f, kNumScoredLandmarks> frame;
+    frame.fill(Eigen::Vector3f(0.0f, 1.0f, z));
+    frame[kLeftAnkleLandmark] = frame[kRightAnkleLandmark] = Eigen::Vector3f(0.0f, 0.1f, z);
+    frame[kPelvisLandmark] = Eigen::Vector3f(0.0f, 1.1f, z);
+    frame[kLeftWristLandmark] = Eigen::Vector3f(0.3f, swing, z + 0.1f);
+    frame[kRightWristLandmark] = Eigen::Vector3f(-0.3f, 0.15f, z);
+    truth.positions.push_back(frame);
+  }
+  auto device = [](Posture posture) {
+    DeviceModel d{.name = "posture", .rate_hz = 30, .posture = posture};
+    EXPECT_EQ(d.accuracy_measured(), posture == Posture::kAsCaptured);
+    return d;
+  };
+  const auto standing = DeviceSamples(truth, device(Posture::kAsCaptured), 0.0, 1);
+  const auto seated = DeviceSamples(truth, device(Posture::kSeated), 0.0, 1);
+  const auto desk = DeviceSamples(truth, device(Posture::kAtADesk), 0.0, 1);
+  ASSERT_EQ(seated.size(), standing.size());
+  ASSERT_EQ(desk.size(), standing.size());
+  for (size_t i = 0; i < seated.size(); ++i) {
+    EXPECT_NEAR(standing[i].left.z(), standing[i].time + 0.1, 1e-5);
+    EXPECT_NEAR(seated[i].left.z(), 0.1f, 1e-5) << "no travel";
+    EXPECT_NEAR(seated[i].left.x(), 0.3f, 1e-5);
+    EXPECT_NEAR(seated[i].left.y(), std::max(standing[i].left.y() - 0.5f, 0.1f), 1e-5) << "half the leg lower";
+    EXPECT_NEAR(seated[i].right.y(), 0.1f, 1e-5) << "no lower than the floor's ankles";
+    EXPECT_NEAR(desk[i].left.y(), std::max(seated[i].left.y(), 0.85f), 1e-5) << "over a desk at 3/4 of the leg";
+    EXPECT_NEAR(desk[i].right.y(), 0.85f, 1e-5);
+  }
+}
+
 TEST(DeviceInputTest, DropoutsLeaveGapsAndPhonesDrift) {
   DeviceModel dropouts = StandardDevices()[3];
   ASSERT_EQ(dropouts.name, "dropouts");
