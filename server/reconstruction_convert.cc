@@ -260,6 +260,7 @@ void ToProto(const ReconstructedFrame& frame, const SizeMap& map, float skeleton
 void ToProto(const SessionStatistics& statistics, v1::SessionSummary* out) {
   out->set_frames(statistics.frames);
   out->set_segments(statistics.segments);
+  out->set_repeated_hand_samples(statistics.repeated_hand_samples);
   const double per_frame = statistics.frames > 0 ? 1e3 / static_cast<double>(statistics.frames) : 0.0;
   out->set_cloud_ms_per_frame(statistics.cloud_seconds * per_frame);
   out->set_path_ms_per_frame(statistics.path_seconds * per_frame);

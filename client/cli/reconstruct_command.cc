@@ -320,6 +320,11 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
             << summary.frames() << " frames in " << summary.segments() << " segment(s)"
             << (summary.rejected_samples() ? ", " + std::to_string(summary.rejected_samples()) + " samples refused"
                                            : "")
+            << (summary.repeated_hand_samples()
+                    ? ", " + std::to_string(summary.repeated_hand_samples()) +
+                          " hand-samples repeated the hand's last position (a tracker that did not update: "
+                          "interpolated across)"
+                    : "")
             << "\n  per frame: cloud " << summary.cloud_ms_per_frame() << " ms, ankle path "
             << summary.path_ms_per_frame() << " ms, pose " << summary.pose_ms_per_frame() << " ms, cleanup "
             << summary.cleanup_ms_per_frame() << " ms\n";

@@ -225,6 +225,7 @@ absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<
   std::vector<GridSample> grid;
   MOCAP_RETURN_IF_ERROR(resampler_.Push(filled, &grid, untracked, fading));
   ++statistics_.samples;
+  statistics_.repeated_hand_samples = resampler_.repeated_hand_samples();
   for (const GridSample& g : grid) MOCAP_RETURN_IF_ERROR(AcceptGridSample(g, out));
   return absl::OkStatus();
 }

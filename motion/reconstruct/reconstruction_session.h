@@ -111,6 +111,9 @@ struct ReconstructedFrame {
 
 struct SessionStatistics {
   long samples = 0, frames = 0, segments = 0, refused_samples = 0;
+  // Hand-samples that repeated the hand's last position (a tracker that did not update), not
+  // taken as input (wrist_resampler.h).
+  long repeated_hand_samples = 0;
   // Wall time per stage, seconds (single thread): A2+A3, A4, A5+A6, A7.
   double cloud_seconds = 0, path_seconds = 0, pose_seconds = 0, post_seconds = 0;
 };

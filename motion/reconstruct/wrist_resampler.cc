@@ -92,7 +92,9 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
     }
     for (int side = 0; side < 2; ++side) {
       const bool real = IsRealInput(side, untracked_seconds, fading_guess);
-      if (!IsRepeat(side, positions[side], sample.time, real)) {
+      if (IsRepeat(side, positions[side], sample.time, real)) {
+        ++repeated_hand_samples_;
+      } else {
         Advance(side, {.time = sample.time, .position = positions[side], .real = real});
       }
     }

@@ -69,6 +69,8 @@ class WristResampler {
   // Appends the grid samples still waiting for a repeating hand's next position, that hand held
   // at its last position (the end of the input: nothing newer will come).
   void Flush(std::vector<GridSample>* out);
+  // Hand-samples taken for a tracker's repeat (not as input) since the resampler was made.
+  long repeated_hand_samples() const { return repeated_hand_samples_; }
   // Forgets the input; what waits is dropped (Flush first to keep it).
   void Reset() {
     has_previous_ = false;
@@ -98,6 +100,7 @@ class WristResampler {
   double grid_origin_ = 0.0;
   std::array<Anchor, 2> anchors_;
   std::deque<GridSample> waiting_;  // grid frames after a repeating hand's anchor, oldest first
+  long repeated_hand_samples_ = 0;
 };
 
 }  // namespace mocap

@@ -149,6 +149,23 @@ TEST_F(ReconstructionServiceTest, RefusedSamplesAreReportedAndTheSessionGoesOn) 
   EXPECT_NE(refused.summary.status().message().find("sample 10"), std::string::npos) << refused.summary.status();
 }
 
+// A tracker that did not update sends its last positions again: the summary counts them, and at
+// lag 0 every frame still comes out by the end (those that waited for the next new position too).
+TEST_F(ReconstructionServiceTest, RepeatedSamplesAreCountedAndEveryFrameComes) {
+  StartServer();
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  std::vector<v1::WristSample> samples = QueryWrists(30);
+  for (int i : {5, 6, 17, 29}) *samples[i].mutable_left() = samples[i - 1].left();  // 29: the last
+  *samples[12].mutable_right() = samples[11].right();
+  Streamed streamed = Stream(*client, Config(0), samples);
+  ASSERT_TRUE(streamed.summary.ok()) << streamed.summary.status();
+  EXPECT_EQ(streamed.summary->repeated_hand_samples(), 5);
+  EXPECT_EQ(streamed.summary->rejected_samples(), 0);
+  ASSERT_EQ(streamed.frames.size(), samples.size());
+  for (size_t f = 0; f < streamed.frames.size(); ++f) EXPECT_EQ(streamed.frames[f].frame_in_segment(), f);
+}
+
 TEST_F(ReconstructionServiceTest, BadSessionsGetClearErrors) {
   StartServer();
   auto acme = Connect(keys_["acme"]);

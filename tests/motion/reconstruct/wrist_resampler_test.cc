@@ -109,7 +109,8 @@ TEST(WristResamplerTest, ATrackerRepeatingItsLastPositionIsNotReadAsAStopAndACat
       last = sample;
       ASSERT_TRUE(resampler.Push(sample, &out).ok());
     }
-    ASSERT_EQ(out.size(), 61u) << hand;  // the last sample is new: nothing waits
+    ASSERT_EQ(out.size(), 61u) << hand;                                   // the last sample is new: nothing waits
+    EXPECT_EQ(resampler.repeated_hand_samples(), hand == 2 ? 210 : 105);  // 1..139 but every fourth
     for (size_t k = 0; k < out.size(); ++k) {
       EXPECT_NEAR(out[k].time, k / 30.0, 1e-9);
       EXPECT_NEAR(out[k].left.x(), out[k].time, 1e-5) << hand << " " << k;
