@@ -69,10 +69,10 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
     // ~1e-4 s over ten seconds, and its last sample must still complete the last frame.
     for (;;) {
       const double t = grid_origin_ + static_cast<double>(next_index_) * frame_time_;
-      if (t > sample.time + 0.01 * frame_time_) break;
+      if (t > sample.time + Slack()) break;
       const float a = static_cast<float>(std::clamp((t - previous_.time) / span, 0.0, 1.0));
       // The grid time that meets the new sample is input again, not a guess across the dropout.
-      const bool guessed = bridged && t < sample.time - 0.01 * frame_time_;
+      const bool guessed = bridged && t < sample.time - Slack();
       const float bridge = guessed ? static_cast<float>(std::min(t - previous_.time, sample.time - t)) : 0.0f;
       std::array<float, 2> untracked;
       std::array<FadingGuess, 2> fading;
@@ -81,13 +81,14 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
         fading[side] = {.weight = (1 - a) * previous_fading_[side].weight + a * fading_guess[side].weight,
                         .seconds = (1 - a) * previous_fading_[side].seconds + a * fading_guess[side].seconds};
       }
+      // Each hand held at its last new position until Advance places it towards the next one.
       waiting_.push_back(GridSample{.starts_segment = false,
                                     .bridged = guessed,
                                     .untracked_seconds = untracked,
                                     .fading_guess = fading,
                                     .time = t,
-                                    .left = (1 - a) * previous_.left + a * sample.left,
-                                    .right = (1 - a) * previous_.right + a * sample.right});
+                                    .left = anchors_[0].position,
+                                    .right = anchors_[1].position});
       ++next_index_;
     }
     for (int side = 0; side < 2; ++side) {
@@ -118,7 +119,7 @@ void WristResampler::Advance(int side, const Anchor& next) {
   const Anchor& from = anchors_[side];
   const double span = next.time - from.time;
   for (GridSample& g : waiting_) {
-    if (g.time <= from.time + 0.01 * frame_time_) continue;  // placed by the anchor already
+    if (g.time <= from.time + Slack()) continue;  // placed by the anchor already
     const float a = static_cast<float>(std::clamp((g.time - from.time) / span, 0.0, 1.0));
     Hand(g, side) = (1 - a) * from.position + a * next.position;
   }
@@ -126,13 +127,9 @@ void WristResampler::Advance(int side, const Anchor& next) {
 }
 
 void WristResampler::Release(bool flush, std::vector<GridSample>* out) {
-  const double reached = std::min(anchors_[0].time, anchors_[1].time) + 0.01 * frame_time_;
+  const double reached = std::min(anchors_[0].time, anchors_[1].time) + Slack();
   while (!waiting_.empty() && (flush || waiting_.front().time <= reached)) {
-    GridSample& g = waiting_.front();
-    for (int side = 0; side < 2; ++side) {
-      if (g.time > anchors_[side].time + 0.01 * frame_time_) Hand(g, side) = anchors_[side].position;  // held
-    }
-    out->push_back(g);
+    out->push_back(waiting_.front());
     waiting_.pop_front();
   }
 }

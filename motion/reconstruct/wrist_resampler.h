@@ -90,6 +90,9 @@ class WristResampler {
   // Appends the waiting grid frames both hands' positions have reached (all with `flush`).
   void Release(bool flush, std::vector<GridSample>* out);
 
+  // A grid time this close after a sample is that sample's: 1% of a frame (see Push).
+  double Slack() const { return 0.01 * frame_time_; }
+
   double frame_time_, max_gap_;
   bool has_previous_ = false;
   WristSample previous_;
