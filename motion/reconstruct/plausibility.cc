@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 
+#include "motion/reconstruct/hand_floor.h"
+
 namespace mocap {
 namespace {
 
@@ -156,8 +158,10 @@ PlausibilityFrame MakePlausibilityFrame(const PlausibilityRig& rig, std::span<co
   for (int side = 0; side < 2; ++side) {
     frame.hands[side] = joints[rig.wrists[side]];
     frame.ankles[side] = joints[rig.ankles[side]];
-    // A centimetre of slack: a straight arm's wrist is exactly at its reach.
-    frame.input_in_reach[side] = (input[side] - joints[rig.shoulders[side]]).norm() <= rig.arm_reach[side] + 0.01f;
+    // A centimetre of slack: a straight arm's wrist is exactly at its reach. No hand reaches under
+    // the floor (hand_floor.h).
+    frame.input_in_reach[side] = (input[side] - joints[rig.shoulders[side]]).norm() <= rig.arm_reach[side] + 0.01f &&
+                                 input[side].y() >= -kUnderFloorTolerance;
   }
   frame.lowest_point = std::numeric_limits<float>::infinity();
   for (int j : rig.body_joints) frame.lowest_point = std::min(frame.lowest_point, joints[j].y());

@@ -79,7 +79,7 @@ struct PlausibilityFrame {
   std::array<Eigen::Vector3f, 2> hands{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
   std::array<Eigen::Vector3f, 2> input{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
   std::array<Eigen::Vector3f, 2> ankles{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
-  std::array<bool, 2> input_in_reach{true, true};  // input within the arm's reach of the shoulder
+  std::array<bool, 2> input_in_reach{true, true};  // input within the arm's reach of the shoulder, not under the floor
   float lowest_point = 0;                          // lowest body joint, m above the ground
   bool flagged = false;                            // the engine flagged the frame's input implausible
   bool motion_limited = false;                     // the engine's motion guard held the pelvis back

@@ -14,6 +14,7 @@
 #include "motion/core/str_cat.h"
 #include "motion/reconstruct/ankle_cloud.h"
 #include "motion/reconstruct/frame_history.h"
+#include "motion/reconstruct/hand_floor.h"
 #include "motion/reconstruct/pose_method.h"
 
 namespace mocap {
@@ -656,10 +657,17 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       ReimposeAnklePins(&frame, &world_rotations, &world_positions);
     }
     std::optional<SmoothedWrists> hand_target;
+    std::array<bool, 2> under_floor = {false, false};
     if (options_.hand_target_sigma >= 0.0f) {
       // Hands on the input: a local linear fit over the samples that have arrived, which is the
       // Gaussian average where the window is centred and has no lag where it is one-sided.
       hand_target = FitInput(s, e, hand_kernels_[hand_level]);
+      // Input under the floor: no wrist goes lower than over a hand lying on it (hand_floor.h).
+      for (int side = 0; side < 2; ++side) {
+        float& height = hand_target->position[side].y();
+        under_floor[side] = height < -kUnderFloorTolerance;
+        height = std::max(height, kLowestWristHeight);
+      }
       // Input beyond an arm's reach: the shoulders move towards it, then the torso leans, and
       // where that is not enough the body steps or crouches towards it (reach_lean.h), no faster
       // than a body does.
@@ -680,7 +688,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
         SolveLegIk(body, wrist_joints[side], hand_target->position[side], &frame.pose);
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
-    MarkOutOfReach(s.input[e], world_positions, &frame);
+    MarkOutOfReach(s.input[e], under_floor, world_positions, &frame);
     frame.pelvis_rotation = world_rotations[l.pelvis];
     frame.pelvis_position = world_positions[l.pelvis];
     frame.index = next_output_index_++;
@@ -732,6 +740,7 @@ void ReconstructionSession::KeepFeetAboveFloor(ReconstructedFrame* frame,
 }
 
 void ReconstructionSession::MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input,
+                                           const std::array<bool, 2>& under_floor,
                                            const std::vector<Eigen::Vector3f>& world_positions,
                                            ReconstructedFrame* frame) const {
   const BodyLandmarks& l = database_->rig().topology.landmarks;
@@ -742,7 +751,7 @@ void ReconstructionSession::MarkOutOfReach(const std::array<Eigen::Vector3f, 2>&
     if (shoulder < 0 || elbow < 0 || frame->hand_state[side] != TrackingState::kTracked) continue;
     const float reach = (world_positions[elbow] - world_positions[shoulder]).norm() +
                         (world_positions[wrist] - world_positions[elbow]).norm();
-    if ((input[side] - world_positions[shoulder]).norm() > kOutOfReachFactor * reach) {
+    if (under_floor[side] || (input[side] - world_positions[shoulder]).norm() > kOutOfReachFactor * reach) {
       frame->hand_state[side] = TrackingState::kOutOfReach;
     }
   }

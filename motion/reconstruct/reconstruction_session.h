@@ -73,7 +73,8 @@ enum class TrackingState {
   kLost,         // the tracker has lost this hand for longer than max_gap_seconds while the other
                  // is tracked: the body goes on from the other hand, this one held by it
   kOutOfReach,   // the input is further from the body's shoulder than its arm reaches
-                 // (kOutOfReachFactor × upper arm + forearm): the hand stops short of it
+                 // (kOutOfReachFactor × upper arm + forearm), or under the floor (hand_floor.h):
+                 // the hand stops short of it
   kPutDown,      // the device lies still while the person moves (hand_rest.h)
 };
 
@@ -194,9 +195,10 @@ class ReconstructionSession {
   // An ankle under the database's planted ankle height goes up to it by the leg IK.
   void KeepFeetAboveFloor(ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
                           std::vector<Eigen::Vector3f>* world_positions) const;
-  // Marks a tracked hand whose input lies beyond its arm's reach from the emitted body's shoulder.
-  void MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input, const std::vector<Eigen::Vector3f>& world_positions,
-                      ReconstructedFrame* frame) const;
+  // Marks a tracked hand whose input lies beyond its arm's reach from the emitted body's shoulder,
+  // or under the floor (`under_floor`, read from the smoothed input).
+  void MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input, const std::array<bool, 2>& under_floor,
+                      const std::vector<Eigen::Vector3f>& world_positions, ReconstructedFrame* frame) const;
   // Drops per-frame state no stage will read again: memory bounded by window and lag.
   void ForgetSettledFrames();
 

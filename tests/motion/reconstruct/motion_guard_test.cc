@@ -400,6 +400,22 @@ TEST(PlausibilityTest, MeasuresSpeedHandsFeetAndFloor) {
   EXPECT_FLOAT_EQ(AllowedPelvisSpeed(1.5f), 3.0f);
 }
 
+// Input under the floor is out of any arm's reach, however near the shoulder (hand_floor.h).
+TEST(PlausibilityTest, InputUnderTheFloorIsOutOfReach) {
+  PlausibilityRig rig;
+  rig.pelvis = 0;
+  rig.wrists = {1, 2};
+  rig.ankles = {0, 0};
+  rig.shoulders = {3, 3};
+  rig.arm_reach = {0.6f, 0.6f};
+  const std::vector<Eigen::Vector3f> joints = {Eigen::Vector3f(0, 0.5f, 0), Eigen::Vector3f(0.2f, 0.1f, 0),
+                                               Eigen::Vector3f(-0.2f, 0.1f, 0), Eigen::Vector3f(0, 0.45f, 0)};
+  const std::array<Eigen::Vector3f, 2> input = {Eigen::Vector3f(0.2f, -0.05f, 0), Eigen::Vector3f(-0.2f, 0.0f, 0)};
+  const PlausibilityFrame frame = MakePlausibilityFrame(rig, joints, input, 0.0, 0, false, false);
+  EXPECT_FALSE(frame.input_in_reach[0]) << "5 cm under the floor, 51 cm from the shoulder";
+  EXPECT_TRUE(frame.input_in_reach[1]) << "on the floor";
+}
+
 // --- The session on degraded synthetic input --------------------------------------------------
 
 class NeverTeleportTest : public ::testing::Test {

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "motion/reconstruct/hand_floor.h"
 #include "tests/support/synthetic_database.h"
 
 namespace mocap {
@@ -326,6 +327,52 @@ TEST_F(ReconstructionSessionTest, NoAnkleEndsUnderTheFloorWhenTheInputDrops) {
   };
   EXPECT_LT(lowest_ankle(sinking), ground - 0.05f);
   EXPECT_GE(lowest_ankle(options_), ground - 0.001f);
+}
+
+// A tracker that drifted (or a floor declared too high) puts the left wrist 15 cm under the ground
+// for a second: the body's hand stops at the floor and the frames say the input is out of reach.
+// Every mode.
+TEST_F(ReconstructionSessionTest, InputUnderTheFloorHoldsTheHandAtTheFloorAndIsOutOfReach) {
+  auto samples = testing::WristSamplesOf(setup_);
+  ASSERT_GT(samples.size(), 70u);
+  const float start = samples[20].left.y();
+  auto depth_at = [&](size_t i) {  // down over half a second, a second under, up over half a second
+    const float down = std::clamp((static_cast<float>(i) - 20.0f) / 15.0f, 0.0f, 1.0f);
+    const float up = std::clamp((65.0f - static_cast<float>(i)) / 15.0f, 0.0f, 1.0f);
+    return std::min(down, up) * (start + 0.15f);
+  };
+  for (size_t i = 0; i < samples.size(); ++i) samples[i].left.y() -= depth_at(i);
+  const BodyModel& body = setup_.database->body();
+  const BodyLandmarks& l = setup_.rig.topology.landmarks;
+  for (const int lag : {-1, 0, 5}) {
+    ReconstructionOptions options = options_;
+    if (lag >= 0) {
+      options.mode = StreamMode::kFixedLag;
+      options.lag = lag;
+    }
+    auto frames = ReconstructOffline(setup_.database, options, samples);
+    ASSERT_TRUE(frames.ok()) << frames.status();
+    std::vector<Eigen::Quaternionf> rotations;
+    std::vector<Eigen::Vector3f> positions;
+    int flagged = 0, under = 0, out_of_reach = 0;
+    for (const ReconstructedFrame& frame : *frames) {
+      const auto& input = samples[frame.frame_in_segment];
+      body.WorldTransforms(frame.pose, &rotations, &positions);
+      EXPECT_GE(positions[l.left_wrist].y(), kLowestWristHeight - 0.002f) << "lag " << lag << " frame " << frame.index;
+      if (input.left.y() < -0.05f) {  // well under: flagged whatever A2's smoothing did
+        ++under;
+        // (where the hand stops at the bottom, the jump detector may call it implausible first)
+        EXPECT_TRUE(frame.hand_state[0] == TrackingState::kOutOfReach ||
+                    frame.hand_state[0] == TrackingState::kImplausible)
+            << "lag " << lag << " frame " << frame.index;
+        out_of_reach += frame.hand_state[0] == TrackingState::kOutOfReach;
+      }
+      if (frame.frame_in_segment < 20 && frame.hand_state[0] != TrackingState::kTracked) ++flagged;
+    }
+    EXPECT_GE(under, 15) << "lag " << lag;
+    EXPECT_GE(out_of_reach, under - 4) << "lag " << lag;
+    EXPECT_EQ(flagged, 0) << "lag " << lag << ": the input before the drift flagged";
+  }
 }
 
 // The setup's wrist samples with white noise of `sigma` metres per axis, as a tracker jitters.
