@@ -36,7 +36,7 @@ FootskateCleaner::FootskateCleaner(const BodyModel& body, float planted_ankle_he
       rate_(static_cast<float>(1.0 / frame_time)),
       options_(options),
       hold_frames_(streaming ? std::clamp(static_cast<int>(std::lround(options.stream_hold_seconds * rate_)), 0,
-                                          static_cast<int>(std::tuple_size_v<decltype(Foot::recent)>) - 1)
+                                          static_cast<int>(Foot::kRecentFrames) - 1)
                              : 0),
       pin_at_mean_(streaming && options.stream_pin_at_mean) {}
 
@@ -150,8 +150,9 @@ std::optional<EasedPin> EasePin(std::span<const float> kernel, std::span<const s
 }
 
 bool FootskateCleaner::StillPlanted(const Foot& foot, const Eigen::Vector3f& estimate) const {
-  const long span = std::min<long>(hold_frames_, foot.seen);
-  return EstimateSaysPlanted(foot.Back(span), estimate, planted_height_, rate_ / static_cast<float>(span), options_);
+  const size_t span = std::min(static_cast<size_t>(hold_frames_), foot.recent.size());
+  return EstimateSaysPlanted(foot.recent.Back(span - 1), estimate, planted_height_, rate_ / static_cast<float>(span),
+                             options_);
 }
 
 std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 2>& estimated_ankles,
@@ -172,11 +173,11 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     if (use_estimate) {
       estimated = foot.planted && hold_frames_ > 0
                       ? StillPlanted(foot, estimate)
-                      : foot.seen > 0 && EstimateSaysPlanted(foot.Back(1), estimate, planted_height_, rate_, options_);
+                      : !foot.recent.empty() &&
+                            EstimateSaysPlanted(foot.recent.Back(0), estimate, planted_height_, rate_, options_);
     }
     contact[side] = database[side] && estimated;
-    foot.recent[static_cast<size_t>(foot.seen % static_cast<long>(foot.recent.size()))] = estimate;
-    ++foot.seen;
+    foot.recent.Push(estimate);
     if (!options_.enabled) continue;
     body_.WorldTransforms(*pose, &rotations_, &positions_);
     const Eigen::Vector3f solved = positions_[ankle_joints[side]];

@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 
+#include "motion/core/recent_values.h"
 #include "motion/reconstruct/body_model.h"
 #include "motion/reconstruct/database_frame.h"
 
@@ -128,14 +129,10 @@ class FootskateCleaner {
     Eigen::Vector3f pin = Eigen::Vector3f::Zero();
     Eigen::Vector3f release_offset = Eigen::Vector3f::Zero();
     int release_left = 0;
-    // The last estimates (a ring; the one before this frame's is Back(1)), and in streams the
-    // contact's so far.
-    std::array<Eigen::Vector3f, 16> recent{};
-    long seen = 0;
-    // The estimate `frames` frames back (1 ≤ frames ≤ min(seen, recent.size())).
-    const Eigen::Vector3f& Back(long frames) const {
-      return recent[static_cast<size_t>((seen - frames) % static_cast<long>(recent.size()))];
-    }
+    // The last estimates (while a frame is processed, recent.Back(0) is the one before its own), and
+    // in streams the contact's so far.
+    static constexpr size_t kRecentFrames = 16;
+    RecentValues<Eigen::Vector3f> recent{kRecentFrames};
     Eigen::Vector3f contact_start_estimate = Eigen::Vector3f::Zero();
     Eigen::Vector3f contact_estimate_sum = Eigen::Vector3f::Zero();
     int contact_frames = 0;

@@ -35,9 +35,9 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
       standing_window_seconds_(options.standing_window_seconds),
       start_ease_seconds_(options.start_ease_seconds),
       bound_window_frames_{HandsWindowFrames(frame_time, 0), HandsWindowFrames(frame_time, 1)},
-      hands_(std::max(bound_window_frames_.back(),
-                      static_cast<int>(std::lround(options.standing_window_seconds / frame_time))) +
-             1) {
+      hands_(static_cast<size_t>(std::max(bound_window_frames_.back(),
+                                          static_cast<int>(std::lround(options.standing_window_seconds / frame_time))) +
+                                 1)) {
   // The bounds by the hands' speed, with their margin (none known: unbounded).
   if (!(limits.pelvis_speed_beyond_hands_max > 0)) {
     hands_limits_.pelvis_speed_beyond_hands_max = std::numeric_limits<float>::infinity();
@@ -63,20 +63,18 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   // was missing is where the body may have gone (reset at the gap, a walk's first frame after
   // it had only a standing body's speed to catch up with).
   if (!has_previous_) {
-    hands_count_ = 0;
+    hands_.Clear();
     stream_start_ = time;
     leading_ = pending_leading_;
   }
   pending_leading_.reset();  // given for a stream that goes on: its windows know the hands
-  const int window = static_cast<int>(hands_.size());
-  hands_[hands_next_] = {time, hands};
-  hands_next_ = (hands_next_ + 1) % window;
-  hands_count_ = std::min(hands_count_ + 1, window);
+  const int window = static_cast<int>(hands_.capacity());
+  hands_.Push({time, hands});
   // Mean velocity of the midpoint over the last `frames` frames (fewer at a stream's start), and
   // over no more time than they span, but for the sample before a gap.
   auto mean_velocity = [&](int frames) -> Eigen::Vector3f {
-    int back = std::min(frames + 1, hands_count_);
-    auto sample = [&](int b) -> const HandsSample& { return hands_[(hands_next_ - b + window) % window]; };
+    int back = std::min(frames + 1, static_cast<int>(hands_.size()));
+    auto sample = [&](int b) -> const HandsSample& { return hands_.Back(static_cast<size_t>(b - 1)); };
     while (back > 2 && time - sample(back).time > (frames + 0.5) * frame_time_) --back;
     const HandsSample& oldest = sample(back);
     return back > 1 ? Eigen::Vector3f((hands - oldest.midpoint) / static_cast<float>(time - oldest.time))
@@ -171,15 +169,15 @@ InputJumpDetector::InputJumpDetector(const MotionLimits& limits, double frame_ti
       sigmas_(options.input_noise_sigmas) {
   const int window =
       std::max(kMinNoiseFrames, static_cast<int>(std::lround(options.input_noise_window_seconds / frame_time)));
-  for (Noise& noise : noise_) noise.recent.assign(static_cast<size_t>(window), 0.0f);
+  for (RecentValues<float>& noise : noise_) noise.Resize(static_cast<size_t>(window));
   scratch_.reserve(static_cast<size_t>(window));
 }
 
 float InputJumpDetector::AccelerationNoise(int side) const {
-  const Noise& noise = noise_[static_cast<size_t>(side)];
-  if (sigmas_ <= 0.0f || noise.count < kMinNoiseFrames) return 0.0f;
-  scratch_.assign(noise.recent.begin(), noise.recent.begin() + noise.count);
-  const auto middle = scratch_.begin() + noise.count / 2;
+  const RecentValues<float>& noise = noise_[static_cast<size_t>(side)];
+  if (sigmas_ <= 0.0f || static_cast<int>(noise.size()) < kMinNoiseFrames) return 0.0f;
+  scratch_.assign(noise.Unordered().begin(), noise.Unordered().end());
+  const auto middle = scratch_.begin() + static_cast<long>(noise.size() / 2);
   std::nth_element(scratch_.begin(), middle, scratch_.end());
   return *middle / kNormalNormMedian;
 }
@@ -189,7 +187,8 @@ bool InputJumpDetector::Step(int side, const Eigen::Vector3f* before_previous, c
   if (previous == nullptr) return false;
   // Until the hand's noise is measured (its first frames) nothing is judged: a noisy device's
   // first steps would be read as jumps.
-  const bool measured = sigmas_ <= 0.0f || noise_[static_cast<size_t>(side)].count >= kMinNoiseFrames;
+  const bool measured =
+      sigmas_ <= 0.0f || static_cast<int>(noise_[static_cast<size_t>(side)].size()) >= kMinNoiseFrames;
   // White noise of `acceleration_noise` per axis in second differences is √3 / frame rate of it
   // per axis in first differences (√2 σ rate against √6 σ rate²).
   const float acceleration_noise = AccelerationNoise(side);
@@ -201,12 +200,7 @@ bool InputJumpDetector::Step(int side, const Eigen::Vector3f* before_previous, c
   const bool too_fast = measured && velocity.norm() > std::hypot(speed_limit_, sigmas_ * speed_noise);
   if (before_previous == nullptr) return too_fast;
   const float acceleration = (velocity - (*previous - *before_previous) * rate_).norm() * rate_;
-  if (observed) {
-    Noise& noise = noise_[static_cast<size_t>(side)];
-    noise.recent[static_cast<size_t>(noise.next)] = acceleration;
-    noise.next = (noise.next + 1) % static_cast<int>(noise.recent.size());
-    noise.count = std::min(noise.count + 1, static_cast<int>(noise.recent.size()));
-  }
+  if (observed) noise_[static_cast<size_t>(side)].Push(acceleration);
   return too_fast || (measured && acceleration > std::hypot(acceleration_limit_, sigmas_ * acceleration_noise));
 }
 

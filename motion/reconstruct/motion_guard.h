@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "motion/core/recent_values.h"
 #include "motion/reconstruct/plausibility.h"
 
 namespace mocap {
@@ -94,8 +95,7 @@ class MotionGuard {
     double time;
     Eigen::Vector3f midpoint;
   };
-  std::vector<HandsSample> hands_;
-  int hands_next_ = 0, hands_count_ = 0;
+  RecentValues<HandsSample> hands_;
   struct LeadingSpan {
     double seconds;
     Eigen::Vector3f displacement;
@@ -130,12 +130,8 @@ class InputJumpDetector {
 
  private:
   float rate_, speed_limit_, acceleration_limit_, sigmas_;
-  // Per hand, the norms of the last observed second differences (m/s²; a ring).
-  struct Noise {
-    std::vector<float> recent;
-    int next = 0, count = 0;
-  };
-  std::array<Noise, 2> noise_;
+  // Per hand, the norms of the last observed second differences (m/s²).
+  std::array<RecentValues<float>, 2> noise_;
   mutable std::vector<float> scratch_;  // the median's copy, sized once
 };
 
