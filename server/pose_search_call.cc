@@ -5,6 +5,7 @@
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "server/work_pool.h"
 
 namespace mocap {
 
@@ -117,7 +118,8 @@ void PoseSearchCall::StartReferences() {
 absl::Status PoseSearchCall::SearchSlice(v1::FindSimilarPosesResponse* out) {
   MOCAP_RETURN_IF_ERROR(CheckCancelled());
   const auto deadline = std::chrono::steady_clock::now() + kSliceTime;
-  const auto spent = [&] { return std::chrono::steady_clock::now() >= deadline; };
+  // Over at the slice's time, or sooner when another tenant's work waits for the thread.
+  const auto spent = [&] { return std::chrono::steady_clock::now() >= deadline || WorkPool::AnotherKeyWaits(); };
   out->set_window(options_.window);
   out->set_exact(options_.exact);
   for (; next_reference_ < references_.size(); ++next_reference_) {

@@ -4,6 +4,7 @@
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "server/work_pool.h"
 
 namespace mocap {
 
@@ -19,6 +20,7 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
   std::unique_ptr<SessionDriver> driver(new SessionDriver(metrics));
   driver->session_ = std::move(session);
   driver->session_->SetCancelFlag(cancel);
+  driver->session_->SetSliceYield(&WorkPool::AnotherKeyWaits);
   driver->config_ = config;
   driver->scale_ = scale;
   bool size_online = false;
@@ -89,6 +91,11 @@ absl::Status SessionDriver::Reject(long index, double time, const std::string& r
 void SessionDriver::StartSlice() {
   slice_deadline_ = std::chrono::steady_clock::now() + limits_.slice_budget;
   session_->SetSliceDeadline(slice_deadline_);
+  pushed_in_slice_ = false;
+}
+
+bool SessionDriver::SliceOver() const {
+  return std::chrono::steady_clock::now() >= slice_deadline_ || WorkPool::AnotherKeyWaits();
 }
 
 absl::Status SessionDriver::Push(const v1::WristSamples& samples, int begin, int end,
@@ -133,11 +140,14 @@ absl::Status SessionDriver::PushReady(std::vector<v1::ReconstructResponse>* repl
       if (held_.back().sample.time - held_.front().sample.time > limits_.max_reach_hold_seconds) SizeFromReach();
       continue;
     }
-    if (has_backlog()) {  // behind the held samples still to push
+    // Behind the held samples still to push, or past the slice (a sample a slice at least): the
+    // next task's.
+    if (has_backlog() || (pushed_in_slice_ && SliceOver())) {
       held_.push_back(std::move(ready));
       continue;
     }
     MOCAP_RETURN_IF_ERROR(PushScaled(ready, replies));
+    pushed_in_slice_ = true;
   }
   ready_.clear();
   return absl::OkStatus();
@@ -174,7 +184,7 @@ absl::Status SessionDriver::PushHeld(std::vector<v1::ReconstructResponse>* repli
     } else {
       MOCAP_RETURN_IF_ERROR(PushScaled(held_[held_next_++], replies));
     }
-    if (std::chrono::steady_clock::now() >= slice_deadline_) break;
+    if (SliceOver()) break;
   }
   if (held_next_ == held_.size()) {
     std::vector<MonitoredSample>().swap(held_);

@@ -96,9 +96,11 @@ class SessionDriver {
   // config.estimate_performer_height, at the end of the input: the body's size from the wrists'
   // reach (wrist_reach.h); the held samples then go into the session through PushHeld.
   void SizeFromReach();
-  // The slice a call may take: until limits_.slice_budget from now, the session's too.
+  // The slice a call may take: until limits_.slice_budget from now, the session's too, or less
+  // when another tenant's work waits for the thread (WorkPool::AnotherKeyWaits).
   void StartSlice();
-  // The backlog (has_backlog) into the session, in order, until the slice's deadline.
+  bool SliceOver() const;
+  // The backlog (has_backlog) into the session, in order, until the slice is over.
   absl::Status PushHeld(std::vector<v1::ReconstructResponse>* replies);
   absl::Status ReportInput(std::vector<v1::ReconstructResponse>* replies);
 
@@ -121,6 +123,7 @@ class SessionDriver {
   std::optional<FrameTransform> output_transform_;  // native → caller; unset: the server's frame
   SessionLimits limits_;
   std::chrono::steady_clock::time_point slice_deadline_;
+  bool pushed_in_slice_ = false;  // a sample went into the session in this slice
   v1::SessionStarted started_;
   std::vector<ReconstructedFrame> pending_;  // decided, not yet converted
   std::optional<Retargeter> retargeter_;     // config.target_rig: frames answered on that rig

@@ -21,6 +21,9 @@ namespace {
 // tenant's replies in the transport, whatever the pool's fair order (issue #14: the victim's p99).
 constexpr int kWorkerNiceness = 5;
 
+// The pool whose task this thread runs (AnotherKeyWaits), null outside a pool thread.
+thread_local const std::atomic<bool>* this_threads_key_waits = nullptr;
+
 void LowerThisThreadsPriority() {
   if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kWorkerNiceness) != 0) {
     spdlog::warn("work pool: cannot lower a worker's priority: {}", std::strerror(errno));
@@ -64,8 +67,15 @@ void WorkPool::Post(Key key, std::function<void()> task) {
     MutexLock lock(&mutex_);
     keys_[key].queue.push_back({next_sequence_++, std::move(task)});
     ++queued_;
+    UpdateKeyWaitsLocked(clock_());
   }
   ready_.notify_one();
+}
+
+bool WorkPool::LongKeysWaitLocked() const { return thread_count_ >= 2 && long_running_ >= thread_count_ - 1; }
+
+bool WorkPool::AnotherKeyWaits() {
+  return this_threads_key_waits != nullptr && this_threads_key_waits->load(std::memory_order_relaxed);
 }
 
 size_t WorkPool::queued() const {
@@ -74,7 +84,7 @@ size_t WorkPool::queued() const {
 }
 
 std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::int64_t now, std::int64_t* tag) {
-  const bool long_keys_wait = thread_count_ >= 2 && long_running_ >= thread_count_ - 1;
+  const bool long_keys_wait = LongKeysWaitLocked();
   auto best = keys_.end();
   std::int64_t best_tag = 0;
   for (auto it = keys_.begin(); it != keys_.end();) {
@@ -125,7 +135,23 @@ void WorkPool::FinishedLocked(Key key, const Running& task, std::int64_t now, st
   }
 }
 
+void WorkPool::UpdateKeyWaitsLocked(std::int64_t now) {
+  bool waits = false;
+  if (running_ >= thread_count_) {
+    const bool long_keys_wait = LongKeysWaitLocked();
+    for (const auto& [key, state] : keys_) {
+      // A long key held back by the long rule waits for a long task, not for the one asking.
+      if (!state.queue.empty() && state.running.empty() && !(long_keys_wait && state.long_until > now)) {
+        waits = true;
+        break;
+      }
+    }
+  }
+  key_waits_.store(waits, std::memory_order_relaxed);
+}
+
 void WorkPool::Work() {
+  this_threads_key_waits = &key_waits_;
   while (true) {
     std::function<void()> task;
     Key key = kSharedKey;
@@ -151,6 +177,8 @@ void WorkPool::Work() {
       state.queue.pop_front();
       state.running.push_back(running);
       --queued_;
+      ++running_;
+      UpdateKeyWaitsLocked(running.started);
     }
     const std::int64_t work_began = work_clock_();
     try {
@@ -163,7 +191,10 @@ void WorkPool::Work() {
     task = nullptr;  // its captures go before the charge: their destructors are the task's work
     const std::int64_t worked = work_clock_() - work_began;
     MutexLock lock(&mutex_);
-    FinishedLocked(key, running, clock_(), worked);
+    const std::int64_t now = clock_();
+    FinishedLocked(key, running, now, worked);
+    --running_;
+    UpdateKeyWaitsLocked(now);
   }
 }
 

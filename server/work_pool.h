@@ -22,8 +22,14 @@
 // long work of a tenant alone uses the rest of the pool. A task's work is its thread's CPU time, not the wall time it
 // took: on a loaded machine a short task preempted for 20 ms would make its key long, and a tenant of 30 live streams
 // then held one thread where it needed two (the queue, and its latency, grew to seconds).
+//
+// A task that has more to do than one slice (a session's backlog, a pose search) ends its slice
+// early when another key waits for a thread (`AnotherKeyWaits`): the pool can only choose between
+// keys when a task returns, so without this a live stream's sample waited for whatever was left
+// of a slice another tenant had started (up to 20 ms; a sample alone takes ~1 ms).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -61,6 +67,11 @@ class WorkPool {
   // Tasks queued and not yet started, over all keys.
   size_t queued() const;
 
+  // Whether, on a thread of this pool, a task of another key waits for a thread now (every
+  // thread is busy, and the key has nothing running): the calling task should end its slice at
+  // the next point where it can. Lock-free; false outside a pool thread.
+  static bool AnotherKeyWaits();
+
   static std::int64_t SteadyNanoseconds();
   static std::int64_t ThreadCpuNanoseconds();
 
@@ -87,6 +98,10 @@ class WorkPool {
   // Charges a finished task that worked `worked` ns and forgets idle keys with nothing owed.
   void FinishedLocked(Key key, const Running& task, std::int64_t now, std::int64_t worked)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Whether long keys hold every thread they may (all but one): the others then wait.
+  bool LongKeysWaitLocked() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Sets key_waits_ from the keys' queues and the threads' work, after any change of either.
+  void UpdateKeyWaitsLocked(std::int64_t now) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   const Clock clock_;
   const Clock work_clock_;
@@ -97,6 +112,8 @@ class WorkPool {
   std::uint64_t next_sequence_ ABSL_GUARDED_BY(mutex_) = 0;
   size_t queued_ ABSL_GUARDED_BY(mutex_) = 0;
   int long_running_ ABSL_GUARDED_BY(mutex_) = 0;  // tasks of long keys running
+  int running_ ABSL_GUARDED_BY(mutex_) = 0;       // tasks running, over all keys
+  std::atomic<bool> key_waits_{false};            // AnotherKeyWaits(), written under mutex_
   bool stopping_ ABSL_GUARDED_BY(mutex_) = false;
   const int thread_count_;
   std::vector<std::thread> threads_;

@@ -455,7 +455,7 @@ absl::Status ReconstructionSession::SolvePending(bool sliced, std::vector<Recons
   while (s.solved < s.decided) {
     MOCAP_RETURN_IF_ERROR(SolveFrame(s.solved, out));
     ++s.solved;
-    if (sliced && Clock::now() >= slice_deadline_) break;
+    if (sliced && (Clock::now() >= slice_deadline_ || (slice_yield_ != nullptr && slice_yield_()))) break;
   }
   if (s.solved < s.decided || !s.ending) return absl::OkStatus();
   EmitFiltered(true, out);

@@ -137,6 +137,9 @@ class ReconstructionSession {
   // server can cut that work into bounded tasks (issue #24); the rest wait for Continue, and the
   // next Push or Finish solves them first. Default: no deadline.
   void SetSliceDeadline(std::chrono::steady_clock::time_point deadline) { slice_deadline_ = deadline; }
+  // Ends every slice sooner, after the frame at which `yield()` is true (a server's other work
+  // waits for the thread). Called once a frame.
+  void SetSliceYield(bool (*yield)()) { slice_yield_ = yield; }
   // Decided frames not solved yet, or a finished segment whose last frames are still to come.
   bool has_pending_frames() const;
   // Pending frames (after Finish: the rest of the finish), until the slice deadline.
@@ -226,6 +229,7 @@ class ReconstructionSession {
   SessionStatistics statistics_;
   const std::atomic<bool>* cancel_ = nullptr;
   std::chrono::steady_clock::time_point slice_deadline_ = std::chrono::steady_clock::time_point::max();
+  bool (*slice_yield_)() = nullptr;
   bool finishing_ = false;  // Finish was called and has frames to come (has_pending_frames)
 };
 

@@ -563,6 +563,29 @@ TEST_F(SessionDriverTest, AWindowsFramesAreSolvedASliceAtATimeWithTheSameFrames)
   }
 }
 
+// A stream's message of many samples is taken a sample a slice when the slice is over (its time
+// spent, or another tenant's work waiting for the thread): the rest are held for the next task,
+// and the frames are those taken at once.
+TEST_F(SessionDriverTest, AMessagesSamplesAreTakenASliceAtATimeWithTheSameFrames) {
+  auto at_once = Create(Config(5), SessionLimits{.slice_budget = std::chrono::hours(1)});
+  auto sliced = Create(Config(5), SessionLimits{.slice_budget = std::chrono::microseconds(0)});
+  ASSERT_TRUE(at_once.ok() && sliced.ok());
+  std::vector<v1::ReconstructResponse> whole, steps;
+  ASSERT_TRUE((*at_once)->Push(WireSamples(kTestFrames), &whole).ok());
+  EXPECT_FALSE((*at_once)->has_backlog());
+  ASSERT_TRUE((*at_once)->Finish(&whole).ok());
+
+  ASSERT_TRUE((*sliced)->Push(WireSamples(kTestFrames), &steps).ok());
+  EXPECT_TRUE((*sliced)->has_backlog()) << "every sample went in at once";
+  int continues = 0;
+  for (; (*sliced)->has_backlog(); ++continues) ASSERT_TRUE((*sliced)->Continue(&steps).ok());
+  EXPECT_GT(continues, kTestFrames / 2);  // about a sample a slice
+  ASSERT_TRUE((*sliced)->Finish(&steps).ok());
+  const std::vector<std::string> expected = FramesOf(whole), got = FramesOf(steps);
+  ASSERT_EQ(got.size(), static_cast<size_t>(kTestFrames));
+  EXPECT_TRUE(got == expected) << "the frames differ from those taken at once";
+}
+
 // Without estimate_performer_height a stream keeps its size, but its summary tells how large a
 // body the wrists needed.
 TEST_F(SessionDriverTest, AStreamsSummaryTellsTheHeightItsReachShows) {

@@ -332,6 +332,65 @@ TEST(WorkPoolTest, APoolOfOneThreadHoldsNothingBack) {
   done.wait();
 }
 
+// What a task running on the pool reads from AnotherKeyWaits at each of a test's steps: the task
+// waits at step i until the test has set the scene, reads, and tells the test it has.
+class YieldProbe {
+ public:
+  explicit YieldProbe(int steps) : steps_(steps), read_(steps) {}
+  // The task's body.
+  void Run() {
+    for (int i = 0; i < steps_; ++i) {
+      go_[i].get_future().wait();
+      read_[i] = WorkPool::AnotherKeyWaits();
+      done_[i].set_value();
+    }
+  }
+  // The test's side: lets the task read at step i, returns what it read.
+  bool Read(int i) {
+    go_[i].set_value();
+    done_[i].get_future().wait();
+    return read_[i];
+  }
+
+ private:
+  int steps_;
+  std::vector<bool> read_;
+  std::promise<void> go_[4];
+  std::promise<void> done_[4];
+};
+
+TEST(WorkPoolTest, ATaskIsToldWhenAnotherKeyWaitsForAThread) {
+  WorkPool pool(2);
+  YieldProbe probe(4);
+  pool.Post(1, [&] { probe.Run(); });
+  EXPECT_FALSE(probe.Read(0)) << "nothing queued";
+
+  // A second key's task takes the idle thread: nobody waits.
+  std::promise<void> second_started;
+  std::promise<void> release_second;
+  pool.Post(2, [&, release = release_second.get_future().share()] {
+    second_started.set_value();
+    release.wait();
+  });
+  second_started.get_future().wait();
+  EXPECT_FALSE(probe.Read(1)) << "the other key's task got a thread";
+
+  // More of a running key's own work does not wait for another key.
+  std::latch own_ran(1);
+  pool.Post(1, [&] { own_ran.count_down(); });
+  EXPECT_FALSE(probe.Read(2)) << "only key 1's own task queued";
+
+  // A third key with nothing running waits: both threads are busy.
+  std::latch third_ran(1);
+  pool.Post(3, [&] { third_ran.count_down(); });
+  EXPECT_TRUE(probe.Read(3)) << "key 3 waits for a thread";
+  EXPECT_FALSE(WorkPool::AnotherKeyWaits()) << "outside the pool's threads it is always false";
+
+  release_second.set_value();
+  third_ran.wait();
+  own_ran.wait();
+}
+
 TEST(WorkPoolTest, AThrowingTaskIsDroppedAndThePoolKeepsWorking) {
   std::atomic<int> after{0};
   std::latch done(3);

@@ -523,32 +523,40 @@ TEST_F(ReconstructionSessionTest, AWindowSolvedASliceAtATimeGivesTheSameFrames) 
   for (size_t i = 50; i < samples.size(); ++i) samples[i].time += 3.0;  // a second segment
   auto offline = ReconstructOffline(setup_.database, options_, samples);
   ASSERT_TRUE(offline.ok());
-  auto session = ReconstructionSession::Create(setup_.database, options_);
-  ASSERT_TRUE(session.ok());
-  (*session)->SetSliceDeadline(std::chrono::steady_clock::time_point::min());  // one frame a call
-  std::vector<ReconstructedFrame> sliced;
-  int pending_after_push = 0, continues = 0;
-  for (size_t i = 0; i < samples.size(); ++i) {
-    ASSERT_TRUE((*session)->Push(samples[i], &sliced).ok());
-    pending_after_push += (*session)->has_pending_frames();
-    // Some samples leave what is pending to the next Push, which solves it first.
-    while (i % 3 == 0 && (*session)->has_pending_frames()) {
-      ASSERT_TRUE((*session)->Continue(&sliced).ok());
-      ++continues;
+  // A slice of one frame: its deadline passed, or a server's other work waiting at every frame.
+  for (const bool by_yield : {false, true}) {
+    SCOPED_TRACE(by_yield ? "ended by yield" : "ended by deadline");
+    auto session = ReconstructionSession::Create(setup_.database, options_);
+    ASSERT_TRUE(session.ok());
+    if (by_yield) {
+      (*session)->SetSliceYield([] { return true; });
+    } else {
+      (*session)->SetSliceDeadline(std::chrono::steady_clock::time_point::min());
     }
-  }
-  EXPECT_GT(pending_after_push, 2);
-  EXPECT_GE(continues, 19);  // the first window but its first frame, a frame a call
-  ASSERT_TRUE((*session)->Finish(&sliced).ok());
-  EXPECT_TRUE((*session)->has_pending_frames());  // the last window's frames, one a call
-  while ((*session)->has_pending_frames()) ASSERT_TRUE((*session)->Finish(&sliced).ok());
-  ASSERT_EQ(sliced.size(), offline->size());
-  for (size_t f = 0; f < sliced.size(); ++f) {
-    EXPECT_EQ(sliced[f].index, (*offline)[f].index);
-    EXPECT_EQ(sliced[f].segment, (*offline)[f].segment);
-    EXPECT_EQ(sliced[f].pelvis_position, (*offline)[f].pelvis_position);
-    for (size_t j = 0; j < sliced[f].pose.rotations.size(); ++j)
-      EXPECT_EQ(sliced[f].pose.rotations[j].coeffs(), (*offline)[f].pose.rotations[j].coeffs());
+    std::vector<ReconstructedFrame> sliced;
+    int pending_after_push = 0, continues = 0;
+    for (size_t i = 0; i < samples.size(); ++i) {
+      ASSERT_TRUE((*session)->Push(samples[i], &sliced).ok());
+      pending_after_push += (*session)->has_pending_frames();
+      // Some samples leave what is pending to the next Push, which solves it first.
+      while (i % 3 == 0 && (*session)->has_pending_frames()) {
+        ASSERT_TRUE((*session)->Continue(&sliced).ok());
+        ++continues;
+      }
+    }
+    EXPECT_GT(pending_after_push, 2);
+    EXPECT_GE(continues, 19);  // the first window but its first frame, a frame a call
+    ASSERT_TRUE((*session)->Finish(&sliced).ok());
+    EXPECT_TRUE((*session)->has_pending_frames());  // the last window's frames, one a call
+    while ((*session)->has_pending_frames()) ASSERT_TRUE((*session)->Finish(&sliced).ok());
+    ASSERT_EQ(sliced.size(), offline->size());
+    for (size_t f = 0; f < sliced.size(); ++f) {
+      EXPECT_EQ(sliced[f].index, (*offline)[f].index);
+      EXPECT_EQ(sliced[f].segment, (*offline)[f].segment);
+      EXPECT_EQ(sliced[f].pelvis_position, (*offline)[f].pelvis_position);
+      for (size_t j = 0; j < sliced[f].pose.rotations.size(); ++j)
+        EXPECT_EQ(sliced[f].pose.rotations[j].coeffs(), (*offline)[f].pose.rotations[j].coeffs());
+    }
   }
 }
 
