@@ -23,13 +23,19 @@ std::string RandomInstanceTag() {
   for (int i = 0; i < 6; ++i) tag += "0123456789abcdef"[random() % 16];
   return tag;
 }
+// Sessions end their slices when another tenant's task waits for a compute thread.
+ReconstructionLimits WithSliceYield(ReconstructionLimits limits) {
+  limits.session.slice_yield = &WorkPool::AnotherKeyWaits;
+  return limits;
+}
+
 }  // namespace
 
 std::string ReconstructionState::NextSessionId() { return StrCat(instance_tag, "-s", next_session_id.fetch_add(1)); }
 
 ReconstructionState::ReconstructionState(ServiceContext& service_context, const ReconstructionLimits& limits_in)
     : service(service_context),
-      limits(limits_in),
+      limits(WithSliceYield(limits_in)),
       databases(service_context.stores, limits_in.max_cached_databases, limits_in.time_reversed_copies),
       sessions(limits_in.max_sessions_per_tenant, "reconstruction sessions"),
       streams(limits_in.max_streams > 0 ? limits_in.max_streams

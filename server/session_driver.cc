@@ -4,7 +4,6 @@
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
-#include "server/work_pool.h"
 
 namespace mocap {
 
@@ -20,7 +19,7 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
   std::unique_ptr<SessionDriver> driver(new SessionDriver(metrics));
   driver->session_ = std::move(session);
   driver->session_->SetCancelFlag(cancel);
-  driver->session_->SetSliceYield(&WorkPool::AnotherKeyWaits);
+  driver->session_->SetSliceYield(limits.slice_yield);
   driver->config_ = config;
   driver->scale_ = scale;
   bool size_online = false;
@@ -95,7 +94,8 @@ void SessionDriver::StartSlice() {
 }
 
 bool SessionDriver::SliceOver() const {
-  return std::chrono::steady_clock::now() >= slice_deadline_ || WorkPool::AnotherKeyWaits();
+  return std::chrono::steady_clock::now() >= slice_deadline_ ||
+         (limits_.slice_yield != nullptr && limits_.slice_yield());
 }
 
 absl::Status SessionDriver::Push(const v1::WristSamples& samples, int begin, int end,

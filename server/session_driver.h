@@ -41,6 +41,9 @@ struct SessionLimits {
   // window's frames are solved a few at a time, so a slice is this plus about one frame's work).
   // Issue #24: ten minutes of held samples were one task of ~30 s, a 600-frame window ~0.4 s.
   std::chrono::microseconds slice_budget{20'000};
+  // Ends a slice sooner, at the next frame or sample, when it returns true: the server passes
+  // WorkPool::AnotherKeyWaits (another tenant's work waits for the thread). nullptr: never.
+  bool (*slice_yield)() = nullptr;
 };
 
 class SessionDriver {
@@ -97,7 +100,7 @@ class SessionDriver {
   // reach (wrist_reach.h); the held samples then go into the session through PushHeld.
   void SizeFromReach();
   // The slice a call may take: until limits_.slice_budget from now, the session's too, or less
-  // when another tenant's work waits for the thread (WorkPool::AnotherKeyWaits).
+  // when limits_.slice_yield says so.
   void StartSlice();
   bool SliceOver() const;
   // The backlog (has_backlog) into the session, in order, until the slice is over.
