@@ -28,7 +28,8 @@
 #   usage: benchmarks/fairness_flood.sh
 #   env: SECONDS_PER_RUN (20), ROUNDS (1: alone then beside, per shape; more print each shape's
 #        median ratio), FLOOD_SCHED (idle), FLOOD_NICE (19), SHAPES ("rate big reopen mixed search rigs imports"),
-#        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS
+#        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS, SERVER_EXTRA (more
+#        `mocapd serve` flags, e.g. --no-prompt-lane)
 # Builds its own store in build/fairness (two tenants, each with the standard split's database).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
@@ -48,7 +49,8 @@ for tenant in victim flood; do
 done
 victim_key=$("$mocapd" tenant add-key --store "$store" victim 2>/dev/null)
 flood_key=$("$mocapd" tenant add-key --store "$store" flood 2>/dev/null)
-coproc SERVER { exec "$mocapd" serve --store "$store" --listen 127.0.0.1:0 2>"$out/server.log"; }
+read -r -a server_extra <<<"${SERVER_EXTRA:-}"
+coproc SERVER { exec "$mocapd" serve --store "$store" --listen 127.0.0.1:0 "${server_extra[@]}" 2>"$out/server.log"; }
 server_pid=$SERVER_PID
 trap 'kill $server_pid 2>/dev/null; wait $server_pid 2>/dev/null || true' EXIT
 read -r -t 60 line <&"${SERVER[0]}"

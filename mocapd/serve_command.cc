@@ -139,6 +139,9 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
                    "Reconstruction indices kept in memory (least recently used dropped)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  command->add_flag("!--no-prompt-lane", reconstruction.prompt_lane,
+                    "No extra compute thread at the transport's priority for a quiet tenant's next task (beside "
+                    "another tenant's flood its samples then wait at the pool's lower priority)");
   command->add_flag("!--no-reversed-motion", reconstruction.time_reversed_copies,
                     "Do not also search the travelling frames played backwards (saves ~185 bytes per database "
                     "frame of bandai-namco-2; bodies walking backwards then only find forward motion)");

@@ -41,7 +41,8 @@ ReconstructionState::ReconstructionState(ServiceContext& service_context, const 
       streams(limits_in.max_streams > 0 ? limits_in.max_streams
                                         : kDefaultStreamsPerComputeThread * ComputeThreads(limits_in)),
       instance_tag(RandomInstanceTag()),
-      compute(ComputeThreads(limits_in)) {}
+      compute(ComputeThreads(limits_in),
+              limits_in.prompt_lane ? WorkPool::PromptLane::kYes : WorkPool::PromptLane::kNo) {}
 
 void AcquireSessionDatabase(ReconstructionState& state, CallScope& call, const std::string& name,
                             std::function<void(absl::StatusOr<ReconstructionDatabases::Database>)> ready) {

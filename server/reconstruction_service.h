@@ -28,6 +28,8 @@ struct ReconstructionLimits {
   std::chrono::milliseconds idle_timeout{30000};  // no message from the client for this long
   SessionLimits session;
   int compute_threads = 0;  // 0: one per core
+  // One more compute thread, at gRPC's priority, for a quiet tenant's next task (WorkPool's prompt lane).
+  bool prompt_lane = true;
   int max_cached_databases = 4;
   // Search the travelling frames also played backwards (DatabaseBuildOptions::time_reversed_copies): bodies
   // walking backwards where the capture only walks forwards, for ~185 more bytes per frame of a

@@ -32,14 +32,18 @@ void LowerThisThreadsPriority() {
 
 }  // namespace
 
-WorkPool::WorkPool(int threads, Clock clock, Clock work_clock)
-    : clock_(std::move(clock)), work_clock_(std::move(work_clock)), thread_count_(threads) {
+WorkPool::WorkPool(int threads, PromptLane prompt_lane, Clock clock, Clock work_clock)
+    : clock_(std::move(clock)),
+      work_clock_(std::move(work_clock)),
+      thread_count_(threads),
+      has_prompt_lane_(prompt_lane == PromptLane::kYes) {
   for (int i = 0; i < threads; ++i) {
     threads_.emplace_back([this] {
       LowerThisThreadsPriority();
-      Work();
+      Work(/*prompt_lane=*/false);
     });
   }
+  if (has_prompt_lane_) threads_.emplace_back([this] { Work(/*prompt_lane=*/true); });
 }
 
 WorkPool::~WorkPool() {
@@ -48,6 +52,7 @@ WorkPool::~WorkPool() {
     stopping_ = true;
   }
   ready_.notify_all();
+  prompt_ready_.notify_all();
   for (std::thread& thread : threads_) thread.join();
 }
 
@@ -63,13 +68,26 @@ std::int64_t WorkPool::SteadyNanoseconds() {
 }
 
 void WorkPool::Post(Key key, std::function<void()> task) {
+  bool for_prompt_lane = false;
   {
     MutexLock lock(&mutex_);
-    keys_[key].queue.push_back({next_sequence_++, std::move(task)});
+    const std::int64_t now = clock_();
+    KeyState& state = keys_[key];
+    state.queue.push_back({next_sequence_++, std::move(task)});
     ++queued_;
-    UpdateKeyWaitsLocked(clock_());
+    for_prompt_lane = PromptLaneIdleLocked() && QuietLocked(state, now);
+    UpdateKeyWaitsLocked(now);
   }
-  ready_.notify_one();
+  // The other threads pass a quiet key to the idle prompt lane: only it needs waking.
+  if (for_prompt_lane) {
+    prompt_ready_.notify_one();
+  } else {
+    ready_.notify_one();
+  }
+}
+
+bool WorkPool::QuietLocked(const KeyState& state, std::int64_t now) {
+  return state.queue.size() == 1 && state.running.empty() && state.long_until <= now;
 }
 
 bool WorkPool::LongKeysWaitLocked() const { return thread_count_ >= 2 && long_running_ >= thread_count_ - 1; }
@@ -83,8 +101,11 @@ size_t WorkPool::queued() const {
   return queued_;
 }
 
-std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::int64_t now, std::int64_t* tag) {
+std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::int64_t now, bool prompt_lane,
+                                                                           std::int64_t* tag,
+                                                                           bool* leaves_for_prompt_lane) {
   const bool long_keys_wait = LongKeysWaitLocked();
+  const bool prompt_lane_idle = PromptLaneIdleLocked();
   auto best = keys_.end();
   std::int64_t best_tag = 0;
   for (auto it = keys_.begin(); it != keys_.end();) {
@@ -98,7 +119,13 @@ std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::
       }
       continue;
     }
-    if (long_keys_wait && state.long_until > now) {
+    const bool quiet = QuietLocked(state, now);
+    if (prompt_lane ? !quiet : (quiet && prompt_lane_idle)) {
+      if (!prompt_lane && quiet) *leaves_for_prompt_lane = true;
+      ++it;
+      continue;
+    }
+    if (!prompt_lane && long_keys_wait && state.long_until > now) {
       ++it;
       continue;
     }
@@ -130,6 +157,7 @@ void WorkPool::FinishedLocked(Key key, const Running& task, std::int64_t now, st
     --long_running_;
     ready_.notify_all();  // a thread may wait for the long keys' turn
   }
+  if (PromptLaneIdleLocked() && QuietLocked(state, now)) prompt_ready_.notify_one();  // its next task
   if (state.queue.empty() && state.running.empty() && state.finish <= virtual_time_ && state.long_until <= now) {
     keys_.erase(it);
   }
@@ -140,8 +168,10 @@ void WorkPool::UpdateKeyWaitsLocked(std::int64_t now) {
   if (running_ >= thread_count_) {
     const bool long_keys_wait = LongKeysWaitLocked();
     for (const auto& [key, state] : keys_) {
-      // A long key held back by the long rule waits for a long task, not for the one asking.
-      if (!state.queue.empty() && state.running.empty() && !(long_keys_wait && state.long_until > now)) {
+      // A long key held back by the long rule waits for a long task, not for the one asking; a
+      // quiet key goes to the idle prompt lane.
+      if (!state.queue.empty() && state.running.empty() && !(long_keys_wait && state.long_until > now) &&
+          !(PromptLaneIdleLocked() && QuietLocked(state, now))) {
         waits = true;
         break;
       }
@@ -150,8 +180,9 @@ void WorkPool::UpdateKeyWaitsLocked(std::int64_t now) {
   key_waits_.store(waits, std::memory_order_relaxed);
 }
 
-void WorkPool::Work() {
+void WorkPool::Work(bool prompt_lane) {
   this_threads_key_waits = &key_waits_;
+  std::condition_variable& ready = prompt_lane ? prompt_ready_ : ready_;
   while (true) {
     std::function<void()> task;
     Key key = kSharedKey;
@@ -160,10 +191,13 @@ void WorkPool::Work() {
       MutexLock lock(&mutex_);
       auto picked = keys_.end();
       std::int64_t tag = 0;
-      mutex_.Await(ready_, [&]() ABSL_NO_THREAD_SAFETY_ANALYSIS {
+      mutex_.Await(ready, [&]() ABSL_NO_THREAD_SAFETY_ANALYSIS {
         if (queued_ == 0) return stopping_;
         running.started = clock_();
-        picked = PickLocked(running.started, &tag);
+        bool leaves_for_prompt_lane = false;
+        picked = PickLocked(running.started, prompt_lane, &tag, &leaves_for_prompt_lane);
+        // A key turns quiet when its long mark expires, which posts nothing: wake the lane here.
+        if (leaves_for_prompt_lane) prompt_ready_.notify_one();
         return picked != keys_.end();
       });
       if (queued_ == 0) return;  // stopping and drained
@@ -177,8 +211,17 @@ void WorkPool::Work() {
       state.queue.pop_front();
       state.running.push_back(running);
       --queued_;
-      ++running_;
+      if (prompt_lane) {
+        prompt_busy_ = true;
+        if (queued_ > 0) ready_.notify_one();  // another quiet key's task it passed over
+      } else {
+        ++running_;
+      }
       UpdateKeyWaitsLocked(running.started);
+      if (stopping_ && queued_ == 0) {  // the threads that could not take the rest may end
+        ready_.notify_all();
+        prompt_ready_.notify_all();
+      }
     }
     const std::int64_t work_began = work_clock_();
     try {
@@ -193,7 +236,11 @@ void WorkPool::Work() {
     MutexLock lock(&mutex_);
     const std::int64_t now = clock_();
     FinishedLocked(key, running, now, worked);
-    --running_;
+    if (prompt_lane) {
+      prompt_busy_ = false;
+    } else {
+      --running_;
+    }
     UpdateKeyWaitsLocked(now);
   }
 }

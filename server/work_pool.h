@@ -27,6 +27,14 @@
 // early when another key waits for a thread (`AnotherKeyWaits`): the pool can only choose between
 // keys when a task returns, so without this a live stream's sample waited for whatever was left
 // of a slice another tenant had started (up to 20 ms; a sample alone takes ~1 ms).
+//
+// The prompt lane (optional): one more thread, at gRPC's priority, that runs only the task of a
+// quiet key, one with that task alone queued and nothing running (a live session's next message;
+// never a long key). The other threads run below gRPC's (see work_pool.cc), so beside a tenant
+// whose thousands of messages a second keep gRPC's threads busy, a quiet tenant's sample got a
+// quarter of a core and took four times its work (perf sched, stop 60); on the prompt lane it
+// shares a core evenly with them. A key with work running or queued behind is served by the
+// fair order on the other threads, so a tenant cannot hold the lane by sending more.
 #pragma once
 
 #include <atomic>
@@ -35,6 +43,7 @@
 #include <functional>
 #include <map>
 #include <thread>
+#include <utility>
 #include <vector>
 #include "motion/core/mutex.h"
 
@@ -52,9 +61,15 @@ class WorkPool {
   static constexpr std::int64_t kLongTask = 50'000'000;       // ns
   static constexpr std::int64_t kLongMemory = 2'000'000'000;  // ns
 
+  enum class PromptLane { kNo, kYes };
+
   // `clock` times the fair shares; `work_clock` what a task itself worked (the calling thread's
   // CPU time; tests pass the clock their tasks advance for both).
-  explicit WorkPool(int threads, Clock clock = SteadyNanoseconds, Clock work_clock = ThreadCpuNanoseconds);
+  explicit WorkPool(int threads, Clock clock = SteadyNanoseconds, Clock work_clock = ThreadCpuNanoseconds)
+      : WorkPool(threads, PromptLane::kNo, std::move(clock), std::move(work_clock)) {}
+  // `threads` below gRPC's priority, and with kYes the prompt lane's thread beside them.
+  WorkPool(int threads, PromptLane prompt_lane, Clock clock = SteadyNanoseconds,
+           Clock work_clock = ThreadCpuNanoseconds);
   // Runs the queued tasks, then joins the threads.
   ~WorkPool();
   WorkPool(const WorkPool&) = delete;
@@ -91,10 +106,16 @@ class WorkPool {
     std::int64_t long_until = 0;   // a task of it ran longer than kLongTask: long until then
   };
 
-  void Work();
-  // The key whose head task starts next, and its start tag; end() when no queued task may start.
-  std::map<Key, KeyState>::iterator PickLocked(std::int64_t now, std::int64_t* tag)
-      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  void Work(bool prompt_lane);
+  // The key whose head task starts next on a thread of the prompt lane or not, and its start tag;
+  // end() when no queued task may start there. Sets *leaves_for_prompt_lane when it passed over a
+  // key the idle prompt lane should take.
+  std::map<Key, KeyState>::iterator PickLocked(std::int64_t now, bool prompt_lane, std::int64_t* tag,
+                                               bool* leaves_for_prompt_lane) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // A quiet key: its one task queued and nothing running, and not long (the prompt lane's work).
+  static bool QuietLocked(const KeyState& state, std::int64_t now);
+  // Whether the prompt lane exists and waits for work.
+  bool PromptLaneIdleLocked() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) { return has_prompt_lane_ && !prompt_busy_; }
   // Charges a finished task that worked `worked` ns and forgets idle keys with nothing owed.
   void FinishedLocked(Key key, const Running& task, std::int64_t now, std::int64_t worked)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
@@ -107,15 +128,18 @@ class WorkPool {
   const Clock work_clock_;
   mutable Mutex mutex_;
   std::condition_variable ready_;                         // a task was queued, or the pool is stopping
+  std::condition_variable prompt_ready_;                  // the same for the prompt lane's thread
   std::map<Key, KeyState> keys_ ABSL_GUARDED_BY(mutex_);  // keys with queued or running tasks, or owing time
   std::int64_t virtual_time_ ABSL_GUARDED_BY(mutex_) = 0;
   std::uint64_t next_sequence_ ABSL_GUARDED_BY(mutex_) = 0;
   size_t queued_ ABSL_GUARDED_BY(mutex_) = 0;
-  int long_running_ ABSL_GUARDED_BY(mutex_) = 0;  // tasks of long keys running
-  int running_ ABSL_GUARDED_BY(mutex_) = 0;       // tasks running, over all keys
-  std::atomic<bool> key_waits_{false};            // AnotherKeyWaits(), written under mutex_
+  int long_running_ ABSL_GUARDED_BY(mutex_) = 0;      // tasks of long keys running
+  int running_ ABSL_GUARDED_BY(mutex_) = 0;           // tasks running on the threads not of the prompt lane
+  bool prompt_busy_ ABSL_GUARDED_BY(mutex_) = false;  // the prompt lane runs a task
+  std::atomic<bool> key_waits_{false};                // AnotherKeyWaits(), written under mutex_
   bool stopping_ ABSL_GUARDED_BY(mutex_) = false;
-  const int thread_count_;
+  const int thread_count_;  // not counting the prompt lane's
+  const bool has_prompt_lane_;
   std::vector<std::thread> threads_;
 };
 

@@ -6,10 +6,14 @@
 // advance.
 #include "server/work_pool.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cstdlib>
 #include <functional>
 #include <future>
@@ -79,28 +83,31 @@ class ManualClock {
 };
 
 TEST(WorkPoolTest, RunsEveryTaskOnceFromManyPostingThreads) {
-  constexpr int kPosters = 4, kPerPoster = 500;
-  std::vector<std::atomic<int>> runs(kPosters * kPerPoster);
-  std::latch done(kPosters * kPerPoster);
-  {
-    WorkPool pool(3);
-    std::vector<std::thread> posters;
-    for (int p = 0; p < kPosters; ++p) {
-      posters.emplace_back([&, p] {
-        for (int i = 0; i < kPerPoster; ++i) {
-          const int id = p * kPerPoster + i;
-          pool.Post(static_cast<WorkPool::Key>(id % 7), [&runs, &done, id] {
-            runs[id].fetch_add(1);
-            done.count_down();
-          });
-        }
-      });
+  for (const WorkPool::PromptLane lane : {WorkPool::PromptLane::kNo, WorkPool::PromptLane::kYes}) {
+    SCOPED_TRACE(lane == WorkPool::PromptLane::kYes ? "with the prompt lane" : "without the prompt lane");
+    constexpr int kPosters = 4, kPerPoster = 500;
+    std::vector<std::atomic<int>> runs(kPosters * kPerPoster);
+    std::latch done(kPosters * kPerPoster);
+    {
+      WorkPool pool(3, lane);
+      std::vector<std::thread> posters;
+      for (int p = 0; p < kPosters; ++p) {
+        posters.emplace_back([&, p] {
+          for (int i = 0; i < kPerPoster; ++i) {
+            const int id = p * kPerPoster + i;
+            pool.Post(static_cast<WorkPool::Key>(id % 7), [&runs, &done, id] {
+              runs[id].fetch_add(1);
+              done.count_down();
+            });
+          }
+        });
+      }
+      for (std::thread& poster : posters) poster.join();
+      done.wait();
+      EXPECT_EQ(pool.queued(), 0u);
     }
-    for (std::thread& poster : posters) poster.join();
-    done.wait();
-    EXPECT_EQ(pool.queued(), 0u);
+    for (size_t id = 0; id < runs.size(); ++id) ASSERT_EQ(runs[id].load(), 1) << "task " << id;
   }
-  for (size_t id = 0; id < runs.size(); ++id) ASSERT_EQ(runs[id].load(), 1) << "task " << id;
 }
 
 TEST(WorkPoolTest, OneKeysLongQueueDelaysAnotherKeyByAtMostOneTurn) {
@@ -389,6 +396,60 @@ TEST(WorkPoolTest, ATaskIsToldWhenAnotherKeyWaitsForAThread) {
   release_second.set_value();
   third_ran.wait();
   own_ran.wait();
+}
+
+// The calling thread's nice value.
+int ThisThreadsNiceness() {
+  errno = 0;
+  return getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()));
+}
+
+TEST(WorkPoolTest, AQuietKeysTaskRunsOnThePromptLaneWhileEveryThreadIsBusy) {
+  WorkPool pool(1, WorkPool::PromptLane::kYes);
+  constexpr WorkPool::Key kFlood = 1, kQuiet = 2;
+  // The flood's first task is quiet (alone, nothing of its key running): the prompt lane takes it.
+  std::promise<int> first_niceness;
+  std::promise<void> release_first;
+  pool.Post(kFlood, [&, release = release_first.get_future().share()] {
+    first_niceness.set_value(ThisThreadsNiceness());
+    release.wait();
+  });
+  const int prompt_niceness = first_niceness.get_future().get();
+  // With a task of its key running, its next one goes to the pool's thread.
+  std::promise<int> second_niceness;
+  std::promise<void> release_second;
+  pool.Post(kFlood, [&, release = release_second.get_future().share()] {
+    second_niceness.set_value(ThisThreadsNiceness());
+    release.wait();
+  });
+  const int pool_niceness = second_niceness.get_future().get();
+  EXPECT_EQ(prompt_niceness, getpriority(PRIO_PROCESS, 0)) << "the lane runs at the priority of the process's threads";
+  if (prompt_niceness < 5) {
+    EXPECT_EQ(pool_niceness, 5) << "the pool's threads run below it";
+  }
+
+  // The lane is free again, the pool's thread busy. More of the flood is not quiet (its key has a
+  // task running): it waits for the pool's thread however free the lane is.
+  release_first.set_value();
+  std::latch third_ran(1);
+  pool.Post(kFlood, [&] { third_ran.count_down(); });
+  // A quiet key's task runs at once, on the lane.
+  std::promise<int> quiet_niceness;
+  pool.Post(kQuiet, [&] { quiet_niceness.set_value(ThisThreadsNiceness()); });
+  EXPECT_EQ(quiet_niceness.get_future().get(), prompt_niceness);
+  EXPECT_EQ(pool.queued(), 1u) << "the flood's third task still waits for the pool's thread";
+
+  release_second.set_value();
+  third_ran.wait();
+}
+
+TEST(WorkPoolTest, ThePromptLanesPoolRunsWhatIsQueuedBeforeTheDestructorReturns) {
+  std::atomic<int> ran{0};
+  {
+    WorkPool pool(2, WorkPool::PromptLane::kYes);
+    for (int i = 0; i < 200; ++i) pool.Post(static_cast<WorkPool::Key>(i % 3), [&ran] { ran.fetch_add(1); });
+  }  // ~WorkPool: the lane's thread ends as well, though most tasks were never quiet
+  EXPECT_EQ(ran.load(), 200);
 }
 
 TEST(WorkPoolTest, AThrowingTaskIsDroppedAndThePoolKeepsWorking) {
