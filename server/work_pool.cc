@@ -75,10 +75,9 @@ void WorkPool::Post(Key key, std::function<void()> task) {
     KeyState& state = keys_[key];
     state.queue.push_back({next_sequence_++, std::move(task)});
     ++queued_;
-    for_prompt_lane = PromptLaneIdleLocked() && QuietLocked(state, now);
+    for_prompt_lane = ForPromptLaneLocked(state, now);
     UpdateKeyWaitsLocked(now);
   }
-  // The other threads pass a quiet key to the idle prompt lane: only it needs waking.
   if (for_prompt_lane) {
     prompt_ready_.notify_one();
   } else {
@@ -88,6 +87,10 @@ void WorkPool::Post(Key key, std::function<void()> task) {
 
 bool WorkPool::QuietLocked(const KeyState& state, std::int64_t now) {
   return state.queue.size() == 1 && state.running.empty() && state.long_until <= now;
+}
+
+bool WorkPool::ForPromptLaneLocked(const KeyState& state, std::int64_t now) const {
+  return has_prompt_lane_ && !prompt_busy_ && running_ >= thread_count_ && QuietLocked(state, now);
 }
 
 bool WorkPool::LongKeysWaitLocked() const { return thread_count_ >= 2 && long_running_ >= thread_count_ - 1; }
@@ -102,10 +105,10 @@ size_t WorkPool::queued() const {
 }
 
 std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::int64_t now, bool prompt_lane,
-                                                                           std::int64_t* tag,
-                                                                           bool* leaves_for_prompt_lane) {
+                                                                           std::int64_t* tag) {
   const bool long_keys_wait = LongKeysWaitLocked();
-  const bool prompt_lane_idle = PromptLaneIdleLocked();
+  // The lane runs only while every other thread is busy: a free thread takes any key's task.
+  if (prompt_lane && running_ < thread_count_) return keys_.end();
   auto best = keys_.end();
   std::int64_t best_tag = 0;
   for (auto it = keys_.begin(); it != keys_.end();) {
@@ -119,9 +122,7 @@ std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::
       }
       continue;
     }
-    const bool quiet = QuietLocked(state, now);
-    if (prompt_lane ? !quiet : (quiet && prompt_lane_idle)) {
-      if (!prompt_lane && quiet) *leaves_for_prompt_lane = true;
+    if (prompt_lane && !QuietLocked(state, now)) {
       ++it;
       continue;
     }
@@ -157,7 +158,6 @@ void WorkPool::FinishedLocked(Key key, const Running& task, std::int64_t now, st
     --long_running_;
     ready_.notify_all();  // a thread may wait for the long keys' turn
   }
-  if (PromptLaneIdleLocked() && QuietLocked(state, now)) prompt_ready_.notify_one();  // its next task
   if (state.queue.empty() && state.running.empty() && state.finish <= virtual_time_ && state.long_until <= now) {
     keys_.erase(it);
   }
@@ -171,7 +171,7 @@ void WorkPool::UpdateKeyWaitsLocked(std::int64_t now) {
       // A long key held back by the long rule waits for a long task, not for the one asking; a
       // quiet key goes to the idle prompt lane.
       if (!state.queue.empty() && state.running.empty() && !(long_keys_wait && state.long_until > now) &&
-          !(PromptLaneIdleLocked() && QuietLocked(state, now))) {
+          !ForPromptLaneLocked(state, now)) {
         waits = true;
         break;
       }
@@ -194,10 +194,7 @@ void WorkPool::Work(bool prompt_lane) {
       mutex_.Await(ready, [&]() ABSL_NO_THREAD_SAFETY_ANALYSIS {
         if (queued_ == 0) return stopping_;
         running.started = clock_();
-        bool leaves_for_prompt_lane = false;
-        picked = PickLocked(running.started, prompt_lane, &tag, &leaves_for_prompt_lane);
-        // A key turns quiet when its long mark expires, which posts nothing: wake the lane here.
-        if (leaves_for_prompt_lane) prompt_ready_.notify_one();
+        picked = PickLocked(running.started, prompt_lane, &tag);
         return picked != keys_.end();
       });
       if (queued_ == 0) return;  // stopping and drained
@@ -213,7 +210,6 @@ void WorkPool::Work(bool prompt_lane) {
       --queued_;
       if (prompt_lane) {
         prompt_busy_ = true;
-        if (queued_ > 0) ready_.notify_one();  // another quiet key's task it passed over
       } else {
         ++running_;
       }

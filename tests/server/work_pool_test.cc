@@ -407,40 +407,31 @@ int ThisThreadsNiceness() {
 TEST(WorkPoolTest, AQuietKeysTaskRunsOnThePromptLaneWhileEveryThreadIsBusy) {
   WorkPool pool(1, WorkPool::PromptLane::kYes);
   constexpr WorkPool::Key kFlood = 1, kQuiet = 2;
-  // The flood's first task is quiet (alone, nothing of its key running): the prompt lane takes it.
+  const int process_niceness = getpriority(PRIO_PROCESS, 0);
+  // A quiet key's task while a thread is free: the free thread takes it, not the lane.
   std::promise<int> first_niceness;
   std::promise<void> release_first;
   pool.Post(kFlood, [&, release = release_first.get_future().share()] {
     first_niceness.set_value(ThisThreadsNiceness());
     release.wait();
   });
-  const int prompt_niceness = first_niceness.get_future().get();
-  // With a task of its key running, its next one goes to the pool's thread.
-  std::promise<int> second_niceness;
-  std::promise<void> release_second;
-  pool.Post(kFlood, [&, release = release_second.get_future().share()] {
-    second_niceness.set_value(ThisThreadsNiceness());
-    release.wait();
-  });
-  const int pool_niceness = second_niceness.get_future().get();
-  EXPECT_EQ(prompt_niceness, getpriority(PRIO_PROCESS, 0)) << "the lane runs at the priority of the process's threads";
-  if (prompt_niceness < 5) {
-    EXPECT_EQ(pool_niceness, 5) << "the pool's threads run below it";
+  const int pool_niceness = first_niceness.get_future().get();
+  if (process_niceness < 5) {
+    EXPECT_EQ(pool_niceness, 5) << "the pool's threads run below the process's";
   }
 
-  // The lane is free again, the pool's thread busy. More of the flood is not quiet (its key has a
-  // task running): it waits for the pool's thread however free the lane is.
-  release_first.set_value();
-  std::latch third_ran(1);
-  pool.Post(kFlood, [&] { third_ran.count_down(); });
-  // A quiet key's task runs at once, on the lane.
+  // Every thread is busy. More of the flood is not quiet (its key has a task running): it waits
+  // for the pool's thread, the lane being free.
+  std::latch second_ran(1);
+  pool.Post(kFlood, [&] { second_ran.count_down(); });
+  // A quiet key's task runs at once, on the lane, at the priority of the process's threads.
   std::promise<int> quiet_niceness;
   pool.Post(kQuiet, [&] { quiet_niceness.set_value(ThisThreadsNiceness()); });
-  EXPECT_EQ(quiet_niceness.get_future().get(), prompt_niceness);
-  EXPECT_EQ(pool.queued(), 1u) << "the flood's third task still waits for the pool's thread";
+  EXPECT_EQ(quiet_niceness.get_future().get(), process_niceness);
+  EXPECT_EQ(pool.queued(), 1u) << "the flood's second task still waits for the pool's thread";
 
-  release_second.set_value();
-  third_ran.wait();
+  release_first.set_value();
+  second_ran.wait();
 }
 
 TEST(WorkPoolTest, ThePromptLanesPoolRunsWhatIsQueuedBeforeTheDestructorReturns) {
