@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
 #include <cstdlib>
 #include <functional>
 #include <future>
@@ -399,15 +398,12 @@ TEST(WorkPoolTest, ATaskIsToldWhenAnotherKeyWaitsForAThread) {
 }
 
 // The calling thread's nice value.
-int ThisThreadsNiceness() {
-  errno = 0;
-  return getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()));
-}
+int ThisThreadsNiceness() { return getpriority(PRIO_PROCESS, static_cast<id_t>(gettid())); }
 
 TEST(WorkPoolTest, AQuietKeysTaskRunsOnThePromptLaneWhileEveryThreadIsBusy) {
   WorkPool pool(1, WorkPool::PromptLane::kYes);
   constexpr WorkPool::Key kFlood = 1, kQuiet = 2;
-  const int process_niceness = getpriority(PRIO_PROCESS, 0);
+  const int process_niceness = ThisThreadsNiceness();  // the pool's threads start from it
   // A quiet key's task while a thread is free: the free thread takes it, not the lane.
   std::promise<int> first_niceness;
   std::promise<void> release_first;
