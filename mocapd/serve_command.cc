@@ -142,6 +142,19 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
   command->add_flag("!--no-prompt-lane", reconstruction.prompt_lane,
                     "No extra compute thread at the transport's priority for a quiet tenant's next task (beside "
                     "another tenant's flood its samples then wait at the pool's lower priority)");
+  command
+      ->add_option("--tenant-message-rate", reconstruction.message_pacing.messages_per_second,
+                   "Where several tenants have keys, each tenant's stream messages are read at most this many a second "
+                   "(a tenth of a second's worth at once); beyond it its clients are slowed by flow control (0: no "
+                   "limit)")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            double rate = -1;
+            if (CLI::detail::lexical_cast(text, rate) && (rate == 0 || rate >= kMinTenantMessageRate)) return "";
+            return "0 (no limit) or at least 1000 messages a second";
+          },
+          "0 or >= 1000"));
   command->add_flag("!--no-reversed-motion", reconstruction.time_reversed_copies,
                     "Do not also search the travelling frames played backwards (saves ~185 bytes per database "
                     "frame of bandai-namco-2; bodies walking backwards then only find forward motion)");
@@ -154,6 +167,8 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
   registry.Add(command, [options, drain_seconds, idle_seconds] {
     options->drain_timeout = std::chrono::milliseconds(static_cast<long>(*drain_seconds * 1000));
     options->reconstruction.idle_timeout = std::chrono::milliseconds(static_cast<long>(*idle_seconds * 1000));
+    MessagePacing& pacing = options->reconstruction.message_pacing;
+    pacing.burst = pacing.messages_per_second / 10;
     return Serve(*options);
   });
 }

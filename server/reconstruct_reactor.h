@@ -17,9 +17,11 @@
 // thread, and another tenant's task waits for at most one task per thread. The next slice is
 // posted only while few replies wait to be written, and the next message is read only after the
 // replies to the previous one have been written, so a slow reader slows its own session and
-// nothing queues without bound. Once the call's outcome is decided (cancelled, idle, deadline,
-// error) the session's cancel flag stops its compute within one frame. The reactor finishes only
-// when no compute task refers to it: each holds a TaskToken.
+// nothing queues without bound. Where several tenants share the server, a tenant's reads are paced
+// to its message budget (message_pacer.h), so a flood of small messages slows its own clients
+// through flow control rather than every tenant through the transport's threads. Once the call's outcome is decided
+// (cancelled, idle, deadline, error) the session's cancel flag stops its compute within one frame. The reactor finishes
+// only when no compute task refers to it: each holds a TaskToken.
 #pragma once
 
 #include <atomic>
@@ -29,6 +31,8 @@
 #include <optional>
 #include <string>
 #include <utility>
+
+#include <grpcpp/alarm.h>
 
 #include "motion/core/mutex.h"
 #include "server/owned_reactor.h"
@@ -111,6 +115,9 @@ class ReconstructReactor
   void CompleteLocked(const absl::Status& status, bool discard_replies) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   // Starts the next write, read or Finish, whichever is due.
   void PumpLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Holds the next read until `next_read_` (the tenant's message budget, message_pacer.h): the
+  // wait holds a TaskToken, whose release pumps the stream again.
+  void WaitToReadLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   // Moves the phase forward to `phase`; a move to the current or an earlier phase is ignored (a
   // later phase stands: e.g. authentication that ends after the call was cancelled). True when
   // the phase changed.
@@ -136,7 +143,13 @@ class ReconstructReactor
   bool reading_ ABSL_GUARDED_BY(mutex_) = false;
   bool writing_ ABSL_GUARDED_BY(mutex_) = false;
   StreamCapacity::Ticket stream_ticket_ ABSL_GUARDED_BY(mutex_);  // one of the server's live streams, until deleted
-  int tasks_ ABSL_GUARDED_BY(mutex_) = 0;  // live TaskTokens: compute tasks queued or running, and a database wait
+  // Live TaskTokens: compute tasks queued or running, a database wait, and a paced read's wait.
+  int tasks_ ABSL_GUARDED_BY(mutex_) = 0;
+  // Where several tenants share the server, the tenant's message budget paces this stream's reads:
+  // the next read starts no sooner than `next_read_` (ReconstructionLimits::message_pacing).
+  bool paced_ ABSL_GUARDED_BY(mutex_) = false;
+  Clock::time_point next_read_ ABSL_GUARDED_BY(mutex_);
+  std::optional<grpc::Alarm> read_alarm_ ABSL_GUARDED_BY(mutex_);
   grpc::Status final_status_ ABSL_GUARDED_BY(mutex_);
   std::deque<v1::ReconstructResponse> outbox_ ABSL_GUARDED_BY(mutex_);
   v1::ReconstructResponse writing_message_ ABSL_GUARDED_BY(mutex_);

@@ -41,6 +41,7 @@ ReconstructionState::ReconstructionState(ServiceContext& service_context, const 
       streams(limits_in.max_streams > 0 ? limits_in.max_streams
                                         : kDefaultStreamsPerComputeThread * ComputeThreads(limits_in)),
       instance_tag(RandomInstanceTag()),
+      pacer(limits_in.message_pacing),
       compute(ComputeThreads(limits_in),
               limits_in.prompt_lane ? WorkPool::PromptLane::kYes : WorkPool::PromptLane::kNo) {}
 

@@ -14,6 +14,7 @@
 
 #include "mocap/v1/reconstruction.grpc.pb.h"
 #include "motion/core/mutex.h"
+#include "server/message_pacer.h"
 #include "server/reconstruction_databases.h"
 #include "server/service_context.h"
 #include "server/session_driver.h"
@@ -35,7 +36,13 @@ struct ReconstructionLimits {
   // walking backwards where the capture only walks forwards, for ~185 more bytes per frame of a
   // database like bandai-namco-2 (4 in 10 of its frames travel).
   bool time_reversed_copies = true;
+  // Where several tenants have keys, each tenant's stream messages are read at most this fast
+  // (message_pacer.h): a 120 Hz device on every one of a tenant's 64 sessions, one sample a
+  // message, is under it; a flood of one-sample messages is slowed to it. 0: not paced; otherwise
+  // at least kMinTenantMessageRate, so that no paced read waits longer than 64 ms.
+  MessagePacing message_pacing{.messages_per_second = 8000, .burst = 800};
 };
+inline constexpr double kMinTenantMessageRate = 1000;
 
 class ReconstructReactor;
 
@@ -61,6 +68,7 @@ struct ReconstructionState {
   // Last, so it is destroyed first: its destructor runs the queued tasks and joins its threads,
   // and those tasks use every member above (found by ThreadSanitizer: a task releasing a session's
   // admission while the admissions were being destroyed, at shutdown).
+  MessagePacer pacer;
   WorkPool compute;
 };
 

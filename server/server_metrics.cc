@@ -52,6 +52,7 @@ struct ServerMetrics::Snapshot {
   std::int64_t sessions_total = 0;
   std::int64_t frames_reconstructed = 0;
   std::int64_t samples_rejected = 0;
+  std::int64_t reads_paced = 0;
   std::map<std::pair<std::string, std::string>, std::int64_t> calls;
   std::map<std::string, double> call_seconds;
   std::map<std::string, std::int64_t> rejected;
@@ -121,6 +122,9 @@ void Render(std::string& out, const std::string& prefix, const std::string& help
          &S::frames_reconstructed);
   scalar("samples_rejected_total", "counter",
          "Wrist samples refused (non-finite, time not increasing, low confidence).", &S::samples_rejected);
+  scalar("reads_paced_total", "counter",
+         "Stream reads held back by the tenant's message budget (mocapd serve --tenant-message-rate).",
+         &S::reads_paced);
 
   writer.Header("reply_latency_seconds", "histogram", "Sample message arrival to its frames being ready.");
   for (const Series& set : sets) {
@@ -195,6 +199,7 @@ ServerMetrics::Snapshot ServerMetrics::Take() const {
   values.sessions_total = sessions_total_.load();
   values.frames_reconstructed = frames_reconstructed_.load();
   values.samples_rejected = samples_rejected_.load();
+  values.reads_paced = reads_paced_.load();
   MutexLock lock(&mutex_);
   values.calls = calls_;
   values.call_seconds = call_seconds_;

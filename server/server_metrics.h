@@ -41,6 +41,8 @@ class ServerMetrics {
   void SessionEnded() { sessions_active_.fetch_sub(1); }
   void FramesReconstructed(std::int64_t frames) { frames_reconstructed_.fetch_add(frames); }
   void SamplesRejected(std::int64_t samples) { samples_rejected_.fetch_add(samples); }
+  // A stream's next read held back by its tenant's message budget (message_pacer.h).
+  void ReadPaced() { reads_paced_.fetch_add(1); }
   void ReplyLatency(double seconds);
 
   // These counters as `mocap_*` series (GetMetrics' answer).
@@ -76,6 +78,7 @@ class ServerMetrics {
   std::atomic<std::int64_t> sessions_total_{0};
   std::atomic<std::int64_t> frames_reconstructed_{0};
   std::atomic<std::int64_t> samples_rejected_{0};
+  std::atomic<std::int64_t> reads_paced_{0};
   mutable Mutex mutex_;
   std::map<std::pair<std::string, std::string>, std::int64_t> calls_ ABSL_GUARDED_BY(mutex_);  // (method, code)
   std::map<std::string, double> call_seconds_ ABSL_GUARDED_BY(mutex_);                         // per method
@@ -115,6 +118,9 @@ class MetricsScope {
   }
   void FramesReconstructed(std::int64_t frames) {
     Each([&](ServerMetrics& m) { m.FramesReconstructed(frames); });
+  }
+  void ReadPaced() {
+    Each([](ServerMetrics& m) { m.ReadPaced(); });
   }
   void SamplesRejected(std::int64_t samples) {
     Each([&](ServerMetrics& m) { m.SamplesRejected(samples); });

@@ -192,6 +192,49 @@ TEST_F(InProcessServiceTest, AnImportThenAReconstructionStreamReturnsEveryFrame)
   EXPECT_NE(server_wide->find("method=\"ImportBvh\""), std::string::npos) << *server_wide;
 }
 
+// Where several tenants have keys, a tenant's stream messages are read no faster than its budget
+// (issue #24: a flood of one-sample messages costs the transport of every tenant), and every
+// sample still makes its frame.
+TEST_F(InProcessServiceTest, ATenantsStreamIsReadAtItsMessageBudgetAndLosesNothing) {
+  ReconstructionLimits limits;
+  limits.message_pacing = {.messages_per_second = 1000, .burst = 5};
+  Start(limits);
+  auto acme = Connect(keys_["acme"]);
+  ImportWalks(*acme);
+  const std::vector<v1::WristSample> samples = QueryWrists(150);
+  auto stream = acme->OpenReconstruction(Config(0));
+  ASSERT_TRUE(stream.ok()) << stream.status();
+  const auto first_write = std::chrono::steady_clock::now();
+  auto reader = std::async(std::launch::async, [&stream] {
+    size_t frames = 0;
+    while (true) {
+      auto reply = (*stream)->Read();
+      if (!reply.ok() || !*reply) break;
+      frames += (*reply)->frames().frames_size();
+    }
+    return frames;
+  });
+  for (const v1::WristSample& sample : samples) ASSERT_TRUE((*stream)->Write({sample}).ok());
+  ASSERT_TRUE((*stream)->CloseInput().ok());
+  EXPECT_EQ(reader.get(), samples.size());
+  // 150 messages, 5 at once and then one a millisecond: the server cannot have read them sooner.
+  EXPECT_GE(std::chrono::steady_clock::now() - first_write, std::chrono::milliseconds(145));
+  auto summary = (*stream)->Finish();
+  ASSERT_TRUE(summary.ok()) << summary.status();
+  EXPECT_EQ(summary->frames(), 150);
+  auto paced = [](const std::string& metrics) {
+    const std::string series = "\nmocap_reads_paced_total ";
+    const size_t at = metrics.find(series);
+    return at == std::string::npos ? -1 : std::stol(metrics.substr(at + series.size()));
+  };
+  auto metrics = acme->GetMetrics();
+  ASSERT_TRUE(metrics.ok()) << metrics.status();
+  EXPECT_GT(paced(*metrics), 0) << *metrics;
+  auto others = Connect(keys_["other"])->GetMetrics();
+  ASSERT_TRUE(others.ok()) << others.status();
+  EXPECT_EQ(paced(*others), 0) << *others;
+}
+
 TEST_F(InProcessServiceTest, AnUnaryTrajectoryMatchesTheStream) {
   Start();
   auto acme = Connect(keys_["acme"]);
