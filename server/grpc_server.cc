@@ -71,7 +71,8 @@ absl::StatusOr<std::unique_ptr<MocapServer>> MocapServer::Start(const ServeOptio
   MOCAP_ASSIGN_OR_RETURN(std::shared_ptr<grpc::ServerCredentials> credentials, Credentials(options));
   MOCAP_ASSIGN_OR_RETURN(state->stores, StorePool::Open(options.store, options.read_only));
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  state->workers = std::make_unique<WorkPool>(options.workers > 0 ? options.workers : std::max(4, 2 * cores));
+  state->workers = std::make_unique<WorkPool>(options.workers > 0 ? options.workers : std::max(4, 2 * cores),
+                                              WorkPool::Priority::kBulk);
   state->admission = std::make_unique<TenantAdmission>(options.limits.max_calls_per_tenant);
   state->context.reset(new ServiceContext{.stores = *state->stores,
                                           .workers = *state->workers,

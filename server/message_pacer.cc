@@ -24,7 +24,8 @@ MessagePacer::MessagePacer(const MessagePacing& pacing)
 MessagePacer::Clock::time_point MessagePacer::Charge(Key key, Clock::time_point now) {
   if (!enabled()) return now;
   MutexLock lock(&mutex_);
-  if (paid_until_.size() > kPruneAbove) std::erase_if(paid_until_, [now](const auto& entry) { return entry.second <= now; });
+  if (paid_until_.size() > kPruneAbove)
+    std::erase_if(paid_until_, [now](const auto& entry) { return entry.second <= now; });
   Clock::time_point& paid = paid_until_[key];
   paid = std::max(paid, now) + interval_;
   // The next message conforms once the paid time is within the burst's tolerance of the clock.

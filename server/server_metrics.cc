@@ -123,7 +123,7 @@ void Render(std::string& out, const std::string& prefix, const std::string& help
   scalar("samples_rejected_total", "counter",
          "Wrist samples refused (non-finite, time not increasing, low confidence).", &S::samples_rejected);
   scalar("reads_paced_total", "counter",
-         "Stream reads held back by the tenant's message budget (mocapd serve --tenant-message-rate).",
+         "Reconstruction stream reads held back by the message budget of the key's owner (a serve option).",
          &S::reads_paced);
 
   writer.Header("reply_latency_seconds", "histogram", "Sample message arrival to its frames being ready.");

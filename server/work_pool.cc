@@ -19,27 +19,30 @@ namespace {
 // Pool threads run below gRPC's own threads: reading, writing and answering calls is short work
 // that must not queue behind compute, or one tenant's saturating flood delays every other
 // tenant's replies in the transport, whatever the pool's fair order (issue #14: the victim's p99).
-constexpr int kWorkerNiceness = 5;
+// Bulk work runs below compute (Priority::kBulk).
+constexpr int kComputeNiceness = 5;
+constexpr int kBulkNiceness = 10;
 
 // The pool whose task this thread runs (AnotherKeyWaits), null outside a pool thread.
 thread_local const std::atomic<bool>* this_threads_key_waits = nullptr;
 
-void LowerThisThreadsPriority() {
-  if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kWorkerNiceness) != 0) {
+void LowerThisThreadsPriority(WorkPool::Priority priority) {
+  const int niceness = priority == WorkPool::Priority::kBulk ? kBulkNiceness : kComputeNiceness;
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), niceness) != 0) {
     spdlog::warn("work pool: cannot lower a worker's priority: {}", std::strerror(errno));
   }
 }
 
 }  // namespace
 
-WorkPool::WorkPool(int threads, PromptLane prompt_lane, Clock clock, Clock work_clock)
+WorkPool::WorkPool(int threads, PromptLane prompt_lane, Clock clock, Clock work_clock, Priority priority)
     : clock_(std::move(clock)),
       work_clock_(std::move(work_clock)),
       thread_count_(threads),
       has_prompt_lane_(prompt_lane == PromptLane::kYes) {
   for (int i = 0; i < threads; ++i) {
-    threads_.emplace_back([this] {
-      LowerThisThreadsPriority();
+    threads_.emplace_back([this, priority] {
+      LowerThisThreadsPriority(priority);
       Work(/*prompt_lane=*/false);
     });
   }

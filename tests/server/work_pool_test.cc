@@ -430,6 +430,19 @@ TEST(WorkPoolTest, AQuietKeysTaskRunsOnThePromptLaneWhileEveryThreadIsBusy) {
   second_ran.wait();
 }
 
+TEST(WorkPoolTest, ABulkPoolRunsBelowTheComputePool) {
+  if (ThisThreadsNiceness() >= 5) GTEST_SKIP() << "this process already runs at nice 5 or lower priority";
+  auto niceness_of = [](WorkPool& pool) {
+    std::promise<int> niceness;
+    pool.Post([&] { niceness.set_value(ThisThreadsNiceness()); });
+    return niceness.get_future().get();
+  };
+  WorkPool compute(1, WorkPool::Priority::kCompute);
+  WorkPool bulk(1, WorkPool::Priority::kBulk);
+  EXPECT_EQ(niceness_of(compute), 5);
+  EXPECT_EQ(niceness_of(bulk), 10) << "imports and the store's calls yield to live sessions' compute";
+}
+
 TEST(WorkPoolTest, ThePromptLanesPoolRunsWhatIsQueuedBeforeTheDestructorReturns) {
   std::atomic<int> ran{0};
   {
