@@ -167,8 +167,6 @@ void RegisterServeCommand(CLI::App& app, CommandRegistry& registry) {
   registry.Add(command, [options, drain_seconds, idle_seconds] {
     options->drain_timeout = std::chrono::milliseconds(static_cast<long>(*drain_seconds * 1000));
     options->reconstruction.idle_timeout = std::chrono::milliseconds(static_cast<long>(*idle_seconds * 1000));
-    MessagePacing& pacing = options->reconstruction.message_pacing;
-    pacing.burst = pacing.messages_per_second / 10;
     return Serve(*options);
   });
 }

@@ -19,7 +19,9 @@ constexpr size_t kPruneAbove = 1024;
 
 MessagePacer::MessagePacer(const MessagePacing& pacing)
     : interval_(pacing.messages_per_second > 0 ? Seconds(1.0 / pacing.messages_per_second) : Duration::zero()),
-      tolerance_(interval_ * static_cast<Duration::rep>(std::max(0.0, std::floor(pacing.burst) - 1.0))) {}
+      tolerance_(interval_ *
+                 static_cast<Duration::rep>(std::max(
+                     0.0, std::floor(pacing.burst > 0 ? pacing.burst : pacing.messages_per_second / 10) - 1.0))) {}
 
 MessagePacer::Clock::time_point MessagePacer::Charge(Key key, Clock::time_point now) {
   if (!enabled()) return now;

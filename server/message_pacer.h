@@ -20,7 +20,8 @@ namespace mocap {
 
 struct MessagePacing {
   double messages_per_second = 0;  // per tenant; 0: not paced
-  double burst = 0;                // messages read at once before the rate applies (at least 1)
+  // Messages read at once before the rate applies (at least 1); 0: a tenth of a second's worth.
+  double burst = 0;
 };
 
 class MessagePacer {

@@ -40,7 +40,7 @@ struct ReconstructionLimits {
   // (message_pacer.h): a 120 Hz device on every one of a tenant's 64 sessions, one sample a
   // message, is under it; a flood of one-sample messages is slowed to it. 0: not paced; otherwise
   // at least kMinTenantMessageRate, so that no paced read waits longer than 64 ms.
-  MessagePacing message_pacing{.messages_per_second = 8000, .burst = 800};
+  MessagePacing message_pacing{.messages_per_second = 8000};  // 800 at once
 };
 inline constexpr double kMinTenantMessageRate = 1000;
 

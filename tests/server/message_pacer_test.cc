@@ -29,6 +29,13 @@ TEST(MessagePacerTest, ABurstIsReadAtOnceAndThenTheRateHolds) {
   for (int i = 0; i < 1000; ++i, now += milliseconds(1)) ASSERT_EQ(pacer.Charge(7, now), now + milliseconds(1));
 }
 
+TEST(MessagePacerTest, AnUnsetBurstIsATenthOfASecondsWorth) {
+  MessagePacer pacer({.messages_per_second = 1000});
+  const Clock::time_point start = Clock::now();
+  for (int i = 0; i < 99; ++i) ASSERT_LE(pacer.Charge(4, start), start) << "message " << i;
+  EXPECT_EQ(pacer.Charge(4, start), start + milliseconds(1));
+}
+
 TEST(MessagePacerTest, ManyStreamsOfOneTenantShareItsBudget) {
   MessagePacer pacer({.messages_per_second = 1000, .burst = 1});
   const Clock::time_point start = Clock::now();
