@@ -60,6 +60,7 @@ inline nlohmann::json PlausibilityJson(const ClipPlausibility& m) {
       {"penetrating_frames", p.penetrating_frames},
       {"implausible_input_frames", p.flagged_frames},
       {"motion_limited_frames", p.motion_limited_frames},
+      {"put_down_hand_frames", p.put_down_hand_frames},
   };
 }
 

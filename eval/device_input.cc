@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 
 #include "eval/evaluation.h"
@@ -34,6 +35,7 @@ std::vector<DeviceModel> DropoutDevices() {
            {"left_hand_lost_1s", 1.0}, {"left_hand_lost_2s", 2.0}, {"left_hand_lost_5s", 5.0}}) {
     devices.push_back({.name = name, .rate_hz = 60, .jitter_m = 0.005, .left_hand_lost_s = seconds});
   }
+  devices.push_back({.name = "left_controller_put_down", .rate_hz = 72, .jitter_m = 0.002, .left_set_down_s = 1.0});
   return devices;
 }
 
@@ -86,6 +88,7 @@ std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceM
   };
   std::vector<WristSample> samples;
   double gap_until = -1;
+  std::optional<Eigen::Vector3f> set_down;  // where the left controller lies
   for (long i = 0; i * dt <= end + 1e-9; ++i) {
     const double t = i * dt;
     for (auto& d : drift) d += noise_vector(device.drift_m_per_sqrt_s * std::sqrt(dt));
@@ -102,6 +105,10 @@ std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceM
     }
     const std::array<Eigen::Vector3f, kNumScoredLandmarks> landmarks = LandmarksAt(truth, t);
     std::array<Eigen::Vector3f, 2> at = WristsIn(device.posture, landmarks, truth.positions.front());
+    if (device.left_set_down_s > 0 && t >= device.left_set_down_s) {
+      if (!set_down) set_down = at[0];
+      at[0] = *set_down;
+    }
     for (int hand = 0; hand < 2; ++hand) {
       at[hand] += drift[hand] + noise_vector(device.jitter_m);
       if (device.quantisation_m > 0) {

@@ -33,6 +33,9 @@ struct DeviceModel {
   double gap_min_s = 0.1, gap_max_s = 2.0;  // each dropout's length, uniform
   double dropout_s = 0;                     // one dropout of this length from 40% into the clip (0: none)
   double left_hand_lost_s = 0;              // the left hand alone lost this long from 40% into the clip (0: none)
+  // The left controller set down this many seconds into the clip, for good (0: never): its input
+  // stays where the left wrist was then, with the device's jitter, while the person goes on.
+  double left_set_down_s = 0;
   Posture posture = Posture::kAsCaptured;
   bool accuracy_measured() const { return posture == Posture::kAsCaptured; }
 };
@@ -48,7 +51,8 @@ std::vector<DeviceModel> StandardDevices();
 // One dropout of each length the tracking states are judged on (issue #25: 0.2-5 s), in input
 // otherwise like `dropouts`' (60 Hz, 5 mm jitter): dropout_0.2s, dropout_0.5s, dropout_1s,
 // dropout_2s, dropout_5s; and the left hand alone lost for 1, 2 and 5 s while the right is tracked
-// (left_hand_lost_1s, _2s, _5s; the lost hand's samples are NaN, tracked = false).
+// (left_hand_lost_1s, _2s, _5s; the lost hand's samples are NaN, tracked = false); and the left
+// controller set down 1 s into the clip, for good (left_controller_put_down: 72 Hz, 2 mm jitter).
 std::vector<DeviceModel> DropoutDevices();
 
 // The samples `device` would send for `truth`'s wrists (from time 0 to the clip's end), drawn from

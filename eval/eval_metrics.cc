@@ -56,6 +56,7 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
     plausibility_frames.push_back(MakePlausibilityFrame(plausibility_rig, positions[i], frames[i].wrists,
                                                         frames[i].time, frames[i].segment,
                                                         frames[i].implausible_input(), frames[i].motion_limited));
+    plausibility_frames.back().put_down_hands = frames[i].put_down_hands();
     const std::vector<Eigen::Vector3f>& p = positions[i];
     double all = 0, legs = 0, upper = 0, angle = 0, angle_sq = 0;
     int leg_count = 0, upper_count = 0;

@@ -75,6 +75,7 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
     plausibility_frames.push_back(MakePlausibilityFrame(plausibility_rig, positions, frames[i].wrists, frames[i].time,
                                                         frames[i].segment, frames[i].implausible_input(),
                                                         frames[i].motion_limited));
+    plausibility_frames.back().put_down_hands = frames[i].put_down_hands();
   }
   size_t next = 1;  // the first output frame at or after the truth frame's time
   for (int f = 0; f < truth.num_frames() && frames.size() >= 2; ++f) {

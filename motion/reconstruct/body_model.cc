@@ -166,21 +166,43 @@ float RestPoseHeight(const BodyModel& body) {
   return high - low;
 }
 
-float EstimatedStature(const BodyModel& body) {
-  const BodyLandmarks& l = body.rig().topology.landmarks;
-  const std::array<std::array<int, 3>, 2> legs = {std::array<int, 3>{l.left_hip, l.left_knee, l.left_ankle},
-                                                  std::array<int, 3>{l.right_hip, l.right_knee, l.right_ankle}};
+namespace {
+
+// Both limbs' lengths (root → middle → end landmark, left and right), measured on the body's
+// zero-rotation pose; nullopt when a landmark is missing.
+std::optional<float> LimbsLength(const BodyModel& body, const std::array<std::array<int, 3>, 2>& limbs,
+                                 std::vector<Eigen::Vector3f>* positions) {
   BodyPose rest;
   rest.rotations.assign(body.skeleton().num_joints(), Eigen::Quaternionf::Identity());
   std::vector<Eigen::Quaternionf> rotations;
-  std::vector<Eigen::Vector3f> positions;
-  body.WorldTransforms(rest, &rotations, &positions);
-  float leg = 0.0f;
-  for (const auto& [hip, knee, ankle] : legs) {
-    if (hip < 0 || knee < 0 || ankle < 0) return 0.0f;
-    leg += (positions[hip] - positions[knee]).norm() + (positions[knee] - positions[ankle]).norm();
+  body.WorldTransforms(rest, &rotations, positions);
+  float length = 0.0f;
+  for (const auto& [root, middle, end] : limbs) {
+    if (root < 0 || middle < 0 || end < 0) return std::nullopt;
+    length += ((*positions)[root] - (*positions)[middle]).norm() + ((*positions)[middle] - (*positions)[end]).norm();
   }
-  return static_cast<float>(0.5 * leg / kLegShareOfStature);
+  return length;
+}
+
+}  // namespace
+
+float EstimatedStature(const BodyModel& body) {
+  const BodyLandmarks& l = body.rig().topology.landmarks;
+  std::vector<Eigen::Vector3f> positions;
+  const std::optional<float> legs = LimbsLength(
+      body, {std::array<int, 3>{l.left_hip, l.left_knee, l.left_ankle}, {l.right_hip, l.right_knee, l.right_ankle}},
+      &positions);
+  return legs ? static_cast<float>(0.5 * *legs / kLegShareOfStature) : 0.0f;
+}
+
+float WristSpan(const BodyModel& body) {
+  const BodyLandmarks& l = body.rig().topology.landmarks;
+  std::vector<Eigen::Vector3f> positions;
+  const std::optional<float> arms = LimbsLength(body,
+                                                {std::array<int, 3>{l.left_shoulder, l.left_elbow, l.left_wrist},
+                                                 {l.right_shoulder, l.right_elbow, l.right_wrist}},
+                                                &positions);
+  return arms ? *arms + (positions[l.left_shoulder] - positions[l.right_shoulder]).norm() : 0.0f;
 }
 
 }  // namespace mocap

@@ -91,4 +91,8 @@ float RestPoseHeight(const BodyModel& body);
 // rig's landmarks give no legs.
 float EstimatedStature(const BodyModel& body);
 
+// The farthest apart the body can hold its wrists, metres: both arms (shoulder → elbow → wrist
+// landmarks) and the shoulders' breadth, arms spread. 0 when the rig's landmarks give no arms.
+float WristSpan(const BodyModel& body);
+
 }  // namespace mocap

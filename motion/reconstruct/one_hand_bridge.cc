@@ -1,5 +1,7 @@
 #include "motion/reconstruct/one_hand_bridge.h"
 
+#include <algorithm>
+
 namespace mocap {
 
 Eigen::Vector3f OneHandBridge::TravelVelocity(int side) const {
@@ -9,6 +11,20 @@ Eigen::Vector3f OneHandBridge::TravelVelocity(int side) const {
       (recent.back().second - recent.front().second) / static_cast<float>(recent.back().first - recent.front().first);
   velocity.y() = 0.0f;  // a body travels over the ground; a hand that rises or falls gestures
   return velocity;
+}
+
+void OneHandBridge::Carry(int side, const Eigen::Vector3f& offset) { catch_up_[side] = CatchUp{.offset = offset}; }
+
+Eigen::Vector3f OneHandBridge::CatchUpStep(int side, double t) {
+  std::optional<CatchUp>& c = catch_up_[side];
+  if (!c) return Eigen::Vector3f::Zero();
+  if (!c->start) c->start = t;
+  const double u = std::min(1.0, (t - *c->start) / kCatchUpSeconds);
+  const float w = static_cast<float>(u * u * (3.0 - 2.0 * u));
+  const Eigen::Vector3f step = (w - c->applied) * c->offset;
+  c->applied = w;
+  if (u >= 1.0) c.reset();
+  return step;
 }
 
 bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_seconds,
@@ -27,7 +43,7 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
     if (!tracked[side]) {
       // Carried along at the tracked hand's pace (velocities measured up to the previous sample).
       const float step = static_cast<float>(t - previous_time_.value_or(t));
-      position[side] = previous_position_[side] + step * TravelVelocity(1 - side);
+      position[side] = previous_position_[side] + step * TravelVelocity(1 - side) + CatchUpStep(side, t);
       guess_[side] = position[side];
       (*untracked_seconds)[side] = static_cast<float>(t - *last_tracked_time_[side]);
       lost_[side] = true;
@@ -44,7 +60,7 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
         reentry_time_[side].reset();
       } else {
         const float step = static_cast<float>(t - previous_time_.value_or(t));
-        guess_[side] += step * TravelVelocity(1 - side);
+        guess_[side] += step * TravelVelocity(1 - side) + CatchUpStep(side, t);
         // Smoothstep weights, flat at both ends: position and velocity continuous with the guess
         // when the hand comes back and with the input when the fade ends.
         const float w = static_cast<float>(u * u * (3.0 - 2.0 * u));
@@ -52,6 +68,7 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
         fading[side] = {.weight = 1.0f - w, .seconds = static_cast<float>(t - lost_after_[side])};
       }
     }
+    if (!reentry_time_[side]) catch_up_[side].reset();  // the hand is its input again
     last_tracked_time_[side] = t;
   }
   for (int side = 0; side < 2; ++side) {

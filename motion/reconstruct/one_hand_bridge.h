@@ -32,6 +32,11 @@ class OneHandBridge {
   // not and no earlier sample tracked it (nothing to go on from): the caller drops the sample.
   bool Fill(WristSample* sample, std::array<float, 2>* untracked_seconds,
             std::array<FadingGuess, 2>* fading_guess = nullptr);
+  // Moves `side`'s guess by `offset` as well, eased in over kCatchUpSeconds from the next sample
+  // (smoothstep: no step in position or velocity). For a hand let go late: a device found put down
+  // only after it lay still for seconds, while its person walked on (hand_rest.h).
+  void Carry(int side, const Eigen::Vector3f& offset);
+  static constexpr double kCatchUpSeconds = 1.0;
   // A new session: nothing is remembered.
   void Reset() { *this = OneHandBridge(reentry_seconds_, travel_seconds_); }
 
@@ -39,6 +44,8 @@ class OneHandBridge {
   // The mean velocity of `side`'s input over the ground (y = 0) over the last travel_seconds_
   // (zero before two samples).
   Eigen::Vector3f TravelVelocity(int side) const;
+  // The part of a Carry offset due between the previous sample and time t (zero without one).
+  Eigen::Vector3f CatchUpStep(int side, double t);
 
   double reentry_seconds_, travel_seconds_;
   std::array<std::optional<double>, 2> last_tracked_time_;
@@ -50,6 +57,12 @@ class OneHandBridge {
   std::array<Eigen::Vector3f, 2> guess_{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
   std::array<std::optional<double>, 2> reentry_time_;  // when a hand in its cross-fade came back
   std::array<double, 2> lost_after_{0.0, 0.0};         // when it was last tracked before it was lost
+  struct CatchUp {
+    Eigen::Vector3f offset = Eigen::Vector3f::Zero();
+    std::optional<double> start;  // the first sample's time after Carry
+    float applied = 0;            // the eased share of `offset` already added
+  };
+  std::array<std::optional<CatchUp>, 2> catch_up_;
 };
 
 }  // namespace mocap

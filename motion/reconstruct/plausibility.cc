@@ -216,6 +216,7 @@ void PlausibilityStats::Merge(const PlausibilityStats& o) {
   penetrating_frames += o.penetrating_frames;
   flagged_frames += o.flagged_frames;
   motion_limited_frames += o.motion_limited_frames;
+  put_down_hand_frames += o.put_down_hand_frames;
 }
 
 PlausibilityStats MeasurePlausibility(std::span<const PlausibilityFrame> frames, float planted_ankle_height,
@@ -226,6 +227,7 @@ PlausibilityStats MeasurePlausibility(std::span<const PlausibilityFrame> frames,
     ++stats.frames;
     stats.flagged_frames += f.flagged;
     stats.motion_limited_frames += f.motion_limited;
+    stats.put_down_hand_frames += f.put_down_hands;
     if (i >= 1 && f.time > frames[i - 1].time) {
       // Across a gap too: a body that reappears far away has moved that fast.
       const PlausibilityFrame& p = frames[i - 1];

@@ -83,6 +83,7 @@ struct PlausibilityFrame {
   float lowest_point = 0;                          // lowest body joint, m above the ground
   bool flagged = false;                            // the engine flagged the frame's input implausible
   bool motion_limited = false;                     // the engine's motion guard held the pelvis back
+  int put_down_hands = 0;                          // hands the engine said were put down (hand_rest.h)
 };
 // `joints`: world positions of every joint of the rig's skeleton.
 PlausibilityFrame MakePlausibilityFrame(const PlausibilityRig& rig, std::span<const Eigen::Vector3f> joints,
@@ -124,6 +125,7 @@ struct PlausibilityStats {
   long penetrating_frames = 0;          // frames with a body joint more than 1 cm under the ground
   long flagged_frames = 0;
   long motion_limited_frames = 0;
+  long put_down_hand_frames = 0;  // hand-frames said put down
 
   void Merge(const PlausibilityStats& other);
 };

@@ -66,6 +66,7 @@ struct ReconstructionSession::Segment {
   FrameHistory<double> times;
   FrameHistory<std::array<float, 2>> untracked;     // GridSample::untracked_seconds
   FrameHistory<std::array<FadingGuess, 2>> fading;  // GridSample::fading_guess
+  FrameHistory<std::array<bool, 2>> put_down;       // GridSample::put_down
   FrameHistory<char> bridged;
   FrameHistory<float> wrist_distance;
   // A4 state.
@@ -87,7 +88,7 @@ struct ReconstructionSession::Segment {
   // history is one line here, and ForgetSettledFrames forgets it too).
   template <typename F>
   void ForEachHistory(F&& f) {
-    f(wrists), f(input), f(times), f(untracked), f(fading), f(bridged), f(wrist_distance);
+    f(wrists), f(input), f(times), f(untracked), f(fading), f(put_down), f(bridged), f(wrist_distance);
     f(raw), f(raw_rows), f(ankles);
   }
   // A5–A7 state.
@@ -126,6 +127,7 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
       session_cost_(database_->frame_time()),
       motion_guard_(database_->motion_limits(), database_->frame_time(), options.motion_guard),
       jump_detector_(database_->motion_limits(), database_->frame_time(), options.motion_guard),
+      hand_rest_{HandRestDetector(WristSpan(database_->body())), HandRestDetector(WristSpan(database_->body()))},
       reach_lean_(database_->body().skeleton(), database_->rig().topology.landmarks, options.reach_lean),
       method_(MakePoseMethod(options)) {
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
@@ -207,8 +209,8 @@ int ReconstructionSession::frames_held() const {
   if (!segment_) return 0;
   const Segment& s = *segment_;
   auto held = [](const auto& history) { return history.stored(); };
-  return std::max({held(s.input), held(s.wrists), held(s.times), held(s.untracked), held(s.fading), held(s.bridged),
-                   held(s.wrist_distance), held(s.raw), held(s.raw_rows), held(s.ankles),
+  return std::max({held(s.input), held(s.wrists), held(s.times), held(s.untracked), held(s.fading), held(s.put_down),
+                   held(s.bridged), held(s.wrist_distance), held(s.raw), held(s.raw_rows), held(s.ankles),
                    static_cast<int>(s.window.size()), static_cast<int>(s.dp.size()), static_cast<int>(s.post.size())});
 }
 
@@ -220,15 +222,34 @@ absl::Status ReconstructionSession::Push(const WristSample& sample, std::vector<
     return status;
   }
   WristSample filled = sample;
+  const std::array<bool, 2> put_down = LetGoOfPutDownHands(&filled);
   std::array<float, 2> untracked{};
   std::array<FadingGuess, 2> fading{};
   if (!one_hand_bridge_.Fill(&filled, &untracked, &fading)) return absl::OkStatus();  // no hand to go on from yet
   std::vector<GridSample> grid;
-  MOCAP_RETURN_IF_ERROR(resampler_.Push(filled, &grid, untracked, fading));
+  MOCAP_RETURN_IF_ERROR(resampler_.Push(filled, &grid, untracked, fading, put_down));
   ++statistics_.samples;
   statistics_.repeated_hand_samples = resampler_.repeated_hand_samples();
   for (const GridSample& g : grid) MOCAP_RETURN_IF_ERROR(AcceptGridSample(g, out));
   return absl::OkStatus();
+}
+
+std::array<bool, 2> ReconstructionSession::LetGoOfPutDownHands(WristSample* sample) {
+  const std::array<Eigen::Vector3f, 2> hands = {sample->left, sample->right};
+  // The detector reads only the devices themselves: a hand the tracker lost says nothing.
+  const bool observed = sample->tracked[0] && sample->tracked[1];
+  std::array<bool, 2> put_down{};
+  for (int side = 0; side < 2; ++side) {
+    const bool before = hand_rest_[side].put_down();
+    put_down[side] =
+        observed ? hand_rest_[side].Update(sample->time, hands[side], hands[1 - side]) : hand_rest_[side].Unobserved();
+    // It lay still a while before it could be told, while its person walked on.
+    if (put_down[side] && !before) one_hand_bridge_.Carry(side, hand_rest_[side].other_travel_since_set_down());
+  }
+  for (int side = 0; side < 2; ++side) {  // never both: the body needs a hand to go on from
+    if (put_down[side] && !put_down[1 - side] && sample->tracked[1 - side]) sample->tracked[side] = false;
+  }
+  return put_down;
 }
 
 absl::Status ReconstructionSession::Finish(std::vector<ReconstructedFrame>* out) {
@@ -327,6 +348,7 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
   s.times.push_back(sample.time);
   s.untracked.push_back(sample.untracked_seconds);
   s.fading.push_back(sample.fading_guess);
+  s.put_down.push_back(sample.put_down);
   TrackInputNoise(s, sample);
   s.bridged.push_back(sample.bridged);
   // A2 looks `lookahead_` frames ahead: frame t is processed once t + lookahead_ has arrived.
@@ -613,23 +635,21 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       }
       ReimposeAnklePins(&frame, &world_rotations, &world_positions);
     }
-    // The put-down detector takes only input it can trust: a guessed hand stands still or travels
-    // as the guess does, not as the device.
+    // The jump detector takes only input it can trust: a guessed hand travels as the guess does.
     const bool observed =
         s.untracked[e][0] == 0 && s.untracked[e][1] == 0 && s.fading[e][0].weight == 0 && s.fading[e][1].weight == 0;
     for (int side = 0; side < 2; ++side) {  // the step into this frame's input
       auto input_at = [&](int f) { return f >= s.input.first() && f >= 0 ? &s.input[f][side] : nullptr; };
-      const bool put_down = observed ? hand_rest_[side].Update(frame.time, s.input[e][side], s.input[e][1 - side])
-                                     : hand_rest_[side].Unobserved();
+      const bool put_down = s.put_down[e][side];
       const float untracked = s.untracked[e][side];
-      if (untracked > options_.max_gap_seconds) {
+      if (put_down) {
+        frame.hand_state[side] = TrackingState::kPutDown;  // let go: carried with the body (LetGoOfPutDownHands)
+      } else if (untracked > options_.max_gap_seconds) {
         frame.hand_state[side] = TrackingState::kLost;  // held by the other hand for long
       } else if (untracked > 0) {
         frame.hand_state[side] = TrackingState::kPredicted;
       } else if (jump_detector_.Step(side, input_at(e - 2), input_at(e - 1), s.input[e][side], observed)) {
         frame.hand_state[side] = TrackingState::kImplausible;
-      } else if (put_down) {
-        frame.hand_state[side] = TrackingState::kPutDown;
       }
     }
     if (options_.motion_guard.enabled) {

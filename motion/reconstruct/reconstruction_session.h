@@ -75,7 +75,8 @@ enum class TrackingState {
   kOutOfReach,   // the input is further from the body's shoulder than its arm reaches
                  // (kOutOfReachFactor × upper arm + forearm), or under the floor (hand_floor.h):
                  // the hand stops short of it
-  kPutDown,      // the device lies still while the person moves (hand_rest.h)
+  kPutDown,      // the device lies still while the person moves (hand_rest.h): the body goes on
+                 // from the other hand, this one carried with it as a lost one is
 };
 
 inline constexpr float kOutOfReachFactor = 1.1f;
@@ -97,6 +98,9 @@ struct ReconstructedFrame {
   // The motion guard (motion_guard.h) did not let the pelvis go where the solve put it: it moved
   // no faster than the database's bodies do instead.
   bool motion_limited = false;
+  int put_down_hands() const {
+    return (hand_state[0] == TrackingState::kPutDown) + (hand_state[1] == TrackingState::kPutDown);
+  }
   bool implausible_input() const {
     return hand_state[0] == TrackingState::kImplausible || hand_state[1] == TrackingState::kImplausible;
   }
@@ -202,6 +206,10 @@ class ReconstructionSession {
   // or under the floor (`under_floor`, read from the smoothed input).
   void MarkOutOfReach(const std::array<Eigen::Vector3f, 2>& input, const std::array<bool, 2>& under_floor,
                       const std::vector<Eigen::Vector3f>& world_positions, ReconstructedFrame* frame) const;
+  // Issue #25 item 2: a device put down (hand_rest.h) is no input of the body. Reads `sample`'s
+  // devices and marks a put-down hand not tracked, so OneHandBridge carries it with the body from
+  // the other hand, as a lost one (never both hands); returns the put-down hands.
+  std::array<bool, 2> LetGoOfPutDownHands(WristSample* sample);
   // Drops per-frame state no stage will read again: memory bounded by window and lag.
   void ForgetSettledFrames();
 

@@ -34,7 +34,8 @@ absl::Status WristResampler::Check(const WristSample& sample) const {
 }
 
 absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSample>* out,
-                                  std::array<float, 2> untracked_seconds, std::array<FadingGuess, 2> fading_guess) {
+                                  std::array<float, 2> untracked_seconds, std::array<FadingGuess, 2> fading_guess,
+                                  std::array<bool, 2> put_down) {
   MOCAP_RETURN_IF_ERROR(Check(sample));
   if (!sample.left.allFinite() || !sample.right.allFinite()) {  // a lost hand must be filled in first
     return absl::InvalidArgumentError(StrCat("wrist sample at t = ", sample.time, " s is not finite (NaN or inf)"));
@@ -54,6 +55,7 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
                      .bridged = false,
                      .untracked_seconds = untracked_seconds,
                      .fading_guess = fading_guess,
+                     .put_down = put_down,
                      .time = sample.time,
                      .left = sample.left,
                      .right = sample.right};
@@ -86,6 +88,7 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
                                     .bridged = guessed,
                                     .untracked_seconds = untracked,
                                     .fading_guess = fading,
+                                    .put_down = a < 0.5f ? previous_put_down_ : put_down,
                                     .time = t,
                                     .left = anchors_[0].position,
                                     .right = anchors_[1].position});
@@ -104,6 +107,7 @@ absl::Status WristResampler::Push(const WristSample& sample, std::vector<GridSam
   previous_ = sample;
   previous_untracked_ = untracked_seconds;
   previous_fading_ = fading_guess;
+  previous_put_down_ = put_down;
   has_previous_ = true;
   return absl::OkStatus();
 }

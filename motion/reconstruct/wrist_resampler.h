@@ -50,6 +50,9 @@ struct GridSample {
   // since it was last tracked; 0 when tracked.
   std::array<float, 2> untracked_seconds{};
   std::array<FadingGuess, 2> fading_guess{};  // per hand, interpolated like the positions
+  // Per hand: its device lies put down (hand_rest.h) and the position is OneHandBridge's guess;
+  // the nearer input sample's.
+  std::array<bool, 2> put_down{};
   double time = 0.0;
   Eigen::Vector3f left, right;
 };
@@ -63,9 +66,11 @@ class WristResampler {
   // sample's, a tracked hand's position not finite (a lost hand's is not read).
   absl::Status Check(const WristSample& sample) const;
   // Appends the grid samples this input sample completes. `untracked_seconds`, `fading_guess`:
-  // the sample's own (OneHandBridge), interpolated onto the grid like its positions.
+  // the sample's own (OneHandBridge), interpolated onto the grid like its positions; `put_down`:
+  // the sample's put-down hands, the nearer sample's on the grid.
   absl::Status Push(const WristSample& sample, std::vector<GridSample>* out,
-                    std::array<float, 2> untracked_seconds = {}, std::array<FadingGuess, 2> fading_guess = {});
+                    std::array<float, 2> untracked_seconds = {}, std::array<FadingGuess, 2> fading_guess = {},
+                    std::array<bool, 2> put_down = {});
   // Appends the grid samples still waiting for a repeating hand's next position, that hand held
   // at its last position (the end of the input: nothing newer will come).
   void Flush(std::vector<GridSample>* out);
@@ -98,6 +103,7 @@ class WristResampler {
   WristSample previous_;
   std::array<float, 2> previous_untracked_{};
   std::array<FadingGuess, 2> previous_fading_{};
+  std::array<bool, 2> previous_put_down_{};
   double typical_period_ = 0.0;
   long next_index_ = 0;  // next grid frame, counted from grid_origin_
   double grid_origin_ = 0.0;

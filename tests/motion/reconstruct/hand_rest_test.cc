@@ -64,5 +64,48 @@ TEST(HandRestDetectorTest, GuessedFramesAreNoEvidence) {
   EXPECT_TRUE(detector.Update(t + 1.0, still, other(t + 1.0)));  // found where it was
 }
 
+// Once put down, the detector says how far the other hand went over the ground while this one
+// lay still: the person's walk the session lets the let-go hand catch up with.
+TEST(HandRestDetectorTest, TellsHowFarTheOtherHandWentWhileItLayStill) {
+  HandRestDetector detector;
+  double t = 0.0;
+  bool put_down = false;
+  auto other = [](double time) { return Eigen::Vector3f(0.0f, 0.8f + 0.1f * float(time), 1.2f * float(time)); };
+  for (; !put_down && t < 5.0; t += 1.0 / kRate) put_down = detector.Update(t, {0.5f, 0.8f, 0.0f}, other(t));
+  ASSERT_TRUE(put_down);
+  const Eigen::Vector3f travel = detector.other_travel_since_set_down();
+  EXPECT_NEAR(travel.z(), 1.2f * kPutDownSeconds, 0.05f);
+  EXPECT_EQ(travel.y(), 0.0f) << "over the ground: a hand that rose did not take the body up";
+  EXPECT_NEAR(travel.x(), 0.0f, 1e-6f);
+}
+
+// A hand resting at the side while the other one waves in place is still too; wrists alone cannot
+// tell it from a device on a table beside the person, so only a device the person left is told.
+TEST(HandRestDetectorTest, AHandAtRestWhileTheOtherWavesIsNot) {
+  HandRestDetector detector(/*wrist_span=*/1.4f);
+  for (double t = 0.0; t < 10.0; t += 1.0 / kRate) {
+    const Eigen::Vector3f wave(0.3f + 0.25f * static_cast<float>(std::cos(6.0 * t)),
+                               1.5f + 0.2f * static_cast<float>(std::sin(6.0 * t)), 0.1f);
+    ASSERT_FALSE(detector.Update(t, {-0.2f, 0.8f, 0.0f}, wave)) << "at " << t << " s";
+  }
+}
+
+// A device the person walked away from lies where no arm holds it once the hands are further apart
+// than the body's wrists reach: told then, sooner than kPutDownSeconds.
+TEST(HandRestDetectorTest, ADeviceLeftBeyondTheArmsSpanIsToldSooner) {
+  constexpr float kSpan = 1.4f;
+  HandRestDetector detector(kSpan);
+  std::optional<double> at;
+  for (double t = 0.0; t < 5.0 && !at; t += 1.0 / kRate) {
+    if (detector.Update(t, {0.2f, 0.8f, 0.0f}, {-0.2f, 0.8f, 1.2f * static_cast<float>(t)})) at = t;
+  }
+  ASSERT_TRUE(at);
+  // The hands are kOutOfReachMargin × kSpan apart after 1.24 s of walking at 1.2 m/s.
+  EXPECT_NEAR(*at, 1.24, 0.05);
+  EXPECT_NEAR(detector.other_travel_since_set_down().z(), 1.2f * *at, 0.05f);
+  // Without a span, the same walk waits for kPutDownSeconds.
+  EXPECT_GE(FirstPutDown(0.0f, 1.2f).value_or(0.0), kPutDownSeconds);
+}
+
 }  // namespace
 }  // namespace mocap

@@ -9,6 +9,7 @@
 // but not yet on the standing clips (bow, bye: up to ~1.4–2.2 m/s against 1.06–1.17 allowed),
 // which the guard's bounds (the database's) cannot tell apart from a body that starts to walk.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <random>
@@ -93,8 +94,8 @@ std::vector<Degradation> Degradations() {
 }
 
 // Issue #25's put-down state: a walk whose left controller is set down after 2 s (its input stays
-// where it was, within 3 mm of noise) while the right hand walks on: flagged within 3 s, then the
-// body walks away from it and it is out of reach or put down, never tracked.
+// where it was, within 3 mm of noise) while the right hand walks on: flagged within 3 s, then let
+// go, so the body walks on with the right hand, the left carried along; put down, never tracked.
 void put_down_walk(const std::shared_ptr<const ReconstructionDatabase>& database, const std::filesystem::path& file,
                    const RigModel& rig) {
   if (!std::filesystem::exists(file)) return;
@@ -132,10 +133,25 @@ void put_down_walk(const std::shared_ptr<const ReconstructionDatabase>& database
     }
   }
   ASSERT_TRUE(flagged_at) << "the set-down controller was never flagged";
-  std::printf("a controller set down at %.1f s is flagged put down at %.2f s; %ld of %ld frames after it tracked\n",
-              kSetDown, *flagged_at, tracked_after, after);
+  // Once the hand is let go and its guess has caught up with the body, the body walks on with the
+  // right hand: its pelvis where the capture's is, not held back by the controller on the table.
+  double pelvis_error = 0.0;
+  long caught_up = 0;
+  for (const ReconstructedFrame& f : *out) {
+    const int frame = static_cast<int>(std::lround(f.time / dt));
+    if (f.time < *flagged_at + OneHandBridge::kCatchUpSeconds + 0.5 || frame >= truth.num_frames()) continue;
+    pelvis_error += (f.pelvis_position - truth.position(frame, l.pelvis)).norm();
+    ++caught_up;
+  }
+  ASSERT_GT(caught_up, 0) << "the walk ends before the let-go hand has caught up";
+  pelvis_error /= static_cast<double>(caught_up);
+  std::printf(
+      "a controller set down at %.1f s is flagged put down at %.2f s; %ld of %ld frames after it tracked; "
+      "pelvis %.1f cm from the capture's over the %ld frames after the hand caught up\n",
+      kSetDown, *flagged_at, tracked_after, after, 100.0 * pelvis_error, caught_up);
   EXPECT_LE(*flagged_at - kSetDown, 3.0);
   EXPECT_EQ(tracked_after, 0);
+  EXPECT_LT(pelvis_error, 0.4) << "the body stayed with the controller on the table (2.3 m behind when it did)";
 
   // The left controller held 1.5 m out to the side of where the wrist is: no arm reaches it.
   for (WristSample& s : samples) s.left = s.right + 1.5f * (s.left - s.right).normalized();

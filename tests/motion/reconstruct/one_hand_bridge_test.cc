@@ -1,5 +1,6 @@
 #include "motion/reconstruct/one_hand_bridge.h"
 
+#include <algorithm>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -174,6 +175,62 @@ TEST(OneHandBridgeTest, ALostHandDoesNotRiseWithTheTrackedOne) {
     s.tracked[0] = false;
     ASSERT_TRUE(bridge.Fill(&s, &untracked));
     EXPECT_LT((s.left - Eigen::Vector3f(0.0f, 1.0f, 0.2f)).norm(), 1e-4f) << i;
+  }
+}
+
+// A hand let go late (a device found put down while its person walked on) is carried by an offset
+// as well, eased in over kCatchUpSeconds: in the end the whole offset, and no step on the way.
+TEST(OneHandBridgeTest, ACarriedOffsetIsEasedInWithoutAStep) {
+  OneHandBridge bridge;
+  std::array<float, 2> untracked;
+  for (int i = 0; i < 60; ++i) {  // 1 s both tracked
+    WristSample s = Walking(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+  }
+  const Eigen::Vector3f offset(2.0f, 0.0f, 0.5f);
+  bridge.Carry(0, offset);
+  Eigen::Vector3f previous = Walking(59).left;
+  float largest_step = 0.0f;
+  const int catch_up_samples = static_cast<int>(OneHandBridge::kCatchUpSeconds / kSamplePeriod);
+  for (int i = 60; i < 60 + 2 * catch_up_samples; ++i) {
+    WristSample s = LeftLost(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+    // What the body's pace carries it each sample, besides the offset's share.
+    largest_step = std::max(largest_step, (s.left - previous - kSamplePeriod * kWalkingVelocity).norm());
+    previous = s.left;
+  }
+  const Eigen::Vector3f without_offset =
+      Walking(59).left + static_cast<float>(2 * catch_up_samples) * kSamplePeriod * kWalkingVelocity;
+  EXPECT_LT((previous - without_offset - offset).norm(), 0.01f);
+  // Smoothstep's steepest share is 1.5 / catch-up samples of the offset; a step would be all of it.
+  EXPECT_LT(largest_step, 1.6f * offset.norm() / static_cast<float>(catch_up_samples));
+}
+
+// An offset still to come when the hand is its own input again is dropped, not saved for the
+// hand's next loss.
+TEST(OneHandBridgeTest, ACarriedOffsetEndsWithTheGuess) {
+  OneHandBridge bridge(/*reentry_seconds=*/0.5, /*travel_seconds=*/1.0);
+  std::array<float, 2> untracked;
+  int i = 0;
+  for (; i < 60; ++i) {
+    WristSample s = Walking(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+  }
+  bridge.Carry(0, Eigen::Vector3f(3.0f, 0.0f, 0.0f));
+  WristSample lost = LeftLost(i++);
+  ASSERT_TRUE(bridge.Fill(&lost, &untracked));
+  for (; i < 120; ++i) {  // back at once, and tracked past its cross-fade
+    WristSample s = Walking(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+  }
+  Eigen::Vector3f previous = lost.left;
+  for (int lost_again = 0; lost_again < 30; ++lost_again, ++i) {
+    WristSample s = LeftLost(i);
+    ASSERT_TRUE(bridge.Fill(&s, &untracked));
+    if (lost_again > 0) {
+      EXPECT_LT((s.left - previous).norm(), 0.05f) << "sample " << lost_again;
+    }
+    previous = s.left;
   }
 }
 
