@@ -121,7 +121,7 @@ absl::StatusOr<PerformerScale> ScaleForPerformer(const ReconstructionDatabase& d
 }
 
 SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const InputConversion& input,
-                      WristSample* out) {
+                      WristSample* out, std::array<StillHand, 2>* still_hands) {
   auto refused = [](std::string reason) { return SampleCheck{SampleCheck::kRefused, std::move(reason)}; };
   if (!std::isfinite(sample.time())) return refused("time is not a finite number");
   const float confidences[2] = {sample.has_left_confidence() ? sample.left_confidence() : 1.0f,
@@ -171,8 +171,23 @@ SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const
   out->left = input.transform.PositionToNative(left);
   out->right = input.transform.PositionToNative(right);
   out->tracked = tracked;
+  double longest_still = 0.0;
+  if (still_hands != nullptr) {
+    for (int side = 0; side < 2; ++side) {
+      StillHand& hand = (*still_hands)[side];
+      if (tracked[side]) {
+        longest_still = std::max(longest_still, hand.Update(side == 0 ? out->left : out->right, out->time));
+      } else {
+        hand.Forget();
+      }
+    }
+  }
   if (tracked[0] && tracked[1]) {
-    if (std::optional<std::string> problem = WristSeparationProblem((out->left - out->right).norm(), unit)) {
+    const bool device_left = longest_still >= kDeviceLeftSeconds &&
+                             std::abs(out->left.y()) <= kMaxWristSeparationMetres &&
+                             std::abs(out->right.y()) <= kMaxWristSeparationMetres;
+    if (std::optional<std::string> problem = WristSeparationProblem((out->left - out->right).norm(), unit);
+        problem && !device_left) {
       return refused(*std::move(problem));
     }
   }

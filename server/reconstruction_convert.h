@@ -2,11 +2,13 @@
 // scaling the service applies at its boundary (SessionConfig.performer_height).
 #pragma once
 
+#include <array>
 #include <string>
 
 #include "absl/status/statusor.h"
 #include "mocap/v1/reconstruction.pb.h"
 #include "motion/reconstruct/body_sizer.h"
+#include "motion/reconstruct/hand_rest.h"
 #include "motion/reconstruct/reconstruction_session.h"
 #include "motion/retarget/retarget_rig.h"
 #include "proto/convert/method_overrides.h"
@@ -37,15 +39,21 @@ absl::StatusOr<PerformerScale> ScaleForPerformer(const ReconstructionDatabase& d
 // What became of one wire sample: accepted (into `out`), a dropout (confidence below
 // min_confidence: the session bridges or splits it), or refused with a reason (not finite,
 // positions or confidences out of range, a tracked device without its orientation, wrists more
-// than kMaxWristSeparationMetres apart: garbage is never reconstructed).
+// than kMaxWristSeparationMetres apart: garbage is never reconstructed). Wrists that far apart are
+// taken where one hand has lain still for kDeviceLeftSeconds and both are within
+// kMaxWristSeparationMetres of the floor's height: a device put down and walked away from (issue
+// #25), which a unit mistake, scaling every coordinate and its noise, never looks like.
 struct SampleCheck {
   enum Kind { kAccepted, kDropout, kRefused } kind = kAccepted;
   std::string reason;
 };
 // Positions beyond this many metres from the origin, in any axis, are refused.
 inline constexpr double kMaxWristCoordinateMetres = 10000.0;
+inline constexpr double kDeviceLeftSeconds = 0.5;
+// `still_hands`: how long each hand has lain still over the stream so far (updated here with the
+// accepted sample; null: no stream, no exemption).
 SampleCheck FromProto(const v1::WristSample& sample, float min_confidence, const InputConversion& input,
-                      WristSample* out);
+                      WristSample* out, std::array<StillHand, 2>* still_hands = nullptr);
 
 void ToProto(const ReconstructionDatabase& database, const PerformerScale& scale, v1::Skeleton* out);
 // Expected landmark errors, metres × `scale` (the performer's size).

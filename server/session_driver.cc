@@ -105,7 +105,7 @@ absl::Status SessionDriver::Push(const v1::WristSamples& samples, int begin, int
     const v1::WristSample& sample = samples.samples(i);
     ++samples_;
     WristSample input;
-    const SampleCheck check = FromProto(sample, config_.min_confidence(), input_, &input);
+    const SampleCheck check = FromProto(sample, config_.min_confidence(), input_, &input, &still_hands_);
     if (check.kind != SampleCheck::kAccepted) {
       MOCAP_RETURN_IF_ERROR(Reject(samples_ - 1, sample.time(), check.reason, replies));
       continue;

@@ -119,6 +119,7 @@ class SessionDriver {
   std::optional<BodySizer> sizer_;
   bool resized_ = false, resized_sent_ = false;  // the estimate changed the skeleton; told the client
   InputConversion input_;
+  std::array<StillHand, 2> still_hands_;  // FromProto: a device left far from the other hand
   std::unique_ptr<InputMonitor> monitor_;
   std::vector<MonitoredSample> ready_;  // released by the monitor, not yet pushed
   std::vector<InputWarning> warnings_;  // found, not yet reported

@@ -30,6 +30,27 @@ inline constexpr float kPickUpDistance = 0.03f;   // metres
 inline constexpr double kEarlyStillSeconds = 0.5;
 inline constexpr float kOutOfReachMargin = 1.1f;  // as for an input out of an arm's reach
 
+// How long a hand has stayed within kStillRadius of one place, sample by sample (no window kept):
+// a cheap first sign of a device put down, for what must not wait for HandRestDetector.
+class StillHand {
+ public:
+  // Seconds the hand has been still up to `time` (0 when it just moved).
+  double Update(const Eigen::Vector3f& position, double time) {
+    if (!seen_ || (position - place_).norm() > kStillRadius) {
+      place_ = position;
+      since_ = time;
+      seen_ = true;
+    }
+    return time - since_;
+  }
+  void Forget() { seen_ = false; }
+
+ private:
+  Eigen::Vector3f place_ = Eigen::Vector3f::Zero();
+  double since_ = 0.0;
+  bool seen_ = false;
+};
+
 class HandRestDetector {
  public:
   // `wrist_span`: the body's (WristSpan, metres); 0 leaves out the sooner rule.

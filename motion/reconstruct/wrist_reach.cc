@@ -46,7 +46,15 @@ absl::Status ReachHistogram::Add(const WristSample& s) {
     ++height_[Bin((hand == 0 ? s.left : s.right).y(), kBinMetres, kBins)];
     ++height_count_;
   }
-  if (s.tracked[0] && s.tracked[1]) {
+  std::array<bool, 2> still{false, false};
+  for (int hand = 0; hand < 2; ++hand) {
+    if (s.tracked[hand]) {
+      still[hand] = still_[hand].Update(hand == 0 ? s.left : s.right, s.time) >= kStillSeconds;
+    } else {
+      still_[hand].Forget();
+    }
+  }
+  if (s.tracked[0] && s.tracked[1] && !still[0] && !still[1]) {
     ++separation_[Bin((s.left - s.right).norm(), kBinMetres, kBins)];
     ++separation_count_;
   }

@@ -12,6 +12,7 @@
 
 #include "absl/status/statusor.h"
 #include "motion/preprocess/frame_features.h"
+#include "motion/reconstruct/hand_rest.h"
 #include "motion/reconstruct/wrist_resampler.h"
 
 namespace mocap {
@@ -53,6 +54,10 @@ class ReachHistogram {
  private:
   static constexpr float kBinMetres = 0.005f;
   static constexpr int kBins = 1000;
+  // A hand still (within hand_rest.h's kStillRadius) this long may be a device put down: while it
+  // is, the hands' separation is no evidence of arms (the person walks away from the device).
+  static constexpr double kStillSeconds = 0.5;
+  std::array<StillHand, 2> still_;
   std::array<int, kBins> separation_{}, height_{};
   long separation_count_ = 0, height_count_ = 0, samples_ = 0;
   double first_time_ = 0.0, last_time_ = 0.0;

@@ -337,6 +337,29 @@ TEST(SampleFromProtoTest, GarbageIsRefusedWithAReasonAndLowConfidenceIsADropout)
   EXPECT_TRUE(out.tracked[0] && out.tracked[1]);
 }
 
+// A controller put down and walked away from (issue #25) ends up metres from the other hand: taken
+// once it has lain still for kDeviceLeftSeconds at a body's heights; a unit mistake, which scales
+// every coordinate and its noise, is still refused, and so is one sample far off while both move.
+TEST(SampleFromProtoTest, WristsFarApartAreTakenWhereADeviceWasLeft) {
+  const InputConversion native;
+  auto walk_away = [&](double scale, double device_jitter) {
+    std::array<StillHand, 2> still;
+    long refused = 0;
+    for (int i = 0; i < 240; ++i) {  // 60 Hz: the left device lies still, the right hand walks off at 1.2 m/s
+      const double t = i / 60.0;
+      const double jitter = device_jitter * std::sin(13.0 * t);
+      v1::WristSample sample = Sample(t, scale * (0.2 + jitter), scale * 0.75, 0.0, scale * -0.2,
+                                      scale * (0.9 + 0.02 * std::sin(6.0 * t)), scale * 1.2 * t);
+      WristSample out;
+      refused += FromProto(sample, 0.0f, native, &out, &still).kind == SampleCheck::kRefused;
+    }
+    return refused;
+  };
+  EXPECT_EQ(walk_away(1.0, 0.002), 0) << "3 m and more apart after 2.5 s, 4.8 m at the end";
+  EXPECT_GT(walk_away(100.0, 0.002), 100) << "centimetres declared as metres";
+  EXPECT_GT(walk_away(1.0, 0.05), 10) << "no hand still: not a device left";
+}
+
 TEST(SampleFromProtoTest, TrackedDevicesNeedAUnitOrientationAndAreOffsetToTheWrist) {
   InputFrame frame;
   frame.tracked_device = true;
