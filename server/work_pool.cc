@@ -107,6 +107,11 @@ size_t WorkPool::queued() const {
   return queued_;
 }
 
+size_t WorkPool::running() const {
+  MutexLock lock(&mutex_);
+  return static_cast<size_t>(running_) + (prompt_busy_ ? 1 : 0);
+}
+
 std::map<WorkPool::Key, WorkPool::KeyState>::iterator WorkPool::PickLocked(std::int64_t now, bool prompt_lane,
                                                                            std::int64_t* tag) {
   const bool long_keys_wait = LongKeysWaitLocked();

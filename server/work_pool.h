@@ -91,6 +91,8 @@ class WorkPool {
 
   // Tasks queued and not yet started, over all keys.
   size_t queued() const;
+  // Tasks running now; a task counts until its cost is charged to its key.
+  size_t running() const;
 
   // Whether, on a thread of this pool, a task of another key waits for a thread now (every
   // thread is busy, and the key has nothing running): the calling task should end its slice at

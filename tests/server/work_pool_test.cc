@@ -222,6 +222,9 @@ TEST(WorkPoolTest, AKeyIsChargedForItsRunningTaskBeforeItEnds) {
     first_done.count_down();
   });
   first_done.wait();
+  // Its cost is charged after it returns, from the clock then: key 2 must not advance the clock
+  // before that (key 1 would be charged key 2's 100 ms too).
+  while (pool.running() > 0) std::this_thread::yield();
   std::promise<void> release_long;
   std::shared_future<void> long_may_end = release_long.get_future().share();
   pool.Post(2, [&, long_may_end] {
