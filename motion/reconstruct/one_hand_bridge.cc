@@ -3,6 +3,12 @@
 #include <algorithm>
 
 namespace mocap {
+namespace {
+
+// Smoothstep weights, flat at both ends (u in [0, 1]).
+float Smoothstep(double u) { return static_cast<float>(u * u * (3.0 - 2.0 * u)); }
+
+}  // namespace
 
 Eigen::Vector3f OneHandBridge::TravelVelocity(int side) const {
   const auto& recent = recent_[side];
@@ -20,7 +26,7 @@ Eigen::Vector3f OneHandBridge::CatchUpStep(int side, double t) {
   if (!c) return Eigen::Vector3f::Zero();
   if (!c->start) c->start = t;
   const double u = std::min(1.0, (t - *c->start) / kCatchUpSeconds);
-  const float w = static_cast<float>(u * u * (3.0 - 2.0 * u));
+  const float w = Smoothstep(u);
   const Eigen::Vector3f step = (w - c->applied) * c->offset;
   c->applied = w;
   if (u >= 1.0) c.reset();
@@ -63,7 +69,7 @@ bool OneHandBridge::Fill(WristSample* sample, std::array<float, 2>* untracked_se
         guess_[side] += step * TravelVelocity(1 - side) + CatchUpStep(side, t);
         // Smoothstep weights, flat at both ends: position and velocity continuous with the guess
         // when the hand comes back and with the input when the fade ends.
-        const float w = static_cast<float>(u * u * (3.0 - 2.0 * u));
+        const float w = Smoothstep(u);
         position[side] = (1.0f - w) * guess_[side] + w * input[side];
         fading[side] = {.weight = 1.0f - w, .seconds = static_cast<float>(t - lost_after_[side])};
       }
