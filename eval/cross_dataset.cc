@@ -174,7 +174,7 @@ PerformerSize ServiceSize(const Experiment& experiment) {
 
 float InputScale(PerformerSize size, const ReconstructionDatabase& database, const SizeReference& reference,
                  const LandmarkTruth& truth, const std::vector<WristSample>& wrists, unsigned declared_seed,
-                 PerformerScaleEstimate* fit_out = nullptr) {
+                 float grip_offset, PerformerScaleEstimate* fit_out = nullptr) {
   switch (size) {
     case PerformerSize::kDatabase:
     case PerformerSize::kOnline:   // sized as the input streams in (BodySizer)
@@ -200,7 +200,7 @@ float InputScale(PerformerSize size, const ReconstructionDatabase& database, con
       return std::clamp(reference.lower_wrist / Median(lower), 0.7f, 1.4f);
     }
     case PerformerSize::kReach: {
-      absl::StatusOr<ReachScale> reach = InputScaleFromReach(database.wrist_reach(), wrists);
+      absl::StatusOr<ReachScale> reach = InputScaleFromReach(DeviceReach(database.wrist_reach(), grip_offset), wrists);
       return reach.ok() ? reach->input_scale : 1.0f;
     }
     case PerformerSize::kWalkingWrists: {
@@ -273,9 +273,10 @@ absl::StatusOr<std::vector<LandmarkExperimentResult>> RunLandmarkEvaluation(
           DeviceSamples(truth, experiment.device, experiment.noise_cm, seed + static_cast<unsigned>(i));
       // The input is multiplied by it, the output divided; or sized as it streams in.
       const PerformerSize size = ServiceSize(experiment);
-      const float scale =
-          InputScale(size, *database, reference, truth, wrists, seed + static_cast<unsigned>(i), &fits[i]);
-      BodySizer sizer(database->wrist_reach(), 1.0f / scale, {.online = size == PerformerSize::kOnline});
+      const float scale = InputScale(size, *database, reference, truth, wrists, seed + static_cast<unsigned>(i),
+                                     experiment.options.grip_offset, &fits[i]);
+      BodySizer sizer(DeviceReach(database->wrist_reach(), experiment.options.grip_offset), 1.0f / scale,
+                      {.online = size == PerformerSize::kOnline});
       const auto start = std::chrono::steady_clock::now();
       std::vector<SizeMap> maps;
       absl::StatusOr<std::vector<ReconstructedFrame>> frames =

@@ -39,6 +39,18 @@ std::vector<DeviceModel> DropoutDevices() {
   return devices;
 }
 
+std::vector<DeviceModel> HeldDevices() {
+  return {
+      {.name = "phone_in_hand", .rate_hz = 60, .jitter_m = 0.01, .grip_offset_m = 0.09},
+      {.name = "phone_in_hand_undeclared",
+       .rate_hz = 60,
+       .jitter_m = 0.01,
+       .grip_offset_m = 0.09,
+       .grip_declared = false},
+      {.name = "camera_30hz", .rate_hz = 30, .jitter_m = 0.015, .time_jitter_s = 0.008},
+  };
+}
+
 namespace {
 
 // The wrists of `landmarks` as `posture` would put them (device_input.h). `start`: the clip's
@@ -105,6 +117,12 @@ std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceM
     }
     const std::array<Eigen::Vector3f, kNumScoredLandmarks> landmarks = LandmarksAt(truth, t);
     std::array<Eigen::Vector3f, 2> at = WristsIn(device.posture, landmarks, truth.positions.front());
+    if (device.grip_offset_m > 0) {
+      for (int hand = 0; hand < 2; ++hand) {
+        const Eigen::Vector3f forearm = landmarks[kLeftWristLandmark + hand] - landmarks[kLeftElbowLandmark + hand];
+        if (forearm.norm() > 1e-3f) at[hand] += static_cast<float>(device.grip_offset_m) * forearm.normalized();
+      }
+    }
     if (device.left_set_down_s > 0 && t >= device.left_set_down_s) {
       if (!set_down) set_down = at[0];
       at[0] = *set_down;
@@ -116,7 +134,14 @@ std::vector<WristSample> DeviceSamples(const LandmarkTruth& truth, const DeviceM
         at[hand] = (at[hand] / q).array().round().matrix() * q;
       }
     }
-    WristSample sample{.time = t, .left = at[0], .right = at[1]};
+    double stamp = t;
+    if (device.time_jitter_s > 0) {
+      // Arrival times: off by the jitter, never before the previous sample's.
+      stamp = t + device.time_jitter_s * gaussian(random);
+      if (!samples.empty()) stamp = std::max(stamp, samples.back().time + 1e-4);
+      stamp = std::max(stamp, 0.0);
+    }
+    WristSample sample{.time = stamp, .left = at[0], .right = at[1]};
     if (device.left_hand_lost_s > 0 && t >= 0.4 * end && t < 0.4 * end + device.left_hand_lost_s) {
       sample.tracked[0] = false;  // what a lost tracker sends is not to be read
       sample.left = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());

@@ -36,6 +36,11 @@ struct DeviceModel {
   // The left controller set down this many seconds into the clip, for good (0: never): its input
   // stays where the left wrist was then, with the device's jitter, while the person goes on.
   double left_set_down_s = 0;
+  // The tracked point is the device's, held in the hand: this far beyond the wrist along the
+  // forearm (elbow to wrist), where a phone's or a controller's centre sits in a closed grip.
+  double grip_offset_m = 0;
+  bool grip_declared = true;  // the run declares the grip (ReconstructionOptions::grip_offset), as its user would
+  double time_jitter_s = 0;   // each sample's timestamp off by this σ (arrival times), kept increasing
   Posture posture = Posture::kAsCaptured;
   bool accuracy_measured() const { return posture == Posture::kAsCaptured; }
 };
@@ -54,6 +59,11 @@ std::vector<DeviceModel> StandardDevices();
 // (left_hand_lost_1s, _2s, _5s; the lost hand's samples are NaN, tracked = false); and the left
 // controller set down 1 s into the clip, for good (left_controller_put_down: 72 Hz, 2 mm jitter).
 std::vector<DeviceModel> DropoutDevices();
+// Devices whose tracked point or clock is not the wrist's (issue #22: devices never seen):
+//   phone_in_hand  a phone held in each hand: 60 Hz, 1 cm jitter, the point 9 cm beyond the wrist
+//                  along the forearm, declared (--grip-offset 0.09); phone_in_hand_undeclared: not
+//   camera_30hz    hand tracking from a camera: 30 Hz, 1.5 cm jitter, timestamps 8 ms off (σ)
+std::vector<DeviceModel> HeldDevices();
 
 // The samples `device` would send for `truth`'s wrists (from time 0 to the clip's end), drawn from
 // `seed`. The lab input (device.name empty) is the clip's own frames plus noise of σ `noise_cm`.

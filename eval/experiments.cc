@@ -82,12 +82,16 @@ std::vector<Experiment> MakeDeviceExperiments(const ReconstructionOptions& base,
   std::vector<Experiment> runs;
   std::vector<DeviceModel> devices = StandardDevices();
   for (const DeviceModel& dropout : DropoutDevices()) devices.push_back(dropout);
+  for (const DeviceModel& held : HeldDevices()) devices.push_back(held);
   for (const DeviceModel& device : devices) {
     for (const Experiment& e : main) {
       if (e.group == "noise" || (!every_run && e.name != "full" && e.name != "nearest_neighbour")) continue;
+      ReconstructionOptions options = e.options;
+      // A device held in the hand is declared as its user would (`--grip-offset`).
+      if (device.grip_declared) options.grip_offset = static_cast<float>(device.grip_offset_m);
       runs.push_back({.name = StrCat(e.name, "@", device.name),
                       .group = "device",
-                      .options = e.options,
+                      .options = options,
                       .noise_cm = 0.0,
                       .device = device,
                       .size = e.size,

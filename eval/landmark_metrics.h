@@ -28,6 +28,7 @@ inline constexpr std::array<const char*, kNumLandmarkGroups> kLandmarkGroupNames
 inline constexpr std::array<int, kNumScoredLandmarks> kLandmarkGroup = {0, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7};
 inline constexpr int kLeftWristLandmark = 6, kRightWristLandmark = 7, kPelvisLandmark = 0;
 inline constexpr int kLeftAnkleLandmark = 12, kRightAnkleLandmark = 13;
+inline constexpr int kLeftElbowLandmark = 4;  // and the right one next
 
 // The joints of `landmarks` in scoring order (BodyLandmarkJoints); -1 where the rig's analysis found none.
 inline std::array<int, kNumScoredLandmarks> ScoredLandmarkJoints(const BodyLandmarks& landmarks) {

@@ -4,6 +4,7 @@
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "motion/core/units.h"
 
 namespace mocap {
 
@@ -14,6 +15,10 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
   options.max_window_frames = limits.max_window_frames;
   MOCAP_ASSIGN_OR_RETURN(PerformerScale scale, ScaleForPerformer(*database, config.performer_height()));
   MOCAP_ASSIGN_OR_RETURN(InputFrame input_frame, InputFrameFromProto(config.input_frame()));
+  // A device gripped beyond the wrist, in the database body's metres (the sizer maps the input so).
+  options.grip_offset =
+      std::min(kMaxGripOffset,
+               static_cast<float>(input_frame.grip_offset * MetresPerUnit(input_frame.convention.unit) / scale.scale));
   MOCAP_ASSIGN_OR_RETURN(std::unique_ptr<ReconstructionSession> session,
                          ReconstructionSession::Create(database, options));
   std::unique_ptr<SessionDriver> driver(new SessionDriver(metrics));
@@ -34,7 +39,8 @@ absl::StatusOr<std::unique_ptr<SessionDriver>> SessionDriver::Create(
     driver->estimate_height_ = whole;
     size_online = !whole;
   }
-  driver->sizer_.emplace(database->wrist_reach(), scale.scale, BodySizerOptions{.online = size_online});
+  driver->sizer_.emplace(DeviceReach(database->wrist_reach(), options.grip_offset), scale.scale,
+                         BodySizerOptions{.online = size_online});
   driver->limits_ = limits;
   const FloorSpec& floor = input_frame.floor;
   driver->input_ = {input_frame, FrameTransform(input_frame.convention, floor.calibrate ? 0.0 : floor.height)};
@@ -163,7 +169,8 @@ absl::Status SessionDriver::PushScaled(MonitoredSample& ready, std::vector<v1::R
 void SessionDriver::SizeFromReach() {
   // The sizer has counted exactly the held samples yet. An error here is a database without
   // frames: no estimate.
-  absl::StatusOr<ReachScale> reach = sizer_->reach().Scale(session_->database().wrist_reach());
+  absl::StatusOr<ReachScale> reach =
+      sizer_->reach().Scale(DeviceReach(session_->database().wrist_reach(), session_->options().grip_offset));
   if (reach.ok() && reach->input_scale < 1.0f) {
     scale_.scale = 1.0f / reach->input_scale;
     sizer_->SetScale(scale_.scale);
@@ -245,7 +252,8 @@ absl::Status SessionDriver::FinishStep(std::vector<v1::ReconstructResponse>* rep
   summary->set_max_reply_ms(latency_max_ms_);
   summary->set_performer_height(scale_.database_height * sizer_->map().scale);
   summary->set_performer_height_estimated(resized_ || sizer_->resizes() > 0);
-  absl::StatusOr<ReachScale> reach = sizer_->reach().Scale(session_->database().wrist_reach());
+  absl::StatusOr<ReachScale> reach =
+      sizer_->reach().Scale(DeviceReach(session_->database().wrist_reach(), session_->options().grip_offset));
   summary->set_reach_height(scale_.database_height / (reach.ok() ? reach->input_scale : 1.0f));
   *done = true;
   return absl::OkStatus();

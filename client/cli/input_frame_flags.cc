@@ -39,6 +39,10 @@ void AddInputFrameFlags(CLI::App* command, InputFrameFlags* flags) {
                    "frame and --units (the CSV then needs the orientation columns)")
       ->expected(3)
       ->delimiter(',');
+  command->add_option("--grip-offset", flags->grip_offset,
+                      "The tracked point is a device held in the hand, its orientation not given (a phone, a "
+                      "controller by position): its distance beyond the wrist along the forearm, in --units "
+                      "(about 0.09 m for a phone in a closed grip)");
 }
 
 absl::StatusOr<DeclaredInputFrame> ResolveInputFrame(const InputFrameFlags& flags) {
@@ -83,6 +87,7 @@ absl::StatusOr<DeclaredInputFrame> ResolveInputFrame(const InputFrameFlags& flag
     frame.tracked_device = true;
     frame.device_offset = {flags.device_offset[0], flags.device_offset[1], flags.device_offset[2]};
   }
+  frame.grip_offset = flags.grip_offset;
   if (absl::Status valid = ValidateInputFrame(frame); !valid.ok()) return valid;
   // The resolved frame in full, so the server reads exactly what the CLI converted with.
   const v1::InputFramePreset preset = proto.preset();

@@ -16,6 +16,7 @@ namespace mocap::cli {
 struct InputFrameFlags {
   std::string preset, units, up, handedness, floor;
   std::vector<float> device_offset;  // 3 values when given
+  float grip_offset = 0.0f;
 };
 
 void AddInputFrameFlags(CLI::App* command, InputFrameFlags* flags);

@@ -77,6 +77,19 @@ absl::Status ValidateInputFrame(const InputFrame& frame) {
                                                UnitName(frame.convention.unit), ")"));
     }
   }
+  if (frame.grip_offset != 0.0f) {
+    const double grip = frame.grip_offset * metres;
+    if (!(grip > 0.0 && grip <= kMaxGripOffsetMetres)) {
+      return absl::InvalidArgumentError(StrCat("input_frame.grip_offset is ", grip, " m (from the wrist to where the ",
+                                               "device is held: more than 0 and at most ", kMaxGripOffsetMetres,
+                                               " m; units are ", UnitName(frame.convention.unit), ")"));
+    }
+    if (frame.tracked_device) {
+      return absl::InvalidArgumentError(
+          "input_frame.grip_offset with tracked_device: the device's orientation and device_offset already give "
+          "the wrist");
+    }
+  }
   return absl::OkStatus();
 }
 

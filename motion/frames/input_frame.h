@@ -30,14 +30,21 @@ struct InputFrame {
   // orientation, and the wrist joint is at device position + orientation · device_offset.
   bool tracked_device = false;
   Eigen::Vector3f device_offset = Eigen::Vector3f::Zero();  // device frame, caller units
+  // The tracked point is a device held in the hand whose orientation is not sent (a phone, a
+  // controller tracked by position): this far beyond the wrist joint along the forearm, caller
+  // units (0: the samples are the wrists; not with tracked_device, whose offset says it exactly).
+  float grip_offset = 0.0f;
 };
+
+inline constexpr double kMaxGripOffsetMetres = 0.3;
 
 // The server's own frame (metres, right-handed, Y up, declared floor at 0): nothing to convert
 // on the way out.
 bool IsNativeFrame(const InputFrame& frame);
 
 // InvalidArgument naming the field: a floor height that is not finite or beyond 10 km, a device
-// offset that is not finite or longer than 0.5 m (a hand is not that long).
+// offset that is not finite or longer than 0.5 m (a hand is not that long), a grip offset that is
+// negative, beyond 0.3 m or given with a tracked device.
 absl::Status ValidateInputFrame(const InputFrame& frame);
 
 // The wrist joint of a tracked device, in the caller's frame and units.

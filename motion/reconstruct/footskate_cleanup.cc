@@ -8,7 +8,7 @@
 
 namespace mocap {
 
-void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose) {
+void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose, float beyond) {
   const Skeleton& skeleton = body.skeleton();
   const int knee = skeleton.parent(ankle_joint);
   const int hip = knee >= 0 ? skeleton.parent(knee) : -1;
@@ -16,9 +16,13 @@ void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& t
   std::vector<Eigen::Quaternionf> rotations;
   std::vector<Eigen::Vector3f> positions;
   body.WorldTransforms(*pose, &rotations, &positions);
+  const Eigen::Vector3f lower = positions[ankle_joint] - positions[knee];
+  const Eigen::Vector3f end = beyond > 0.0f && lower.norm() > 1e-6f
+                                  ? Eigen::Vector3f(positions[ankle_joint] + beyond * lower.normalized())
+                                  : positions[ankle_joint];
   // Straight leg: any bend axis.
-  const TwoBoneTurns turns = SolveTwoBoneIk(positions[hip], positions[knee], positions[ankle_joint], target,
-                                            rotations[knee] * Eigen::Vector3f::UnitX());
+  const TwoBoneTurns turns =
+      SolveTwoBoneIk(positions[hip], positions[knee], end, target, rotations[knee] * Eigen::Vector3f::UnitX());
   const Eigen::Quaternionf& hip_turn = turns.root_turn;
   const Eigen::Quaternionf& knee_turn = turns.middle_turn;
   const Eigen::Quaternionf ankle_world = rotations[ankle_joint];

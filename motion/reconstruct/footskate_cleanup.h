@@ -99,8 +99,10 @@ std::optional<EasedPin> EasePin(std::span<const float> kernel, std::span<const s
 
 // Moves `pose` so that the ankle (the leg's end joint) reaches `target`: analytic two-bone IK on
 // the ankle's parent (knee) and grandparent (hip). Out-of-reach targets stretch the leg straight
-// towards them.
-void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose);
+// towards them. `beyond`: the point that reaches it lies this far past the end joint, along the
+// lower bone (a device gripped beyond the wrist, grip_offset.h); 0: the end joint itself.
+void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose,
+                float beyond = 0.0f);
 
 // Whether each foot of a captured database frame is planted (ground-plane speed and height).
 std::array<bool, 2> PlantedFeet(const DatabaseFrame& frame, float planted_ankle_height,

@@ -32,6 +32,7 @@ class FrameHistory {
   const T& operator[](int frame) const { return items_[Slot(frame)]; }
   T& operator[](int frame) { return items_[Slot(frame)]; }
   const T& back() const { return items_.back(); }
+  T& back() { return items_.back(); }
 
   // Frames [from, size()) as one contiguous span (from ≥ first()).
   std::span<const T> Since(int from) const { return std::span<const T>(items_).subspan(Slot(from)); }

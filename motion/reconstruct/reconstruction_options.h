@@ -92,6 +92,13 @@ struct ReconstructionOptions {
   // 0.25 s each such dropout restarted the body, and on device-like input with 0.1-2 s dropouts
   // the full method fell behind a plain lookup (docs/evaluation.md, issue #22).
   double max_gap_seconds = 2.0;
+
+  // The tracked points are devices held in the hands, this many metres beyond the wrist joints
+  // along the forearms (a phone in a closed grip, a controller's handle: ~0.08–0.10), their
+  // orientation unknown (grip_offset.h). 0: the points are the wrists. At most kMaxGripOffset.
+  float grip_offset = 0.0f;
 };
+
+inline constexpr float kMaxGripOffset = 0.3f;
 
 }  // namespace mocap

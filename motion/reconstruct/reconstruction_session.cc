@@ -14,6 +14,7 @@
 #include "motion/core/str_cat.h"
 #include "motion/reconstruct/ankle_cloud.h"
 #include "motion/reconstruct/frame_history.h"
+#include "motion/reconstruct/grip_offset.h"
 #include "motion/reconstruct/hand_floor.h"
 #include "motion/reconstruct/pose_method.h"
 
@@ -55,11 +56,13 @@ struct ReconstructionSession::Segment {
   Segment(int id, const ReconstructionDatabase& db, const ReconstructionOptions& o)
       : id(id),
         smoother(o.smoothing, db.frame_time()),
+        grip(o.grip_offset),
         window_dp(db.frame_time(), o.ankle_path),
         cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), o.footskate, o.mode == StreamMode::kFixedLag) {}
   int id;
   WristSmoother smoother;
   float cloud_heading = 0.0f, pose_heading = 0.0f;
+  GripOffset grip;  // the device points' way back to the wrists
   // Per frame of the segment; frames no stage reads again are forgotten (ForgetSettledFrames).
   FrameHistory<SmoothedWrists> wrists;
   FrameHistory<std::array<Eigen::Vector3f, 2>> input;  // resampled, unsmoothed wrists
@@ -194,6 +197,10 @@ absl::StatusOr<std::unique_ptr<ReconstructionSession>> ReconstructionSession::Cr
       !(options.noisy_input_metres >= 0) || !(options.jittery_body_ratio >= 0) ||
       !std::isfinite(options.jittery_body_ratio)) {
     return absl::InvalidArgumentError("gap and smoothing parameters out of range");
+  }
+  if (!(options.grip_offset >= 0.0f && options.grip_offset <= kMaxGripOffset)) {
+    return absl::InvalidArgumentError(StrCat("grip offset must be in [0, ", kMaxGripOffset,
+                                             "] m (a device held in the hand), not ", options.grip_offset));
   }
   return std::unique_ptr<ReconstructionSession>(new ReconstructionSession(std::move(database), options));
 }
@@ -358,6 +365,25 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
   return absl::OkStatus();
 }
 
+constexpr int kGripRows = 10;
+
+absl::Status ReconstructionSession::DeviceToWrists(Segment& s) const {
+  SmoothedWrists& points = s.wrists.back();
+  if (!s.grip.knows_forearms() || !method_->uses_ankles()) {
+    // No earlier query to read the forearms from (or no cloud to come): the device points' own
+    // nearest frame's.
+    std::vector<AnkleCandidate> nearest;
+    float heading = s.cloud_heading;
+    MOCAP_RETURN_IF_ERROR(FindAnkleCloud(database_->wrist_index(), database_->frames(),
+                                         {.position_weight = database_->position_weight()}, points, 1, &heading,
+                                         &nearest));
+    const int row = nearest.front().row;
+    s.grip.Remember(*database_, std::span<const int>(&row, 1));
+  }
+  s.grip.ToWrists(s.cloud_heading, &points);
+  return absl::OkStatus();
+}
+
 absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>* out) {
   MOCAP_RETURN_IF_ERROR(CheckCancelled());
   MOCAP_RETURN_IF_ERROR(SolvePending(false, out));
@@ -369,6 +395,7 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
   } else {
     s.wrists.push_back(s.smoother.Push(s.input[t][0], s.input[t][1]));
   }
+  if (s.grip.active()) MOCAP_RETURN_IF_ERROR(DeviceToWrists(s));
   if (!method_->uses_ankles()) {
     s.wrist_distance.push_back(0.0f);
     statistics_.cloud_seconds += SecondsSince(start);
@@ -380,6 +407,12 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
                                        {.position_weight = database_->position_weight()}, s.wrists.back(),
                                        options_.ankle_candidates, &s.cloud_heading, &cloud));
   s.wrist_distance.push_back(cloud.front().wrist_distance);
+  if (s.grip.active()) {
+    std::array<int, kGripRows> rows;
+    const int n = std::min<int>(kGripRows, cloud.size());
+    for (int i = 0; i < n; ++i) rows[i] = cloud[i].row;
+    s.grip.Remember(*database_, std::span<const int>(rows.data(), n));
+  }
   statistics_.cloud_seconds += SecondsSince(start);
   start = Clock::now();
   if (options_.mode == StreamMode::kSubInterval) {
@@ -677,11 +710,17 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       ReimposeAnklePins(&frame, &world_rotations, &world_positions);
     }
     std::optional<SmoothedWrists> hand_target;
+    std::array<Eigen::Vector3f, 2> device_points;  // a declared grip's: where the hands' devices are
     std::array<bool, 2> under_floor = {false, false};
     if (options_.hand_target_sigma >= 0.0f) {
       // Hands on the input: a local linear fit over the samples that have arrived, which is the
       // Gaussian average where the window is centred and has no lag where it is one-sided.
       hand_target = FitInput(s, e, hand_kernels_[hand_level]);
+      if (s.grip.active()) {  // the device points' wrists, along this body's forearms
+        device_points = {hand_target->position[0], hand_target->position[1]};
+        body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
+        s.grip.ToWrists(body, world_positions, &*hand_target);
+      }
       // Input under the floor: no wrist goes lower than over a hand lying on it (hand_floor.h).
       for (int side = 0; side < 2; ++side) {
         float& height = hand_target->position[side].y();
@@ -704,10 +743,22 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     }
     if (options_.feet_above_floor) KeepFeetAboveFloor(&frame, &world_rotations, &world_positions);
     if (hand_target) {
-      for (int side = 0; side < 2; ++side)
-        SolveLegIk(body, wrist_joints[side], hand_target->position[side], &frame.pose);
+      for (int side = 0; side < 2; ++side) {
+        if (s.grip.active() && !under_floor[side]) {
+          s.grip.ReachWithDevice(body, side, device_points[side], &frame.pose);
+        } else {
+          SolveLegIk(body, wrist_joints[side], hand_target->position[side], &frame.pose);
+        }
+      }
     }
     body.WorldTransforms(frame.pose, &world_rotations, &world_positions);
+    if (s.grip.active()) {
+      // The input as wrists: the A2 device points back along the forearms the body holds them with,
+      // so that a hand's distance from it is its device's from the input (grip_offset.h).
+      SmoothedWrists input = FitInput(s, e, wrist_kernel_.empty() ? hand_kernels_.front() : wrist_kernel_);
+      s.grip.ToWrists(body, world_positions, &input);
+      frame.wrists = {input.position[0], input.position[1]};
+    }
     MarkOutOfReach(s.input[e], under_floor, world_positions, &frame);
     frame.pelvis_rotation = world_rotations[l.pelvis];
     frame.pelvis_position = world_positions[l.pelvis];
@@ -771,7 +822,9 @@ void ReconstructionSession::MarkOutOfReach(const std::array<Eigen::Vector3f, 2>&
     if (shoulder < 0 || elbow < 0 || frame->hand_state[side] != TrackingState::kTracked) continue;
     const float reach = (world_positions[elbow] - world_positions[shoulder]).norm() +
                         (world_positions[wrist] - world_positions[elbow]).norm();
-    if (under_floor[side] || (input[side] - world_positions[shoulder]).norm() > kOutOfReachFactor * reach) {
+    // A device held in the hand reaches its grip offset further (grip_offset.h).
+    const float device_reach = kOutOfReachFactor * reach + options_.grip_offset;
+    if (under_floor[side] || (input[side] - world_positions[shoulder]).norm() > device_reach) {
       frame->hand_state[side] = TrackingState::kOutOfReach;
     }
   }

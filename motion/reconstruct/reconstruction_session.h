@@ -92,7 +92,9 @@ struct ReconstructedFrame {
   // How far each body landmark is expected to be from the truth, metres (landmark_confidence.h).
   LandmarkErrors landmark_error{};
   std::array<Eigen::Vector3f, 2> ankles;  // A4 estimates (left, right), world metres
-  std::array<Eigen::Vector3f, 2> wrists;  // A2-smoothed input
+  // A2-smoothed input (with a grip offset, the devices' points taken back along the forearms the
+  // body holds them with: where its wrists would be).
+  std::array<Eigen::Vector3f, 2> wrists;
   FrameDiagnostics diagnostics;
   std::array<TrackingState, 2> hand_state{TrackingState::kTracked, TrackingState::kTracked};  // left, right
   // The motion guard (motion_guard.h) did not let the pelvis go where the solve put it: it moved
@@ -170,6 +172,8 @@ class ReconstructionSession {
   absl::Status AcceptGridSample(const GridSample& sample, std::vector<ReconstructedFrame>* out);
   // A2 and onwards for the segment's next frame whose input has arrived.
   absl::Status ProcessFrame(std::vector<ReconstructedFrame>* out);
+  // A declared grip offset: the segment's newest A2 device points become wrists (grip_offset.h).
+  absl::Status DeviceToWrists(Segment& s) const;
   // Ends the open segment: its last frames decided, then solved (`sliced`: until the slice
   // deadline; the segment ends once all are).
   absl::Status EndSegment(bool sliced, std::vector<ReconstructedFrame>* out);

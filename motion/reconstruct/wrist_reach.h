@@ -24,6 +24,13 @@ struct WristReach {
   float height = 0.0f;
 };
 WristReach MeasureWristReach(std::span<const FrameFeatures> frames);
+// How far the database's bodies would hold devices gripped `grip_offset` metres beyond each wrist
+// (ReconstructionOptions::grip_offset): that much higher, twice that further apart. Input of
+// devices read against the wrists' reach sized every body up (mocap-eval's phone_in_hand: 15 of
+// 173 clips to 1.0–1.16 ×).
+inline WristReach DeviceReach(const WristReach& wrists, float grip_offset) {
+  return {.separation = wrists.separation + 2.0f * grip_offset, .height = wrists.height + grip_offset};
+}
 
 struct ReachScaleOptions {
   // The input's reach: this quantile of its samples (a twentieth of the input beyond the database's

@@ -116,6 +116,7 @@ absl::StatusOr<InputFrame> InputFrameFromProto(const v1::InputFrame& proto) {
   if (proto.floor_case() == v1::InputFrame::kCalibrateFloor) frame.floor = {proto.calibrate_floor(), 0.0};
   frame.tracked_device = proto.tracked_device();
   frame.device_offset = FromProto(proto.device_offset());
+  frame.grip_offset = proto.grip_offset();
   MOCAP_RETURN_IF_ERROR(ValidateInputFrame(frame));
   return frame;
 }
@@ -135,6 +136,7 @@ v1::InputFrame ToProto(const InputFrame& frame, v1::InputFramePreset preset) {
   out.mutable_device_offset()->set_x(frame.device_offset.x());
   out.mutable_device_offset()->set_y(frame.device_offset.y());
   out.mutable_device_offset()->set_z(frame.device_offset.z());
+  out.set_grip_offset(frame.grip_offset);
   return out;
 }
 

@@ -180,6 +180,18 @@ TEST(InputFrameTest, DeclarationsOutOfRangeAreRefusedNamingTheField) {
   EXPECT_TRUE(
       DeviceToWrist({1, 1, 1}, Eigen::Quaternionf(Eigen::AngleAxisf(M_PI / 2, Eigen::Vector3f::UnitY())), {0, 0, 1})
           .isApprox(Eigen::Vector3f(2, 1, 1)));
+  // A device gripped beyond the wrist, its orientation not sent: up to 0.3 m, not beside one that is.
+  frame = {};
+  frame.convention.unit = LengthUnit::kCentimetre;
+  frame.grip_offset = 9;
+  EXPECT_TRUE(ValidateInputFrame(frame).ok());
+  for (const float grip : {-1.0f, 31.0f, std::numeric_limits<float>::quiet_NaN()}) {
+    frame.grip_offset = grip;
+    EXPECT_NE(ValidateInputFrame(frame).message().find("grip_offset"), std::string_view::npos) << grip;
+  }
+  frame.grip_offset = 9;
+  frame.tracked_device = true;
+  EXPECT_NE(ValidateInputFrame(frame).message().find("tracked_device"), std::string_view::npos);
 }
 
 TEST(InputFrameTest, AxisAndHandednessNamesParse) {
