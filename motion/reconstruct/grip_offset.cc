@@ -26,8 +26,8 @@ std::array<Eigen::Vector3f, 2> Forearms(const BodyModel& body, const std::vector
 
 std::array<Eigen::Vector3f, 2> RowForearms(const ReconstructionDatabase& database, int row) {
   const DatabaseFrame& frame = database.frames()[row];
-  const Eigen::Quaternionf pelvis_rotation(frame.pelvis_rotation[0], frame.pelvis_rotation[1],
-                                           frame.pelvis_rotation[2], frame.pelvis_rotation[3]);
+  const Eigen::Quaternionf pelvis_rotation(frame.pelvis_rotation[0], frame.pelvis_rotation[1], frame.pelvis_rotation[2],
+                                           frame.pelvis_rotation[3]);
   const Eigen::Vector3f pelvis_position(frame.pelvis_position[0], frame.pelvis_position[1], frame.pelvis_position[2]);
   const Eigen::VectorXf feature = database.pose_feature(row).transpose();
   const BodyModel& body = database.body();
@@ -62,20 +62,12 @@ void GripOffset::ToWrists(float heading, SmoothedWrists* points) {
   }
 }
 
-}  // namespace mocap
-
-namespace mocap {
-
 void GripOffset::ToWrists(const BodyModel& body, const std::vector<Eigen::Vector3f>& world_positions,
                           SmoothedWrists* points) const {
   if (!active()) return;
   const std::array<Eigen::Vector3f, 2> forearms = Forearms(body, world_positions);
   for (int side = 0; side < 2; ++side) points->position[side] -= metres_ * forearms[side];
 }
-
-}  // namespace mocap
-
-namespace mocap {
 
 void GripOffset::ReachWithDevice(const BodyModel& body, int side, const Eigen::Vector3f& device_point,
                                  BodyPose* pose) const {

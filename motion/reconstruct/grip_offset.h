@@ -3,9 +3,10 @@
 // the wrist joint along the forearm, so the tracked point is not the wrist the database's features
 // and the A6 solve speak of: read as a wrist it lengthens every arm by that much (mocap-eval's
 // `phone_in_hand` device: landmark error 10.1 → 15.9 cm). Declared (ReconstructionOptions::
-// grip_offset), each A2-smoothed device point goes back that far along the forearm of the database
-// frame nearest the previous frame's query (the first frame of a segment: of its own, once), in the
-// query's reference frame (docs/method.md A2).
+// grip_offset), each A2-smoothed device point goes back that far along the forearms of the database
+// frames nearest the previous frame's query (the first frame of a segment: of its own nearest,
+// once), in the query's reference frame, and the final arm IK reaches the device with the forearm
+// extended past the wrist (docs/method.md A2).
 //
 // Thread safety: one per segment of one session.
 #pragma once
@@ -35,11 +36,13 @@ class GripOffset {
   // Whether a forearm is known yet (a segment's first frame has none: the caller reads it from the
   // nearest row of the device points themselves, then calls ToWrists).
   bool knows_forearms() const { return forearms_.has_value(); }
-  // The forearms of the nearest database row to the frame's query (its cloud's first row).
+  // The forearms of the database rows nearest the frame's query (its cloud's first ten), their
+  // mean direction: what the next frame's points go back along.
   void Remember(const ReconstructionDatabase& database, std::span<const int> rows);
-  // `points`: the A2-smoothed device points, becoming the wrists they imply (positions only: the
-  // forearm's turn adds little to a hand's velocity). `heading`: the reference frame's (A3's
-  // cloud heading), read, not updated. No change before a forearm is known.
+  // `points`: the A2-smoothed device points, becoming the wrists they imply (positions only:
+  // velocities corrected by the remembered forearms' turn were worse, docs/evaluation.md stop 64).
+  // `heading`: the reference frame's (A3's cloud heading), read, not updated. No change before a
+  // forearm is known.
   void ToWrists(float heading, SmoothedWrists* points);
   // The same for the hands' final targets, along the forearms of the body about to reach for them
   // (`world_positions`: its joints').

@@ -224,6 +224,34 @@ TEST_F(InputFrameTest, ExplicitFieldsAndATrackedDeviceGiveTheSameMotion) {
             std::string::npos);
 }
 
+// A device held in the hand without its orientation (a phone): the server takes each point back
+// along the forearm by the declared grip, in the declared unit, and says so in the echo.
+TEST_F(InputFrameTest, AGripOffsetTakesDevicePointsBackToTheWrists) {
+  SetUpData();
+  const v1::ReconstructTrajectoryResponse native = Reconstruct(Config(), query_);
+  ASSERT_GT(native.frames_size(), 20);
+  v1::SessionConfig config = Config();
+  config.mutable_input_frame()->set_unit(v1::LENGTH_UNIT_CENTIMETRE);
+  config.mutable_input_frame()->set_grip_offset(9);
+  const v1::ReconstructTrajectoryResponse gripped =
+      Reconstruct(config, InFrame(query_, FrameTransform({LengthUnit::kCentimetre}, 0.0)));
+  ASSERT_EQ(gripped.frames_size(), native.frames_size());
+  EXPECT_FLOAT_EQ(gripped.started().config().input_frame().grip_offset(), 9.0f);
+  // The input as wrists (Frame.left_wrist, in the declared centimetres) lies a grip short of the
+  // points sent, which the native run took as the wrists themselves.
+  double moved = 0;
+  for (int f = 0; f < native.frames_size(); ++f) {
+    moved += (FromProto(gripped.frames(f).left_wrist()) / 100.0f - FromProto(native.frames(f).left_wrist())).norm();
+  }
+  EXPECT_NEAR(moved / native.frames_size(), 0.09, 0.01);
+  // Beside a tracked device's offset, or longer than a hand holds, it is refused naming the field.
+  config.mutable_input_frame()->set_grip_offset(40);
+  EXPECT_NE(client_->ReconstructTrajectory(config, query_).status().message().find("grip_offset"), std::string::npos);
+  config.mutable_input_frame()->set_grip_offset(9);
+  config.mutable_input_frame()->set_tracked_device(true);
+  EXPECT_NE(client_->ReconstructTrajectory(config, query_).status().message().find("grip_offset"), std::string::npos);
+}
+
 TEST_F(InputFrameTest, WrongDeclarationsAreNamed) {
   SetUpData();
   // Centimetres declared as metres: every sample refused, naming the likely unit.

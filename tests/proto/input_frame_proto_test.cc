@@ -29,8 +29,10 @@ TEST(InputFrameProtoTest, ExplicitFieldsOverrideThePresetAndEchoInFull) {
   proto.set_preset(v1::INPUT_FRAME_PRESET_UNREAL);
   proto.set_unit(v1::LENGTH_UNIT_MILLIMETRE);
   proto.set_calibrate_floor(true);
+  proto.set_grip_offset(90);  // mm: a phone in the hand
   auto frame = InputFrameFromProto(proto);
   ASSERT_TRUE(frame.ok()) << frame.status();
+  EXPECT_EQ(frame->grip_offset, 90.0f);
   EXPECT_EQ(frame->convention.unit, LengthUnit::kMillimetre);
   EXPECT_EQ(frame->convention.up, UpAxis::kPosZ);  // the preset's
   EXPECT_EQ(frame->convention.handedness, Handedness::kLeft);
@@ -40,6 +42,7 @@ TEST(InputFrameProtoTest, ExplicitFieldsOverrideThePresetAndEchoInFull) {
   EXPECT_EQ(echo.up(), v1::UP_AXIS_POS_Z);
   EXPECT_EQ(echo.handedness(), v1::HANDEDNESS_LEFT);
   EXPECT_TRUE(echo.calibrate_floor());
+  EXPECT_EQ(echo.grip_offset(), 90.0f);
   auto again = InputFrameFromProto(echo);
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again->convention.unit, LengthUnit::kMillimetre);

@@ -88,8 +88,8 @@ TEST_F(GripOffsetTest, DevicesHeldBeyondTheWristsAreTakenBackAlongTheForearms) {
     for (const ReconstructedFrame& frame : *gripped) {
       setup_.database->body().WorldTransforms(frame.pose, &rotations, &positions);
       const WristSample& sample = samples[frame.frame_in_segment];
-      const Eigen::Vector3f left = positions[l.left_wrist] +
-                                   kGrip * (positions[l.left_wrist] - positions[l.left_elbow]).normalized();
+      const Eigen::Vector3f left =
+          positions[l.left_wrist] + kGrip * (positions[l.left_wrist] - positions[l.left_elbow]).normalized();
       EXPECT_LT((left - sample.left).norm(), 0.03f) << "frame " << frame.frame_in_segment;
       EXPECT_EQ(frame.hand_state[0], TrackingState::kTracked) << "frame " << frame.frame_in_segment;
     }
