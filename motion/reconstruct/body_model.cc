@@ -205,4 +205,16 @@ float WristSpan(const BodyModel& body) {
   return arms ? *arms + (positions[l.left_shoulder] - positions[l.right_shoulder]).norm() : 0.0f;
 }
 
+float ForearmLength(const BodyModel& body) {
+  const BodyLandmarks& l = body.rig().topology.landmarks;
+  if (l.left_elbow < 0 || l.left_wrist < 0 || l.right_elbow < 0 || l.right_wrist < 0) return 0.0f;
+  BodyPose rest;
+  rest.rotations.assign(body.skeleton().num_joints(), Eigen::Quaternionf::Identity());
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  body.WorldTransforms(rest, &rotations, &positions);
+  return 0.5f * ((positions[l.left_wrist] - positions[l.left_elbow]).norm() +
+                 (positions[l.right_wrist] - positions[l.right_elbow]).norm());
+}
+
 }  // namespace mocap

@@ -95,4 +95,7 @@ float EstimatedStature(const BodyModel& body);
 // landmarks) and the shoulders' breadth, arms spread. 0 when the rig's landmarks give no arms.
 float WristSpan(const BodyModel& body);
 
+// Elbow to wrist landmark, metres, the mean of both arms. 0 when the rig's landmarks give no arms.
+float ForearmLength(const BodyModel& body);
+
 }  // namespace mocap

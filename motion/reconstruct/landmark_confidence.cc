@@ -87,4 +87,11 @@ LandmarkErrors ExpectedLandmarkErrors(const ConfidenceCues& cues) {
   return errors;
 }
 
+void AddGripUncertainty(float grip_over_forearm, LandmarkErrors* errors) {
+  if (!(grip_over_forearm > 0)) return;
+  for (const auto& [elbow, wrist] : {std::pair{4, 6}, std::pair{5, 7}}) {  // kBodyLandmarkNames' order
+    (*errors)[wrist] = std::hypot((*errors)[wrist], grip_over_forearm * (*errors)[elbow]);
+  }
+}
+
 }  // namespace mocap

@@ -58,4 +58,10 @@ float LogSolverCost(float solver_cost);
 // The expected error of each landmark, metres.
 LandmarkErrors ExpectedLandmarkErrors(const ConfidenceCues& cues);
 
+// A device held `grip_over_forearm` forearm lengths past the wrist (grip_offset.h): each wrist is
+// found back along the body's forearm, whose direction is off by about its elbow's error over the
+// forearm's length, so the wrist's expected error takes grip × that angle in quadrature. Not fitted:
+// geometry (phone_in_hand, docs/evaluation.md stop 64).
+void AddGripUncertainty(float grip_over_forearm, LandmarkErrors* errors);
+
 }  // namespace mocap

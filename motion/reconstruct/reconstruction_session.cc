@@ -134,6 +134,9 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
       reach_lean_(database_->body().skeleton(), database_->rig().topology.landmarks, options.reach_lean),
       method_(MakePoseMethod(options)) {
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
+  if (const float forearm = ForearmLength(database_->body()); forearm > 0.0f) {
+    grip_over_forearm_ = options_.grip_offset / forearm;
+  }
   ankle_kernel_ = GaussianKernel(options_.ankle_path.smoothing_sigma_frames);
   // The sharp filter's lag (8σ) costs nothing only where the output waits for the whole input.
   const bool low_pass = options_.joint_low_pass && options_.mode == StreamMode::kSubInterval && options_.window == 0;
@@ -589,6 +592,7 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   TrackBodyJitter(s, frame);
   d.session_log_cost = session_cost_.Add(d.solver_cost);
   frame.landmark_error = ExpectedLandmarkErrors(ConfidenceCuesOf(d));
+  AddGripUncertainty(grip_over_forearm_, &frame.landmark_error);
   if (full) d.contact = s.cleaner.Process(ankles, &db.frames()[s.raw_rows[f]], &frame.pose, &frame.ankle_targets);
   s.post.push_back(std::move(frame));
   EmitFiltered(false, out);

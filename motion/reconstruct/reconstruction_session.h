@@ -226,7 +226,8 @@ class ReconstructionSession {
   int next_output_index_ = 0;
   int joint_filter_lag_ = 0;
   int ankle_lag_ = 0;
-  int lookahead_ = 0;  // A2 frames (local linear smoothing)
+  int lookahead_ = 0;            // A2 frames (local linear smoothing)
+  float grip_over_forearm_ = 0;  // options' grip_offset over the body's forearm (AddGripUncertainty)
   std::vector<float> ankle_kernel_, wrist_kernel_;
   // The joint filter's kernels from joint_smoothing_sigma (first) to
   // weak_input_joint_smoothing_sigma (last), 0.1 frame of σ apart; the hands' targets' alongside.

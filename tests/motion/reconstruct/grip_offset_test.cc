@@ -54,6 +54,12 @@ class GripOffsetTest : public ::testing::Test {
   ReconstructionOptions options_;
 };
 
+TEST_F(GripOffsetTest, AForearmIsAsLongAsAPersons) {
+  const float forearm = ForearmLength(setup_.database->body());
+  EXPECT_GT(forearm, 0.1f * EstimatedStature(setup_.database->body()));
+  EXPECT_LT(forearm, 0.25f * EstimatedStature(setup_.database->body()));
+}
+
 TEST_F(GripOffsetTest, ARowsForearmsAreUnitVectorsAlongItsArms) {
   const ReconstructionDatabase& db = *setup_.database;
   for (int row = 0; row < db.num_rows(); row += 17) {

@@ -129,3 +129,25 @@ TEST(ExpectedLandmarkErrorsTest, EveryReconstructedFrameCarriesThem) {
 
 }  // namespace
 }  // namespace mocap
+
+namespace mocap {
+namespace {
+
+TEST(AddGripUncertaintyTest, TheWristsTakeTheGripTimesTheirElbowsAngle) {
+  const LandmarkErrors tracked = ExpectedLandmarkErrors({.distance = 0.5f, .wrist_fit = 0.01f, .solver_cost = 20.0f});
+  LandmarkErrors errors = tracked;
+  AddGripUncertainty(0.0f, &errors);
+  EXPECT_EQ(errors, tracked);          // no grip: as they were
+  AddGripUncertainty(0.36f, &errors);  // 9 cm past a 25 cm forearm
+  for (int k = 0; k < kNumBodyLandmarks; ++k) {
+    if (k == 6 || k == 7) {
+      EXPECT_FLOAT_EQ(errors[k], std::hypot(tracked[k], 0.36f * tracked[k - 2])) << kBodyLandmarkNames[k];
+      EXPECT_GT(errors[k], tracked[k]);
+    } else {
+      EXPECT_EQ(errors[k], tracked[k]) << kBodyLandmarkNames[k];
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mocap
