@@ -101,6 +101,10 @@ absl::Status ToDeclaredFrame(const InputFrame& frame, std::vector<v1::WristSampl
         "--device-offset needs each device's orientation: give --csv with the orientation "
         "columns (BVH wrists are wrist joints already)");
   }
+  if (frame.grip_offset != 0.0f) {
+    return absl::InvalidArgumentError(
+        "--grip-offset is for devices held in the hands (--csv): BVH wrists are wrist joints already");
+  }
   const FrameTransform transform(frame.convention, frame.floor.calibrate ? 0.0 : frame.floor.height);
   for (v1::WristSample& sample : *samples) {
     ToDeclared(transform, sample.mutable_left());

@@ -31,7 +31,8 @@ absl::StatusOr<DeclaredInputFrame> ResolveInputFrame(const InputFrameFlags& flag
 
 // Native wrists (metres, Y up, floor at 0: a BVH clip's forward kinematics) rewritten in the
 // declared frame, as a tracker in that frame would send them (a calibrated floor stays where the
-// clip's is). InvalidArgument for a device offset: BVH wrists have no device orientations.
+// clip's is). InvalidArgument for a device offset (BVH wrists have no device orientations) or a
+// grip offset (they are wrists, not devices).
 absl::Status ToDeclaredFrame(const InputFrame& frame, std::vector<v1::WristSample>* samples);
 
 }  // namespace mocap::cli

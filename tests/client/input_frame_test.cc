@@ -361,6 +361,16 @@ TEST_F(InputFrameTest, CliTakesPresetsAndExplicitFlags) {
   std::ifstream log(dir_ / "bad.log");
   const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("--input-frame: unknown preset \"maya\""), std::string::npos) << text;
+  // A BVH's wrists are wrists: a grip is refused, saying so.
+  const std::string gripped = std::string(MOCAP_CLI_PATH) + " --address " + server_->address() + " --key " +
+                              keys_["acme"] + " reconstruct --database walks --bvh " + clip.string() +
+                              " --grip-offset 0.09 -o " + (dir_ / "gripped").string() + " 2>" +
+                              (dir_ / "gripped.log").string();
+  EXPECT_NE(std::system(gripped.c_str()), 0);
+  std::ifstream gripped_log(dir_ / "gripped.log");
+  const std::string gripped_text((std::istreambuf_iterator<char>(gripped_log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(gripped_text.find("--grip-offset is for devices"), std::string::npos) << gripped_text;
+  EXPECT_FALSE(fs::exists(dir_ / "gripped.bvh"));
 }
 
 // Issue #25: a run where every sample is refused fails with one summary naming the cause and the
