@@ -170,12 +170,19 @@ namespace {
 
 // Both limbs' lengths (root → middle → end landmark, left and right), measured on the body's
 // zero-rotation pose; nullopt when a landmark is missing.
-std::optional<float> LimbsLength(const BodyModel& body, const std::array<std::array<int, 3>, 2>& limbs,
-                                 std::vector<Eigen::Vector3f>* positions) {
+// Every joint's position with every joint at its zero rotation.
+std::vector<Eigen::Vector3f> RestPositions(const BodyModel& body) {
   BodyPose rest;
   rest.rotations.assign(body.skeleton().num_joints(), Eigen::Quaternionf::Identity());
   std::vector<Eigen::Quaternionf> rotations;
-  body.WorldTransforms(rest, &rotations, positions);
+  std::vector<Eigen::Vector3f> positions;
+  body.WorldTransforms(rest, &rotations, &positions);
+  return positions;
+}
+
+std::optional<float> LimbsLength(const BodyModel& body, const std::array<std::array<int, 3>, 2>& limbs,
+                                 std::vector<Eigen::Vector3f>* positions) {
+  *positions = RestPositions(body);
   float length = 0.0f;
   for (const auto& [root, middle, end] : limbs) {
     if (root < 0 || middle < 0 || end < 0) return std::nullopt;
@@ -208,11 +215,7 @@ float WristSpan(const BodyModel& body) {
 float ForearmLength(const BodyModel& body) {
   const BodyLandmarks& l = body.rig().topology.landmarks;
   if (l.left_elbow < 0 || l.left_wrist < 0 || l.right_elbow < 0 || l.right_wrist < 0) return 0.0f;
-  BodyPose rest;
-  rest.rotations.assign(body.skeleton().num_joints(), Eigen::Quaternionf::Identity());
-  std::vector<Eigen::Quaternionf> rotations;
-  std::vector<Eigen::Vector3f> positions;
-  body.WorldTransforms(rest, &rotations, &positions);
+  const std::vector<Eigen::Vector3f> positions = RestPositions(body);
   return 0.5f * ((positions[l.left_wrist] - positions[l.left_elbow]).norm() +
                  (positions[l.right_wrist] - positions[l.right_elbow]).norm());
 }

@@ -1,7 +1,8 @@
 #include "motion/reconstruct/grip_offset.h"
 
+#include <algorithm>
+
 #include "motion/preprocess/frame_features.h"
-#include "motion/reconstruct/footskate_cleanup.h"
 
 namespace mocap {
 
@@ -39,10 +40,10 @@ std::array<Eigen::Vector3f, 2> RowForearms(const ReconstructionDatabase& databas
   return Forearms(body, positions);
 }
 
-void GripOffset::Remember(const ReconstructionDatabase& database, std::span<const int> rows) {
+void GripOffset::Remember(const ReconstructionDatabase& database, std::span<const AnkleCandidate> nearest_first) {
   std::array<Eigen::Vector3f, 2> sum{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
-  for (int row : rows) {
-    const std::array<Eigen::Vector3f, 2> forearms = RowForearms(database, row);
+  for (const AnkleCandidate& candidate : nearest_first.first(std::min(kRows, nearest_first.size()))) {
+    const std::array<Eigen::Vector3f, 2> forearms = RowForearms(database, candidate.row);
     for (int side = 0; side < 2; ++side) sum[side] += forearms[side];
   }
   for (auto& v : sum) v = v.norm() > 1e-4f ? v.normalized() : Eigen::Vector3f::Zero();
@@ -67,13 +68,6 @@ void GripOffset::ToWrists(const BodyModel& body, const std::vector<Eigen::Vector
   if (!active()) return;
   const std::array<Eigen::Vector3f, 2> forearms = Forearms(body, world_positions);
   for (int side = 0; side < 2; ++side) points->position[side] -= metres_ * forearms[side];
-}
-
-void GripOffset::ReachWithDevice(const BodyModel& body, int side, const Eigen::Vector3f& device_point,
-                                 BodyPose* pose) const {
-  const BodyLandmarks& l = body.rig().topology.landmarks;
-  const int wrist = side == 0 ? l.left_wrist : l.right_wrist;
-  if (wrist >= 0) SolveLegIk(body, wrist, device_point, pose, metres_);
 }
 
 }  // namespace mocap

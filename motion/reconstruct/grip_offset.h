@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "motion/reconstruct/ankle_cloud.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/wrist_smoother.h"
 
@@ -36,9 +37,9 @@ class GripOffset {
   // Whether a forearm is known yet (a segment's first frame has none: the caller reads it from the
   // nearest row of the device points themselves, then calls ToWrists).
   bool knows_forearms() const { return forearms_.has_value(); }
-  // The forearms of the database rows nearest the frame's query (its cloud's first ten), their
-  // mean direction: what the next frame's points go back along.
-  void Remember(const ReconstructionDatabase& database, std::span<const int> rows);
+  // The forearms of the database rows nearest the frame's query (the first kRows of `nearest_first`,
+  // its cloud), their mean direction: what the next frame's points go back along.
+  void Remember(const ReconstructionDatabase& database, std::span<const AnkleCandidate> nearest_first);
   // `points`: the A2-smoothed device points, becoming the wrists they imply (positions only:
   // velocities corrected by the remembered forearms' turn were worse, docs/evaluation.md stop 64).
   // `heading`: the reference frame's (A3's cloud heading), read, not updated. No change before a
@@ -48,10 +49,7 @@ class GripOffset {
   // (`world_positions`: its joints').
   void ToWrists(const BodyModel& body, const std::vector<Eigen::Vector3f>& world_positions,
                 SmoothedWrists* points) const;
-  // The arm IK (footskate_cleanup.h's two-bone solve) of the `side` hand to `device_point`, the
-  // forearm reaching the grip past the wrist.
-  void ReachWithDevice(const BodyModel& body, int side, const Eigen::Vector3f& device_point, BodyPose* pose) const;
-  float metres() const { return metres_; }
+  float metres() const { return metres_; }  // how far past the wrist the arm IK reaches (SolveLegIk's `beyond`)
 
  private:
   float metres_;
@@ -59,6 +57,7 @@ class GripOffset {
   // The forearms the wrists were taken back along (world), following the nearest rows' by
   // kFollow of the way each frame.
   static constexpr float kFollow = 0.25f;
+  static constexpr size_t kRows = 10;
   std::array<Eigen::Vector3f, 2> world_forearms_{Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()};
 };
 

@@ -368,8 +368,6 @@ absl::Status ReconstructionSession::AcceptGridSample(const GridSample& sample, s
   return absl::OkStatus();
 }
 
-constexpr int kGripRows = 10;
-
 absl::Status ReconstructionSession::DeviceToWrists(Segment& s) const {
   SmoothedWrists& points = s.wrists.back();
   if (!s.grip.knows_forearms() || !method_->uses_ankles()) {
@@ -380,8 +378,7 @@ absl::Status ReconstructionSession::DeviceToWrists(Segment& s) const {
     MOCAP_RETURN_IF_ERROR(FindAnkleCloud(database_->wrist_index(), database_->frames(),
                                          {.position_weight = database_->position_weight()}, points, 1, &heading,
                                          &nearest));
-    const int row = nearest.front().row;
-    s.grip.Remember(*database_, std::span<const int>(&row, 1));
+    s.grip.Remember(*database_, nearest);
   }
   s.grip.ToWrists(s.cloud_heading, &points);
   return absl::OkStatus();
@@ -410,12 +407,7 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
                                        {.position_weight = database_->position_weight()}, s.wrists.back(),
                                        options_.ankle_candidates, &s.cloud_heading, &cloud));
   s.wrist_distance.push_back(cloud.front().wrist_distance);
-  if (s.grip.active()) {
-    std::array<int, kGripRows> rows;
-    const int n = std::min<int>(kGripRows, cloud.size());
-    for (int i = 0; i < n; ++i) rows[i] = cloud[i].row;
-    s.grip.Remember(*database_, std::span<const int>(rows.data(), n));
-  }
+  if (s.grip.active()) s.grip.Remember(*database_, cloud);
   statistics_.cloud_seconds += SecondsSince(start);
   start = Clock::now();
   if (options_.mode == StreamMode::kSubInterval) {
@@ -748,8 +740,8 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
     if (options_.feet_above_floor) KeepFeetAboveFloor(&frame, &world_rotations, &world_positions);
     if (hand_target) {
       for (int side = 0; side < 2; ++side) {
-        if (s.grip.active() && !under_floor[side]) {
-          s.grip.ReachWithDevice(body, side, device_points[side], &frame.pose);
+        if (s.grip.active() && !under_floor[side]) {  // the forearm reaches the device past the wrist
+          SolveLegIk(body, wrist_joints[side], device_points[side], &frame.pose, s.grip.metres());
         } else {
           SolveLegIk(body, wrist_joints[side], hand_target->position[side], &frame.pose);
         }
