@@ -247,16 +247,8 @@ absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out
       full != results.end()) {
     std::vector<std::pair<std::string, const ConfidenceSummary*>> rows = {{"all", &full->confidence}};
     for (const auto& [source, c] : full->confidence_by_source) rows.emplace_back(source, &c);
-    std::vector<std::pair<std::string, const ConfidenceSummary*>> device_rows;
-    for (const LandmarkExperimentResult& r : results) {
-      if (r.experiment.group == "device" && r.experiment.options.method == ReconstructionMethod::kFull &&
-          r.experiment.device.accuracy_measured())
-        device_rows.emplace_back(r.experiment.name, &r.confidence);
-    }
     confidence << "\n## Confidence of the full method: expected landmark error against actual\n\n"
                << ConfidenceMarkdown(rows) << "\nPlots: `plots/confidence_reliability_*.svg`.\n";
-    if (!device_rows.empty())
-      confidence << "\nOn device-like input (all sources):\n\n" << ConfidenceMarkdown(device_rows);
     std::filesystem::create_directories(out_dir / "plots");
     for (const auto& [name, summary] : rows) {
       std::ofstream svg(out_dir / "plots" / StrCat("confidence_reliability_", name, ".svg"));
@@ -264,6 +256,15 @@ absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out
       if (!svg) return absl::InternalError(StrCat("cannot write the reliability plots in ", out_dir.string()));
     }
   }
+  // Device runs have their own table, whether or not the plain full run was among the runs.
+  std::vector<std::pair<std::string, const ConfidenceSummary*>> device_rows;
+  for (const LandmarkExperimentResult& r : results) {
+    if (r.experiment.group == "device" && r.experiment.options.method == ReconstructionMethod::kFull &&
+        r.experiment.device.accuracy_measured())
+      device_rows.emplace_back(r.experiment.name, &r.confidence);
+  }
+  if (!device_rows.empty())
+    confidence << "\nConfidence on device-like input (all sources):\n\n" << ConfidenceMarkdown(device_rows);
   md << confidence.str();
   if (!left_out.empty()) {
     md << "\n## Not scored\n\n";

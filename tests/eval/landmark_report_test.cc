@@ -15,6 +15,7 @@ LandmarkExperimentResult DeviceRun(const std::string& method, const std::string&
   r.experiment.name = method + "@" + device;
   r.experiment.group = "device";
   r.experiment.device.name = device;
+  if (method == "nearest_neighbour") r.experiment.options.method = ReconstructionMethod::kNearestNeighbour;
   LandmarkMetrics m;
   m.frames = 10;
   m.landmark_error_m = 10 * error_m;
@@ -30,7 +31,8 @@ std::string ReadAll(const std::filesystem::path& file) {
 }
 
 // `mocap-eval --runs full@tracker_90hz nearest_neighbour@tracker_90hz` asks for device runs only:
-// the report is written with their table, not refused for want of a run on the lab's input.
+// the report is written with their table and their confidence, not refused for want of a run on
+// the lab's input.
 TEST(LandmarkReportTest, DeviceRunsAloneAreReported) {
   const std::filesystem::path out = std::filesystem::path(::testing::TempDir()) / "landmark_report_test_devices_only";
   std::filesystem::remove_all(out);
@@ -44,6 +46,10 @@ TEST(LandmarkReportTest, DeviceRunsAloneAreReported) {
   const std::string md = ReadAll(out / "landmarks.md");
   EXPECT_NE(md.find("No run on the lab's input"), std::string::npos);
   EXPECT_NE(md.find("tracker_90hz"), std::string::npos);
+  // The full method's confidence on the device is reported without the plain full run beside it.
+  EXPECT_NE(summary->find("Confidence on device-like input"), std::string::npos) << *summary;
+  EXPECT_NE(summary->find("| full@tracker_90hz |"), std::string::npos) << *summary;
+  EXPECT_EQ(summary->find("| nearest_neighbour@tracker_90hz |"), std::string::npos) << *summary;
   EXPECT_TRUE(std::filesystem::exists(out / "landmarks.json"));
   EXPECT_FALSE(WriteLandmarkReport(out, context, {}, {}).ok());  // nothing run: nothing to report
 }
