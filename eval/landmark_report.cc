@@ -89,6 +89,26 @@ void Table(std::ostringstream& md, const std::string& title, const std::vector<s
   md << "\n";
 }
 
+// Whether each run's body stays a body (issue #22's plausibility targets hold in every mode and on
+// every input, not only the whole clip's on the lab's input the per-source tables show).
+void PlausibilityTable(std::ostringstream& md, const std::vector<LandmarkExperimentResult>& results) {
+  md << "\n## Plausibility per run\n\nClips over: the output pelvis faster than max(2 × the capture's fastest, "
+        "its fastest + 1 m/s), and the worst clip's fastest against that. Hands: distance to the smoothed input "
+        "where it is within reach.\n\n"
+        "| run | clips | clips over allowed | worst / allowed | pelvis max m/s | pelvis p99 m/s | hands p99 cm | "
+        "hand-frames out of reach | motion-limited frames | deepest under the floor cm |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const LandmarkExperimentResult& r : results) {
+    const LandmarkMetrics& m = r.overall;
+    const PlausibilityStats& p = m.plausibility;
+    md << "| " << r.experiment.name << " | " << m.clips << " | " << m.clips_over_allowed_speed << " | "
+       << Fixed(m.worst_speed_over_allowed) << " | " << Fixed(p.pelvis_speed.max(), 1) << " | "
+       << Fixed(p.pelvis_speed.Quantile(0.99), 1) << " | " << Fixed(100 * p.hand_distance.Quantile(0.99), 1) << " | "
+       << p.hand_frames_out_of_reach << " | " << p.motion_limited_frames << " | " << Fixed(100 * p.penetration_max, 1)
+       << " |\n";
+  }
+}
+
 // The full method against the nearest neighbour on each device's input (device_input.h), per
 // source, beside the lab's input: accuracy and whether the body stays a body.
 void DeviceTable(
@@ -240,6 +260,7 @@ absl::StatusOr<std::string> WriteLandmarkReport(const std::filesystem::path& out
       md << " " << Fixed(100 * r.overall.Mean(r.overall.group_error_m[g])) << " |";
     md << "\n";
   }
+  PlausibilityTable(md, results);
   md << devices.str();
   std::ostringstream confidence;
   if (const auto full = std::find_if(results.begin(), results.end(),

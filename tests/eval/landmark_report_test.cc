@@ -18,6 +18,7 @@ LandmarkExperimentResult DeviceRun(const std::string& method, const std::string&
   if (method == "nearest_neighbour") r.experiment.options.method = ReconstructionMethod::kNearestNeighbour;
   LandmarkMetrics m;
   m.frames = 10;
+  m.clips = 1;
   m.landmark_error_m = 10 * error_m;
   r.overall = m;
   r.by_source["cmu-cc"] = m;
@@ -46,6 +47,10 @@ TEST(LandmarkReportTest, DeviceRunsAloneAreReported) {
   const std::string md = ReadAll(out / "landmarks.md");
   EXPECT_NE(md.find("No run on the lab's input"), std::string::npos);
   EXPECT_NE(md.find("tracker_90hz"), std::string::npos);
+  // Every run's plausibility, the nearest neighbour's too, in a table of its own.
+  const size_t plausibility = md.find("## Plausibility per run");
+  ASSERT_NE(plausibility, std::string::npos) << md;
+  EXPECT_NE(md.find("| nearest_neighbour@tracker_90hz | 1 |", plausibility), std::string::npos) << md;
   // The full method's confidence on the device is reported without the plain full run beside it.
   EXPECT_NE(summary->find("Confidence on device-like input"), std::string::npos) << *summary;
   EXPECT_NE(summary->find("| full@tracker_90hz |"), std::string::npos) << *summary;
