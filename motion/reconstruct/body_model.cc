@@ -168,8 +168,6 @@ float RestPoseHeight(const BodyModel& body) {
 
 namespace {
 
-// Both limbs' lengths (root → middle → end landmark, left and right), measured on the body's
-// zero-rotation pose; nullopt when a landmark is missing.
 // Every joint's position with every joint at its zero rotation.
 std::vector<Eigen::Vector3f> RestPositions(const BodyModel& body) {
   BodyPose rest;
@@ -180,6 +178,8 @@ std::vector<Eigen::Vector3f> RestPositions(const BodyModel& body) {
   return positions;
 }
 
+// Both limbs' lengths (root → middle → end landmark, left and right), measured on the body's
+// zero-rotation pose; nullopt when a landmark is missing.
 std::optional<float> LimbsLength(const BodyModel& body, const std::array<std::array<int, 3>, 2>& limbs,
                                  std::vector<Eigen::Vector3f>* positions) {
   *positions = RestPositions(body);
