@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "client/cli/input_frame_flags.h"
+#include "client/cli/output_paths.h"
 #include "client/cli/reconstruction_bvh.h"
 #include "client/cli/reconstruction_json.h"
 #include "client/cli/reconstruction_timeline.h"
@@ -272,7 +273,7 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
                                         ? ReconstructionBvh(result->started(), bvh_frames)
                                         : RetargetedBvhText(o.target_rig_text, result->started(), bvh_frames);
   if (!bvh.ok()) return ReportError(bvh.status());
-  const std::string bvh_path = o.output + ".bvh", json_path = o.output + ".json";
+  const auto [bvh_path, json_path] = OutputPathsOf(o.output);
   if (absl::Status s = WriteFile(bvh_path, *bvh); !s.ok()) return ReportError(s);
   if (absl::Status s = WriteReconstructionJson(json_path, *result, frames); !s.ok()) return ReportError(s);
   const v1::SessionSummary& summary = result->summary();
@@ -462,7 +463,10 @@ void RegisterReconstruct(CLI::App& app, Registry& registry) {
   command->add_flag("--recenter", o->recenter,
                     "Move the samples so the first one's wrists are at the origin on the ground plane (height "
                     "kept): for positions in a game engine's world, kilometres from the origin");
-  command->add_option("-o,--output", o->output, "Output path prefix")->capture_default_str();
+  command
+      ->add_option("-o,--output", o->output,
+                   "Output path prefix: writes OUTPUT.bvh and OUTPUT.json (a trailing .bvh or .json is taken off)")
+      ->capture_default_str();
   command->add_flag("--quiet", o->quiet, "No progress bar");
   command->callback([o, csv, bvh] {
     if (csv->count() == 0 && bvh->count() == 0) throw CLI::ValidationError("give --csv or --bvh");
