@@ -16,6 +16,10 @@
 #           joints; each session's setup analyses it; RIG_JOINTS=0: the database's own rig)
 #   imports IMPORTS (2) clients each importing 40 clips into a database of their own, deleting
 #           it and starting again
+#   idle    no request at all: BURNERS (4) busy loops in the flood's scheduling class, the floor
+#           this machine sets. On these 2-core VMs such loops under SCHED_IDLE alone raised the
+#           victim's p99 1.7-2.1x (3.5 -> 6.1-7.3 ms; perf sched: a server thread woken while one
+#           ran waited up to a 4 ms tick for its core); the rigs flood's own clients take 1.4 cores
 # The victim's p99 frame latency must stay <= 50 ms, and within 2x of its p99 alone (issue #24):
 # the victim runs alone just before each shape, and the end prints each shape's ratio.
 #
@@ -27,8 +31,8 @@
 # at nice FLOOD_NICE (19; FLOOD_NICE=0 measures the co-located case as well).
 #   usage: benchmarks/fairness_flood.sh
 #   env: SECONDS_PER_RUN (20), ROUNDS (1: alone then beside, per shape; more print each shape's
-#        median ratio), FLOOD_SCHED (idle), FLOOD_NICE (19), SHAPES ("rate big reopen mixed search rigs imports"),
-#        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS, SERVER_EXTRA (more
+#        median ratio), FLOOD_SCHED (idle), FLOOD_NICE (19), SHAPES ("idle rate big reopen mixed search rigs imports"),
+#        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS, BURNERS, SERVER_EXTRA (more
 #        `mocapd serve` flags, e.g. --no-prompt-lane)
 # Builds its own store in build/fairness (two tenants, each with the standard split's database).
 set -euo pipefail
@@ -127,6 +131,13 @@ flood_loop() {  # $1: label, then the mocap command line
   ) &
   flood_pids+=($!)
 }
+flood_idle() {
+  local i
+  for ((i = 0; i < ${BURNERS:-4}; i++)); do
+    "${flood_run[@]}" timeout $((seconds + 6)) bash -c 'while :; do :; done' &
+    flood_pids+=($!)
+  done
+}
 flood_search() {
   local i
   for ((i = 0; i < ${SEARCHES:-2}; i++)); do
@@ -190,7 +201,7 @@ PY
 
 ratios=()
 rounds=${ROUNDS:-1}
-for shape in ${SHAPES:-rate big reopen mixed search rigs imports}; do
+for shape in ${SHAPES:-idle rate big reopen mixed search rigs imports}; do
   for ((round = 1; round <= rounds; round++)); do
     run=$shape
     [ "$round" -gt 1 ] && run=$shape-$round
@@ -203,6 +214,7 @@ for shape in ${SHAPES:-rate big reopen mixed search rigs imports}; do
       search) flood_search ;;
       rigs) flood_rigs ;;
       imports) flood_imports ;;
+      idle) flood_idle ;;
       *) echo "unknown shape $shape" >&2; exit 2 ;;
     esac
     sleep 5  # the flood is running at full strength
@@ -215,6 +227,7 @@ for shape in ${SHAPES:-rate big reopen mixed search rigs imports}; do
       search) loop_report search "${SEARCHES:-2}" ;;
       rigs) loop_report rigs "${RIG_SESSIONS:-8}" ;;
       imports) loop_report imports "${IMPORTS:-2}" ;;
+      idle) echo "  flood idle     : ${BURNERS:-4} busy loops, no request to the server" ;;
       *) flood_report "$shape" ;;
     esac
   done
