@@ -62,6 +62,13 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions gaussian = base;
   gaussian.joint_low_pass = false;  // the joint filter a Gaussian of σ = 1 frame, as at a fixed lag
   add("full_gaussian_joint_filter", "main", 0, gaussian, noise_cm);
+  for (int lag : {0, 5}) {
+    ReconstructionOptions o = base;
+    o.mode = StreamMode::kFixedLag;
+    o.lag = lag;
+    o.ankle_path.edge_fit_speed = -1.0f;  // the ankle filter repeats the path's newest frame (before stop 67)
+    add(StrCat("lag_", lag, "_clamped_ankle_edges"), "main", 0, o, noise_cm);
+  }
   for (int window : {10, 50, 100}) {
     ReconstructionOptions o = base;
     o.window = window;

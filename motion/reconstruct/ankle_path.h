@@ -41,6 +41,13 @@ struct AnklePathOptions {
   float contact_height = 0.04f;         // metres above the planted height
   float slide_weight = 100.0f;          // w_s, 1/m²
   float smoothing_sigma_frames = 2.0f;  // Gaussian filter on the chosen path; 0 = none
+  // Where that filter reaches past the path's newest frame (every frame a stream emits) or a
+  // segment's ends, a foot moving faster than this (m/s, over the end's last step) is fitted by a
+  // weighted line through the frames there are instead of repeating the end frame, which lags a
+  // swinging foot (docs/method.md A4: standard split lag 0 2.94 → 2.64 cm, lag 5 2.17 → 2.11).
+  // A still foot keeps the end frame: a line through a path's wobble only extrapolates it.
+  // Negative: always repeat the end frame (before stop 67).
+  float edge_fit_speed = 1.2f;
   // Node cost: this weight × the candidate's eq. 2 wrist distance (× prior_length_scale², the
   // σ term's units). The patent's edge cost has no data term, so every one of the K1 candidates
   // is as welcome as the nearest and the path may settle on poor wrist matches; 0 = the patent's.
@@ -108,10 +115,16 @@ absl::StatusOr<AnkleWindowResult> SolveAnkleWindow(const std::vector<std::vector
 absl::StatusOr<std::vector<AnklePair>> SolveAnklePath(const std::vector<std::vector<AnkleCandidate>>& clouds,
                                                       int window, double frame_time, const AnklePathOptions& options);
 
-// Gaussian filter over frames (edges clamped).
-// One filtered frame: `kernel` (GaussianKernel) centred on t over ankles[0, available), the
-// frames beyond either end clamped to the nearest available one.
-AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<float>& kernel, int t, int available);
-std::vector<AnklePair> SmoothAnkles(const std::vector<AnklePair>& ankles, float sigma_frames);
+// Gaussian filter over frames.
+// One filtered frame: `kernel` (GaussianKernel) centred on t over ankles[0, available). Where the
+// kernel reaches past an end, a foot whose step at that end is longer than `edge_fit_step`
+// (metres; AnklePathOptions::edge_fit_speed × the frame time, negative = never) is the value at t
+// of a line fitted through the frames there are with the kernel's weights (local linear
+// regression: the Gaussian itself in the interior, unbiased for steady motion at an end), its
+// height kept within the heights those frames had; other feet repeat the end frame.
+AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<float>& kernel, int t, int available,
+                        float edge_fit_step = -1.0f);
+std::vector<AnklePair> SmoothAnkles(const std::vector<AnklePair>& ankles, float sigma_frames,
+                                    float edge_fit_step = -1.0f);
 
 }  // namespace mocap

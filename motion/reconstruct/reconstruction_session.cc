@@ -475,7 +475,10 @@ absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
   const int count = available - low;
   std::vector<AnklePair>& batch = s.ankle_batch;  // frames first.. up_to_frame
   batch.clear();
-  for (int f = first; f < up_to_frame; ++f) batch.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count));
+  const float edge_fit_step = options_.ankle_path.edge_fit_speed * static_cast<float>(database_->frame_time());
+  for (int f = first; f < up_to_frame; ++f) {
+    batch.push_back(SmoothAnkleAt(path, ankle_kernel_, f - low, count, edge_fit_step));
+  }
   // Offline, or a window's worth at a time: planted feet at their contacts' means (A7).
   const AnklePair* before = first > 0 ? &s.ankles[first - 1] : nullptr;
   std::vector<Eigen::Vector2f>& hands = s.hands_batch;

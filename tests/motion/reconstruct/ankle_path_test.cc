@@ -107,6 +107,46 @@ TEST(AnklePathTest, SmoothingKeepsLinesAndDampsJitter) {
   for (int t = 8; t < 22; ++t) EXPECT_LT(std::abs(smoothed_jitter[t][0].y()), 0.001f);
 }
 
+// A stream's newest frames: the filter reaches past the path's end. A swinging foot (the left,
+// 4 cm a frame) is followed there by the local line; a planted foot whose path wobbles by a
+// centimetre (the right) keeps the end frame.
+TEST(AnklePathTest, EdgeFitFollowsAMovingFootAndHoldsAStillOne) {
+  const std::vector<float> kernel = {0.05f, 0.1f, 0.2f, 0.3f, 0.2f, 0.1f, 0.05f};
+  std::vector<AnklePair> path;
+  for (int t = 0; t < 12; ++t) {
+    path.push_back({Eigen::Vector3f(0, 0.1f, 0.04f * t), Eigen::Vector3f(0.2f, 0.08f, (t % 2) ? 0.005f : -0.005f)});
+  }
+  const int newest = static_cast<int>(path.size()) - 1;
+  for (int t = newest - 2; t <= newest; ++t) {
+    const AnklePair clamped = SmoothAnkleAt(path, kernel, t, newest + 1);
+    const AnklePair fitted = SmoothAnkleAt(path, kernel, t, newest + 1, 0.02f);
+    EXPECT_GT((clamped[0] - path[t][0]).norm(), 0.001f) << "frame " << t;  // repeating the end lags it
+    EXPECT_LT((fitted[0] - path[t][0]).norm(), 1e-5f) << "frame " << t;    // the line has no lag
+    EXPECT_EQ(fitted[1], clamped[1]) << "frame " << t;                     // a still foot is held
+  }
+  // Inside the path the fit is the Gaussian itself.
+  const AnklePair inside = SmoothAnkleAt(path, kernel, 5, newest + 1, 0.02f);
+  EXPECT_EQ(inside[0], SmoothAnkleAt(path, kernel, 5, newest + 1)[0]);
+  // A segment's first frames, for a foot moving from its start.
+  EXPECT_LT((SmoothAnkleAt(path, kernel, 0, newest + 1, 0.02f)[0] - path[0][0]).norm(), 1e-5f);
+}
+
+// The line never digs a foot below the heights its frames had (nor lifts it above them).
+TEST(AnklePathTest, EdgeFitKeepsHeightsWithinThePath) {
+  const std::vector<float> kernel = {0.05f, 0.1f, 0.2f, 0.3f, 0.2f, 0.1f, 0.05f};
+  std::vector<AnklePair> path;
+  for (int t = 0; t < 8; ++t) {
+    // Moving forward, landing: the height drops fast at the end.
+    const float height = t < 6 ? 0.2f - 0.01f * t : 0.14f - 0.06f * (t - 5);
+    path.push_back({Eigen::Vector3f(0, height, 0.05f * t), Eigen::Vector3f::Zero()});
+  }
+  for (int t = 5; t < 8; ++t) {
+    const float y = SmoothAnkleAt(path, kernel, t, 8, 0.02f)[0].y();
+    EXPECT_GE(y, path[7][0].y() - 1e-6f) << "frame " << t;
+    EXPECT_LE(y, path[2][0].y() + 1e-6f) << "frame " << t;
+  }
+}
+
 TEST(AnklePathTest, RejectsEmptyInput) {
   EXPECT_EQ(SolveAnkleWindow({}, std::nullopt, kFrameSeconds, {}).status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(SolveAnkleWindow({{}}, std::nullopt, kFrameSeconds, {}).status().code(),
