@@ -47,7 +47,7 @@ struct AnklePathOptions {
   // swinging foot (docs/method.md A4: standard split lag 0 2.94 → 2.64 cm, lag 5 2.17 → 2.11).
   // A still foot keeps the end frame: a line through a path's wobble only extrapolates it.
   // Negative: always repeat the end frame (before stop 67).
-  float edge_fit_speed = 1.2f;
+  float edge_fit_speed = 0.6f;
   // Node cost: this weight × the candidate's eq. 2 wrist distance (× prior_length_scale², the
   // σ term's units). The patent's edge cost has no data term, so every one of the K1 candidates
   // is as welcome as the nearest and the path may settle on poor wrist matches; 0 = the patent's.
