@@ -162,9 +162,12 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
     // Gaussian's weight beyond is 2%, clamped to the newest solved frame), the rest for the ankle
     // path, whose decision gains most from a frame or two of look-ahead: at D = 5, 3 frames for
     // the filter and none for the path measured 2.43 cm on the standard split, 2 and 1 2.25
-    // (docs/method.md A4).
-    lookahead_ = std::min(lookahead, options_.lag);
+    // (docs/method.md A4). A2 takes its frames beyond the first only where the path keeps two
+    // (stop 67: at D = 5, A2 1 + filter 2 + path 2 against 2 + 2 + 1: standard split 2.110 →
+    // 2.086 cm, cross-dataset clips over the allowed speed 5 → 1).
     const int filter_ahead = std::min(radius, static_cast<int>(std::ceil(2.0f * options_.joint_smoothing_sigma)));
+    constexpr int kPathLookahead = 2;
+    lookahead_ = std::min({lookahead, options_.lag, std::max(1, options_.lag - filter_ahead - kPathLookahead)});
     joint_filter_lag_ = std::min(filter_ahead, options_.lag - lookahead_);
     ankle_lag_ = options_.lag - lookahead_ - joint_filter_lag_;
   } else {
