@@ -1,43 +1,14 @@
 #include "motion/reconstruct/ankle_path.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "motion/core/gaussian_kernel.h"
 #include "motion/core/str_cat.h"
 #include "motion/reconstruct/ankle_edge_cost.h"
+#include "motion/reconstruct/wrist_smoother.h"
 
 namespace mocap {
-namespace {
-
-// The value at t of the line through ankles[low, high] of one foot, weighted by the kernel centred
-// on t (weighted least squares in the frame offset x = s − t: the intercept), its height kept
-// within the heights of those frames. False when the frames cannot fix a line.
-bool LocalLinearAnkle(const std::vector<AnklePair>& ankles, const std::vector<float>& kernel, int t, int low, int high,
-                      int side, Eigen::Vector3f* out) {
-  const int radius = static_cast<int>(kernel.size()) / 2;
-  double sw = 0.0, swx = 0.0, swxx = 0.0;
-  Eigen::Vector3d swy = Eigen::Vector3d::Zero(), swxy = Eigen::Vector3d::Zero();
-  float lowest = ankles[low][side].y(), highest = lowest;
-  for (int s = low; s <= high; ++s) {
-    const double w = kernel[s - t + radius], x = s - t;
-    const Eigen::Vector3d y = ankles[s][side].cast<double>();
-    sw += w;
-    swx += w * x;
-    swxx += w * x * x;
-    swy += w * y;
-    swxy += w * x * y;
-    lowest = std::min(lowest, ankles[s][side].y());
-    highest = std::max(highest, ankles[s][side].y());
-  }
-  const double det = sw * swxx - swx * swx;
-  if (!(det > 1e-9 * sw * sw)) return false;
-  *out = ((swxx * swy - swx * swxy) / det).cast<float>();
-  out->y() = std::clamp(out->y(), lowest, highest);  // a line through a lifting foot must not dig it in
-  return true;
-}
-
-}  // namespace
-
 AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<float>& kernel, int t, int available,
                         float edge_fit_step) {
   const int radius = static_cast<int>(kernel.size()) / 2;
@@ -49,12 +20,21 @@ AnklePair SmoothAnkleAt(const std::vector<AnklePair>& ankles, const std::vector<
   const bool past_start = t - radius < 0, past_end = t + radius >= available;
   if (edge_fit_step < 0.0f || available < 2 || past_start == past_end) return sum;  // inside, or both ends
   const int low = std::max(0, t - radius), high = std::min(available - 1, t + radius);
+  std::optional<SmoothedWrists> line;  // A2's weighted line fit, over the same frames and weights
   for (int side = 0; side < 2; ++side) {
     // The end's last step: a foot still there keeps the end frame (a line would extrapolate the
     // path's wobble), a moving one is followed.
     const Eigen::Vector3f step =
         past_end ? ankles[available - 1][side] - ankles[available - 2][side] : ankles[1][side] - ankles[0][side];
-    if (step.norm() > edge_fit_step) LocalLinearAnkle(ankles, kernel, t, low, high, side, &sum[side]);
+    if (step.norm() <= edge_fit_step) continue;
+    if (!line) line = LocalLinearWrists(ankles, t, available - 1, kernel, 1.0f);
+    float lowest = ankles[low][side].y(), highest = lowest;
+    for (int f = low + 1; f <= high; ++f) {
+      lowest = std::min(lowest, ankles[f][side].y());
+      highest = std::max(highest, ankles[f][side].y());
+    }
+    sum[side] = line->position[side];
+    sum[side].y() = std::clamp(sum[side].y(), lowest, highest);  // a line through a lifting foot must not dig it in
   }
   return sum;
 }
