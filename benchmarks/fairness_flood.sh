@@ -19,7 +19,12 @@
 #   idle    no request at all: BURNERS (4) busy loops in the flood's scheduling class, the floor
 #           this machine sets. On these 2-core VMs such loops under SCHED_IDLE alone raised the
 #           victim's p99 1.7-2.1x (3.5 -> 6.1-7.3 ms; perf sched: a server thread woken while one
-#           ran waited up to a 4 ms tick for its core); the rigs flood's own clients take 1.4 cores
+#           ran waited up to a 4 ms tick for its core); the rigs flood's own clients took 1.4 cores
+#           until `mocap reconstruct` wrote a target rig's rotations without protobuf's JSON
+#           printer (0.9 -> 0.4 s of CPU per run; they now run as often as the server lets them)
+#   rebuilds REBUILDERS (2) clients each importing one more clip into the flood tenant's copy of
+#           the database and reconstructing it there, again and again: every import makes a new
+#           version of that 306k-frame database, whose indices the next session's start builds
 # The victim's p99 frame latency must stay <= 50 ms, and within 2x of its p99 alone (issue #24):
 # the victim runs alone just before each shape, and the end prints each shape's ratio.
 #
@@ -31,8 +36,8 @@
 # at nice FLOOD_NICE (19; FLOOD_NICE=0 measures the co-located case as well).
 #   usage: benchmarks/fairness_flood.sh
 #   env: SECONDS_PER_RUN (20), ROUNDS (1: alone then beside, per shape; more print each shape's
-#        median ratio), FLOOD_SCHED (idle), FLOOD_NICE (19), SHAPES ("idle rate big reopen mixed search rigs imports"),
-#        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS, BURNERS, SERVER_EXTRA (more
+#        median ratio), FLOOD_SCHED (idle), FLOOD_NICE (19), SHAPES ("idle rate big reopen mixed search rigs imports rebuilds"),
+#        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS, REBUILDERS, BURNERS, SERVER_EXTRA (more
 #        `mocapd serve` flags, e.g. --no-prompt-lane)
 # Builds its own store in build/fairness (two tenants, each with the standard split's database).
 set -euo pipefail
@@ -178,6 +183,34 @@ flood_imports() {
     flood_pids+=($!)
   done
 }
+# Clips the flood's `walks` does not hold yet, a different one for each import of the run.
+rebuild_files=()
+while IFS= read -r -d '' file; do rebuild_files+=("$file"); done \
+  < <(find "$data/bandai-namco-2" -name '*3.bvh' -print0 | sort -z | tail -z -n +41)
+flood_rebuilds() {  # $1: the round, so that no round imports a clip an earlier one did
+  local i count=${REBUILDERS:-2}
+  for ((i = 0; i < count; i++)); do
+    (
+      end=$((SECONDS + seconds + 5)) runs=0 failed=0 cut=0 n=$(((${1} - 1) * 40 + i))
+      while [ $SECONDS -lt $end ]; do
+        file=${rebuild_files[$((n % ${#rebuild_files[@]}))]}
+        n=$((n + count))
+        MOCAP_API_KEY=$flood_key timeout $((end - SECONDS + 1)) "${flood_run[@]}" "$mocap" --address "$address" \
+          import --database walks "$file" >/dev/null 2>>"$out/flood-rebuilds$i.err" \
+          && MOCAP_API_KEY=$flood_key timeout $((end - SECONDS + 1)) "${flood_run[@]}" "$mocap" --address "$address" \
+            reconstruct --database walks --bvh "$file" -o "$out/rebuild-$i" >/dev/null 2>>"$out/flood-rebuilds$i.err" \
+          && rc=0 || rc=$?
+        case $rc in
+          0) runs=$((runs + 1)) ;;
+          124) cut=$((cut + 1)) ;;
+          *) failed=$((failed + 1)) ;;
+        esac
+      done
+      echo "{\"runs\": $runs, \"failed\": $failed, \"cut\": $cut}" >"$out/flood-rebuilds$i.json"
+    ) &
+    flood_pids+=($!)
+  done
+}
 loop_report() {  # $1: label, $2: count
   local i
   for ((i = 0; i < $2; i++)); do
@@ -201,7 +234,7 @@ PY
 
 ratios=()
 rounds=${ROUNDS:-1}
-for shape in ${SHAPES:-idle rate big reopen mixed search rigs imports}; do
+for shape in ${SHAPES:-idle rate big reopen mixed search rigs imports rebuilds}; do
   for ((round = 1; round <= rounds; round++)); do
     run=$shape
     [ "$round" -gt 1 ] && run=$shape-$round
@@ -214,6 +247,7 @@ for shape in ${SHAPES:-idle rate big reopen mixed search rigs imports}; do
       search) flood_search ;;
       rigs) flood_rigs ;;
       imports) flood_imports ;;
+      rebuilds) flood_rebuilds "$round" ;;
       idle) flood_idle ;;
       *) echo "unknown shape $shape" >&2; exit 2 ;;
     esac
@@ -227,6 +261,7 @@ for shape in ${SHAPES:-idle rate big reopen mixed search rigs imports}; do
       search) loop_report search "${SEARCHES:-2}" ;;
       rigs) loop_report rigs "${RIG_SESSIONS:-8}" ;;
       imports) loop_report imports "${IMPORTS:-2}" ;;
+      rebuilds) loop_report rebuilds "${REBUILDERS:-2}" ;;
       idle) echo "  flood idle     : ${BURNERS:-4} busy loops, no request to the server" ;;
       *) flood_report "$shape" ;;
     esac

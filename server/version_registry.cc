@@ -8,6 +8,7 @@
 
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "server/work_pool.h"
 
 namespace mocap {
 
@@ -51,6 +52,10 @@ void VersionRegistry::Acquire(const DatabaseVersion& version, Ready ready) {
 }
 
 void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
+  // Seconds of one tenant's CPU (a 300k-frame database's trees): bulk work, below every other
+  // tenant's live sessions, as imports are. At gRPC's priority, above the compute pool, a tenant
+  // importing a clip and opening a session in a loop took the cores from another's stream.
+  RunThisThreadAt(WorkPool::Priority::kBulk);
   const auto start = std::chrono::steady_clock::now();
   absl::StatusOr<Value> built = [&]() -> absl::StatusOr<Value> {
     MOCAP_ASSIGN_OR_RETURN(StorePool::Lease store, stores_.Acquire());

@@ -26,14 +26,14 @@ constexpr int kBulkNiceness = 10;
 // The pool whose task this thread runs (AnotherKeyWaits), null outside a pool thread.
 thread_local const std::atomic<bool>* this_threads_key_waits = nullptr;
 
-void LowerThisThreadsPriority(WorkPool::Priority priority) {
+}  // namespace
+
+void RunThisThreadAt(WorkPool::Priority priority) {
   const int niceness = priority == WorkPool::Priority::kBulk ? kBulkNiceness : kComputeNiceness;
   if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), niceness) != 0) {
-    spdlog::warn("work pool: cannot lower a worker's priority: {}", std::strerror(errno));
+    spdlog::warn("cannot lower a server thread's priority: {}", std::strerror(errno));
   }
 }
-
-}  // namespace
 
 WorkPool::WorkPool(int threads, PromptLane prompt_lane, Clock clock, Clock work_clock, Priority priority)
     : clock_(std::move(clock)),
@@ -42,7 +42,7 @@ WorkPool::WorkPool(int threads, PromptLane prompt_lane, Clock clock, Clock work_
       has_prompt_lane_(prompt_lane == PromptLane::kYes) {
   for (int i = 0; i < threads; ++i) {
     threads_.emplace_back([this, priority] {
-      LowerThisThreadsPriority(priority);
+      RunThisThreadAt(priority);
       Work(/*prompt_lane=*/false);
     });
   }

@@ -154,4 +154,8 @@ class WorkPool {
   std::vector<std::thread> threads_;
 };
 
+// Runs the calling thread at `priority`'s niceness, as a pool's threads run: for the server's
+// threads that do such work outside a pool (VersionRegistry's index builds, bulk).
+void RunThisThreadAt(WorkPool::Priority priority);
+
 }  // namespace mocap

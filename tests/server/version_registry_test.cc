@@ -3,12 +3,15 @@
 #include "server/version_registry.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <future>
 #include <memory>
 #include <string>
 
+#include "server/work_pool.h"
 #include "tests/support/temp_dir.h"
 
 namespace mocap {
@@ -25,6 +28,7 @@ class VersionRegistryTest : public ::testing::Test {
     registry_ = std::make_unique<VersionRegistry>(
         *stores_, /*max_cached=*/8, "test value", [this](MotionStore&, const DatabaseVersion& version) {
           ++builds_;
+          builder_niceness_ = getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()));
           return VersionRegistry::Value(
               std::make_shared<const std::string>(version.content_stamp + "/" + version.variant));
         });
@@ -40,6 +44,7 @@ class VersionRegistryTest : public ::testing::Test {
   testing::ScopedTempDir temp_;
   std::unique_ptr<StorePool> stores_;
   std::atomic<int> builds_{0};
+  std::atomic<int> builder_niceness_{0};
   std::unique_ptr<VersionRegistry> registry_;
 };
 
@@ -63,6 +68,21 @@ TEST_F(VersionRegistryTest, VariantsOfOneVersionAreBuiltAndKeptApart) {
   EXPECT_EQ(*Get(a), "v1/bone-directions");  // the old version had to be built again
   EXPECT_EQ(builds_, 4);
   EXPECT_EQ(registry_->builds(), 4);
+}
+
+// The niceness a pool of `priority` runs its tasks at.
+int PoolNiceness(WorkPool::Priority priority) {
+  WorkPool pool(1, priority);
+  std::promise<int> niceness;
+  pool.Post([&] { niceness.set_value(getpriority(PRIO_PROCESS, static_cast<id_t>(gettid()))); });
+  return niceness.get_future().get();
+}
+
+// A build is bulk work: it runs as an import does, below the compute pool's live sessions.
+TEST_F(VersionRegistryTest, BuildsRunAtTheBulkPoolsPriority) {
+  EXPECT_EQ(*Get({.content_stamp = "v1"}), "v1/");
+  EXPECT_EQ(builder_niceness_.load(), PoolNiceness(WorkPool::Priority::kBulk));
+  EXPECT_GT(builder_niceness_.load(), PoolNiceness(WorkPool::Priority::kCompute));
 }
 
 }  // namespace
