@@ -117,15 +117,15 @@ flood_big() { flood "big${2:-}" "$1" $((seconds + 10)) --rate 1000 --samples-per
 flood_reopen() { flood "reopen${2:-}" "$1" 1 --rate 1000; }
 mocap="$repo/build/client/mocap"
 # Loops a CLI command as the flood tenant until the victim is done; counts the runs and failures.
-flood_loop() {  # $1: label, then the mocap command line
+# One flood client: runs a step (a command or function whose exit code counts) again and again
+# until the victim is done; counts the runs, the failures and the steps cut at the end.
+flood_repeat() {  # $1: label, then the step
   local label=$1
   shift
   (
     end=$((SECONDS + seconds + 5)) runs=0 failed=0 cut=0
     while [ $SECONDS -lt $end ]; do
-      # Cut when the victim is done: the server must stop the call's work within a slice.
-      MOCAP_API_KEY=$flood_key timeout $((end - SECONDS + 1)) "${flood_run[@]}" "$mocap" --address "$address" "$@" \
-        >/dev/null 2>>"$out/flood-$label.err" && rc=0 || rc=$?
+      "$@" 2>>"$out/flood-$label.err" && rc=0 || rc=$?
       case $rc in
         0) runs=$((runs + 1)) ;;
         124) cut=$((cut + 1)) ;;
@@ -136,6 +136,12 @@ flood_loop() {  # $1: label, then the mocap command line
   ) &
   flood_pids+=($!)
 }
+# A mocap command as the flood tenant, cut when the victim is done (`end`, flood_repeat's): the
+# server must stop the call's work within a slice.
+flood_mocap() {
+  MOCAP_API_KEY=$flood_key timeout $((end - SECONDS + 1)) "${flood_run[@]}" "$mocap" --address "$address" "$@" >/dev/null
+}
+flood_loop() { flood_repeat "$1" flood_mocap "${@:2}"; }  # $1: label, then the mocap command line
 flood_idle() {
   local i
   for ((i = 0; i < ${BURNERS:-4}; i++)); do
@@ -163,52 +169,30 @@ flood_rigs() {
 import_files=()
 while IFS= read -r -d '' file; do import_files+=("$file"); done \
   < <(find "$data/bandai-namco-2" -name '*3.bvh' -print0 | sort -z | head -z -n 40)
+import_once() {  # $1: the database, imported into and then deleted
+  local rc=0
+  flood_mocap import --database "$1" "${import_files[@]}" || rc=$?
+  MOCAP_API_KEY=$flood_key "$mocap" --address "$address" databases delete "$1" >/dev/null 2>&1 || true
+  return $rc
+}
 flood_imports() {
   local i
-  for ((i = 0; i < ${IMPORTS:-2}; i++)); do
-    (
-      end=$((SECONDS + seconds + 5)) runs=0 failed=0 cut=0
-      while [ $SECONDS -lt $end ]; do
-        MOCAP_API_KEY=$flood_key timeout $((end - SECONDS + 1)) "${flood_run[@]}" "$mocap" --address "$address" \
-          import --database "imports$i" "${import_files[@]}" >/dev/null 2>>"$out/flood-imports$i.err" && rc=0 || rc=$?
-        case $rc in
-          0) runs=$((runs + 1)) ;;
-          124) cut=$((cut + 1)) ;;
-          *) failed=$((failed + 1)) ;;
-        esac
-        MOCAP_API_KEY=$flood_key "$mocap" --address "$address" databases delete "imports$i" >/dev/null 2>&1 || true
-      done
-      echo "{\"runs\": $runs, \"failed\": $failed, \"cut\": $cut}" >"$out/flood-imports$i.json"
-    ) &
-    flood_pids+=($!)
-  done
+  for ((i = 0; i < ${IMPORTS:-2}; i++)); do flood_repeat "imports$i" import_once "imports$i"; done
 }
 # Clips the flood's `walks` does not hold yet, a different one for each import of the run.
 rebuild_files=()
 while IFS= read -r -d '' file; do rebuild_files+=("$file"); done \
   < <(find "$data/bandai-namco-2" -name '*3.bvh' -print0 | sort -z | tail -z -n +41)
+rebuild_once() {  # $1: the client, $2: their number; the next clip in rebuild_next (the client's own)
+  local file=${rebuild_files[$((rebuild_next % ${#rebuild_files[@]}))]}
+  rebuild_next=$((rebuild_next + $2))
+  flood_mocap import --database walks "$file" && flood_mocap reconstruct --database walks --bvh "$file" -o "$out/rebuild-$1"
+}
 flood_rebuilds() {  # $1: the round, so that no round imports a clip an earlier one did
   local i count=${REBUILDERS:-2}
   for ((i = 0; i < count; i++)); do
-    (
-      end=$((SECONDS + seconds + 5)) runs=0 failed=0 cut=0 n=$(((${1} - 1) * 40 + i))
-      while [ $SECONDS -lt $end ]; do
-        file=${rebuild_files[$((n % ${#rebuild_files[@]}))]}
-        n=$((n + count))
-        MOCAP_API_KEY=$flood_key timeout $((end - SECONDS + 1)) "${flood_run[@]}" "$mocap" --address "$address" \
-          import --database walks "$file" >/dev/null 2>>"$out/flood-rebuilds$i.err" \
-          && MOCAP_API_KEY=$flood_key timeout $((end - SECONDS + 1)) "${flood_run[@]}" "$mocap" --address "$address" \
-            reconstruct --database walks --bvh "$file" -o "$out/rebuild-$i" >/dev/null 2>>"$out/flood-rebuilds$i.err" \
-          && rc=0 || rc=$?
-        case $rc in
-          0) runs=$((runs + 1)) ;;
-          124) cut=$((cut + 1)) ;;
-          *) failed=$((failed + 1)) ;;
-        esac
-      done
-      echo "{\"runs\": $runs, \"failed\": $failed, \"cut\": $cut}" >"$out/flood-rebuilds$i.json"
-    ) &
-    flood_pids+=($!)
+    rebuild_next=$((($1 - 1) * 40 + i))  # each client's subshell keeps its own copy
+    flood_repeat "rebuilds$i" rebuild_once "$i" "$count"
   done
 }
 loop_report() {  # $1: label, $2: count
