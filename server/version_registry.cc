@@ -52,9 +52,9 @@ void VersionRegistry::Acquire(const DatabaseVersion& version, Ready ready) {
 }
 
 void VersionRegistry::Build(DatabaseVersion version, Builder* self) {
-  // Seconds of one tenant's CPU (a 300k-frame database's trees): bulk work, below every other
-  // tenant's live sessions, as imports are. At gRPC's priority, above the compute pool, a tenant
-  // importing a clip and opening a session in a loop took the cores from another's stream.
+  // Seconds of one tenant's CPU (a 306k-frame database's trees): bulk work, below every other
+  // tenant's live sessions, as imports are; it ran at gRPC's priority, above the compute pool
+  // (beside benchmarks/fairness_flood.sh's `rebuilds` the difference was within the noise).
   RunThisThreadAt(WorkPool::Priority::kBulk);
   const auto start = std::chrono::steady_clock::now();
   absl::StatusOr<Value> built = [&]() -> absl::StatusOr<Value> {
