@@ -116,7 +116,6 @@ flood_rate() { flood "rate${2:-}" "$1" $((seconds + 10)) --rate 1000; }
 flood_big() { flood "big${2:-}" "$1" $((seconds + 10)) --rate 1000 --samples-per-message 80000 --unpaced; }
 flood_reopen() { flood "reopen${2:-}" "$1" 1 --rate 1000; }
 mocap="$repo/build/client/mocap"
-# Loops a CLI command as the flood tenant until the victim is done; counts the runs and failures.
 # One flood client: runs a step (a command or function whose exit code counts) again and again
 # until the victim is done; counts the runs, the failures and the steps cut at the end.
 flood_repeat() {  # $1: label, then the step
@@ -166,9 +165,13 @@ flood_rigs() {
     flood_loop "rigs$i" reconstruct --database walks --bvh "$clip" "${rig[@]}" -o "$out/rig-$i.bvh"
   done
 }
-import_files=()
-while IFS= read -r -d '' file; do import_files+=("$file"); done \
-  < <(find "$data/bandai-namco-2" -name '*3.bvh' -print0 | sort -z | head -z -n 40)
+# The held-out takes (not in `walks`): the imports flood's 40, and the rest for the rebuilds flood,
+# a different one for each of its imports in a run.
+held_out_files=()
+while IFS= read -r -d '' file; do held_out_files+=("$file"); done \
+  < <(find "$data/bandai-namco-2" -name '*3.bvh' -print0 | sort -z)
+import_files=("${held_out_files[@]:0:40}")
+rebuild_files=("${held_out_files[@]:40}")
 import_once() {  # $1: the database, imported into and then deleted
   local rc=0
   flood_mocap import --database "$1" "${import_files[@]}" || rc=$?
@@ -179,10 +182,6 @@ flood_imports() {
   local i
   for ((i = 0; i < ${IMPORTS:-2}; i++)); do flood_repeat "imports$i" import_once "imports$i"; done
 }
-# Clips the flood's `walks` does not hold yet, a different one for each import of the run.
-rebuild_files=()
-while IFS= read -r -d '' file; do rebuild_files+=("$file"); done \
-  < <(find "$data/bandai-namco-2" -name '*3.bvh' -print0 | sort -z | tail -z -n +41)
 rebuild_once() {  # $1: the client, $2: their number; the next clip in rebuild_next (the client's own)
   local file=${rebuild_files[$((rebuild_next % ${#rebuild_files[@]}))]}
   rebuild_next=$((rebuild_next + $2))
