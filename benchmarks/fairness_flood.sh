@@ -14,8 +14,8 @@
 #   rigs    RIG_SESSIONS (8) clients each reconstructing a whole walk (10 s) again and again,
 #           retargeted onto a 1,022-joint target rig (a human rig with RIG_JOINTS = 1,000 extra
 #           joints; each session's setup analyses it; RIG_JOINTS=0: the database's own rig)
-#   imports IMPORTS (2) clients each importing 40 clips into a database of their own, deleting
-#           it and starting again
+#   imports IMPORTS (2) clients each importing IMPORT_CLIPS (40) clips into a database of their own,
+#           deleting it and starting again (200: a fifth of the client processes for more imports)
 #   idle    no request at all: BURNERS (4) busy loops in the flood's scheduling class, the floor
 #           this machine sets. On these 2-core VMs such loops under SCHED_IDLE alone raised the
 #           victim's p99 1.7-2.1x (3.5 -> 6.1-7.3 ms; perf sched: a server thread woken while one
@@ -37,8 +37,9 @@
 #   usage: benchmarks/fairness_flood.sh
 #   env: SECONDS_PER_RUN (20), ROUNDS (1: alone then beside, per shape; more print each shape's
 #        median ratio), FLOOD_SCHED (idle), FLOOD_NICE (19), SHAPES ("idle rate big reopen mixed search rigs imports rebuilds"),
-#        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS, REBUILDERS, BURNERS, SERVER_EXTRA (more
-#        `mocapd serve` flags, e.g. --no-prompt-lane)
+#        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS, IMPORT_CLIPS, REBUILDERS, BURNERS,
+#        SERVER_EXTRA (more `mocapd serve` flags, e.g. --no-prompt-lane), SERVER_SCHED (other; rr: the
+#        server and the victim under `chrt --rr 2`, root only)
 # Builds its own store in build/fairness (two tenants, each with the standard split's database).
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
@@ -59,7 +60,16 @@ done
 victim_key=$("$mocapd" tenant add-key --store "$store" victim 2>/dev/null)
 flood_key=$("$mocapd" tenant add-key --store "$store" flood 2>/dev/null)
 read -r -a server_extra <<<"${SERVER_EXTRA:-}"
-coproc SERVER { exec "$mocapd" serve --store "$store" --listen 127.0.0.1:0 "${server_extra[@]}" 2>"$out/server.log"; }
+# SERVER_SCHED=rr: the server and the victim under SCHED_RR (root), so that the co-located flood
+# generator runs only where they leave a core free, as a remote one would: under the normal policy
+# a SCHED_IDLE loop still takes its share beside a runnable server thread (the `idle` shape, 2.3x
+# with no request at all, stop 69). The server maps its lanes to real-time priorities (work_pool.cc).
+case ${SERVER_SCHED:-other} in
+  other) server_run=() ;;
+  rr) server_run=(chrt --rr 2) ;;
+  *) echo "SERVER_SCHED is other or rr" >&2; exit 2 ;;
+esac
+coproc SERVER { exec "${server_run[@]}" "$mocapd" serve --store "$store" --listen 127.0.0.1:0 "${server_extra[@]}" 2>"$out/server.log"; }
 server_pid=$SERVER_PID
 trap 'kill $server_pid 2>/dev/null; wait $server_pid 2>/dev/null || true' EXIT
 read -r -t 60 line <&"${SERVER[0]}"
@@ -67,7 +77,7 @@ address=${line#listening on }
 k1=(); [ -n "${K1:-}" ] && k1=(--k1 "$K1")
 
 victim() {  # $1: label
-  "$load" --address "$address" --key "$victim_key" --database walks --bvh "$clip" --streams 1 --seconds "$seconds" \
+  "${server_run[@]}" "$load" --address "$address" --key "$victim_key" --database walks --bvh "$clip" --streams 1 --seconds "$seconds" \
     "${k1[@]}" --json >"$out/victim-$1.json" || true
   python3 - "$out/victim-$1.json" "$1" <<'PY'
 import json, sys
@@ -170,8 +180,9 @@ flood_rigs() {
 held_out_files=()
 while IFS= read -r -d '' file; do held_out_files+=("$file"); done \
   < <(find "$data/bandai-namco-2" -name '*3.bvh' -print0 | sort -z)
-import_files=("${held_out_files[@]:0:40}")
-rebuild_files=("${held_out_files[@]:40}")
+import_clips=${IMPORT_CLIPS:-40}
+import_files=("${held_out_files[@]:0:import_clips}")
+rebuild_files=("${held_out_files[@]:import_clips}")
 import_once() {  # $1: the database, imported into and then deleted
   local rc=0
   flood_mocap import --database "$1" "${import_files[@]}" || rc=$?

@@ -1,5 +1,6 @@
 #include "server/work_pool.h"
 
+#include <sched.h>
 #include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
@@ -26,9 +27,35 @@ constexpr int kBulkNiceness = 10;
 // The pool whose task this thread runs (AnotherKeyWaits), null outside a pool thread.
 thread_local const std::atomic<bool>* this_threads_key_waits = nullptr;
 
+// A server started under a real-time policy (`chrt --rr P mocapd serve`, systemd's
+// CPUSchedulingPolicy=rr) keeps the same order in it: gRPC's threads and the prompt lane at P (as
+// started), compute at P − 1, and bulk work out of it, at SCHED_OTHER's nice 10. Nice values mean
+// nothing to a real-time thread, and under one policy the kernel keeps them strictly apart from the
+// host's other work: a SCHED_IDLE or nice-19 batch job sharing the cores gets a share of the CPU
+// beside a normal thread (a runnable server thread waited a 4 ms tick behind one, `perf sched`),
+// never beside a real-time one ([deployment.md](../docs/deployment.md#sizing)).
+bool RunThisThreadAtRealTime(WorkPool::Priority priority) {
+  const int policy = sched_getscheduler(0);
+  if (policy != SCHED_RR && policy != SCHED_FIFO) return false;
+  sched_param param{};
+  if (sched_getparam(0, &param) != 0) return false;
+  int result = 0;
+  if (priority == WorkPool::Priority::kBulk) {
+    sched_param normal{};
+    result = sched_setscheduler(0, SCHED_OTHER, &normal);
+    if (result == 0) result = setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kBulkNiceness);
+  } else {
+    param.sched_priority = std::max(sched_get_priority_min(policy), param.sched_priority - 1);
+    result = sched_setscheduler(0, policy, &param);
+  }
+  if (result != 0) spdlog::warn("cannot set a server thread's real-time priority: {}", std::strerror(errno));
+  return true;
+}
+
 }  // namespace
 
 void RunThisThreadAt(WorkPool::Priority priority) {
+  if (RunThisThreadAtRealTime(priority)) return;
   const int niceness = priority == WorkPool::Priority::kBulk ? kBulkNiceness : kComputeNiceness;
   if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), niceness) != 0) {
     spdlog::warn("cannot lower a server thread's priority: {}", std::strerror(errno));

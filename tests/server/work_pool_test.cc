@@ -6,6 +6,7 @@
 // advance.
 #include "server/work_pool.h"
 
+#include <sched.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -13,7 +14,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <future>
 #include <latch>
@@ -444,6 +447,59 @@ TEST(WorkPoolTest, ABulkPoolRunsBelowTheComputePool) {
   WorkPool bulk(1, WorkPool::Priority::kBulk);
   EXPECT_EQ(niceness_of(compute), 5);
   EXPECT_EQ(niceness_of(bulk), 10) << "imports and the store's calls yield to live sessions' compute";
+}
+
+// The calling thread's scheduling policy, real-time priority and nice value.
+struct ThreadScheduling {
+  int policy = -1;
+  int priority = -1;
+  int niceness = 0;
+};
+ThreadScheduling ThisThreadsScheduling() {
+  sched_param param{};
+  sched_getparam(0, &param);
+  return {sched_getscheduler(0), param.sched_priority, ThisThreadsNiceness()};
+}
+
+TEST(WorkPoolTest, UnderARealTimePolicyThePoolsKeepTheirOrder) {
+  // A server started by `chrt --rr 3`: its threads inherit SCHED_RR 3 from the thread that starts them.
+  std::promise<ThreadScheduling> lane, compute, bulk;
+  std::shared_future<ThreadScheduling> lane_got_future = lane.get_future().share();
+  std::shared_future<ThreadScheduling> compute_got_future = compute.get_future().share();
+  std::promise<int> started;
+  std::thread server_main([&] {
+    sched_param param{};
+    param.sched_priority = 3;
+    started.set_value(sched_setscheduler(0, SCHED_RR, &param) == 0 ? 0 : errno);
+    if (ThisThreadsScheduling().policy != SCHED_RR) return;
+    WorkPool compute_pool(1, WorkPool::PromptLane::kYes);
+    WorkPool bulk_pool(1, WorkPool::Priority::kBulk);
+    std::promise<void> release;
+    compute_pool.Post(1, [&, wait = release.get_future().share()] {
+      compute.set_value(ThisThreadsScheduling());
+      wait.wait();
+    });
+    compute_got_future.wait();  // the pool's one thread is busy: a quiet key's task goes to the lane
+    compute_pool.Post(2, [&] { lane.set_value(ThisThreadsScheduling()); });
+    bulk_pool.Post([&] { bulk.set_value(ThisThreadsScheduling()); });
+    lane_got_future.wait();
+    release.set_value();
+  });
+  const int error = started.get_future().get();
+  if (error != 0) {
+    server_main.join();
+    GTEST_SKIP() << "this process may not use SCHED_RR (" << std::strerror(error) << "): needs CAP_SYS_NICE";
+  }
+  const ThreadScheduling lane_got = lane_got_future.get();
+  const ThreadScheduling compute_got = compute_got_future.get();
+  const ThreadScheduling bulk_got = bulk.get_future().get();
+  server_main.join();
+  EXPECT_EQ(lane_got.policy, SCHED_RR);
+  EXPECT_EQ(lane_got.priority, 3) << "the prompt lane runs at the server's own (gRPC's) priority";
+  EXPECT_EQ(compute_got.policy, SCHED_RR);
+  EXPECT_EQ(compute_got.priority, 2) << "compute one below the transport";
+  EXPECT_EQ(bulk_got.policy, SCHED_OTHER) << "bulk work leaves the real-time policy";
+  EXPECT_EQ(bulk_got.niceness, 10);
 }
 
 TEST(WorkPoolTest, ThePromptLanesPoolRunsWhatIsQueuedBeforeTheDestructorReturns) {
