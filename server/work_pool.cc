@@ -30,25 +30,26 @@ thread_local const std::atomic<bool>* this_threads_key_waits = nullptr;
 // A server started under a real-time policy (`chrt --rr P mocapd serve`, systemd's
 // CPUSchedulingPolicy=rr) keeps the same order in it: gRPC's threads and the prompt lane at P (as
 // started), compute at P − 1, and bulk work out of it, at SCHED_OTHER's nice 10. Nice values mean
-// nothing to a real-time thread, and under one policy the kernel keeps them strictly apart from the
-// host's other work: a SCHED_IDLE or nice-19 batch job sharing the cores gets a share of the CPU
-// beside a normal thread (a runnable server thread waited a 4 ms tick behind one, `perf sched`),
-// never beside a real-time one ([deployment.md](../docs/deployment.md#sizing)).
+// nothing to a real-time thread, and a real-time policy keeps the server strictly above the host's
+// other work: a SCHED_IDLE or nice-19 batch job sharing the cores still gets a share of the CPU
+// beside a runnable normal thread (a server thread waited 4.8 ms behind one, `perf sched`), never
+// beside a real-time one ([deployment.md](../docs/deployment.md#sizing)). Returns whether it set
+// the thread's priority; false leaves it to its nice value.
 bool RunThisThreadAtRealTime(WorkPool::Priority priority) {
   const int policy = sched_getscheduler(0);
   if (policy != SCHED_RR && policy != SCHED_FIFO) return false;
   sched_param param{};
-  if (sched_getparam(0, &param) != 0) return false;
-  int result = 0;
-  if (priority == WorkPool::Priority::kBulk) {
-    sched_param normal{};
-    result = sched_setscheduler(0, SCHED_OTHER, &normal);
-    if (result == 0) result = setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kBulkNiceness);
-  } else {
-    param.sched_priority = std::max(sched_get_priority_min(policy), param.sched_priority - 1);
-    result = sched_setscheduler(0, policy, &param);
+  if (priority == WorkPool::Priority::kBulk) {  // back to SCHED_OTHER, then nice 10 as elsewhere
+    if (sched_setscheduler(0, SCHED_OTHER, &param) != 0) {
+      spdlog::warn("cannot take a bulk thread out of the real-time policy: {}", std::strerror(errno));
+    }
+    return false;
   }
-  if (result != 0) spdlog::warn("cannot set a server thread's real-time priority: {}", std::strerror(errno));
+  if (sched_getparam(0, &param) != 0) return false;
+  param.sched_priority = std::max(sched_get_priority_min(policy), param.sched_priority - 1);
+  if (sched_setscheduler(0, policy, &param) != 0) {
+    spdlog::warn("cannot set a server thread's real-time priority: {}", std::strerror(errno));
+  }
   return true;
 }
 

@@ -470,8 +470,9 @@ TEST(WorkPoolTest, UnderARealTimePolicyThePoolsKeepTheirOrder) {
   std::thread server_main([&] {
     sched_param param{};
     param.sched_priority = 3;
-    started.set_value(sched_setscheduler(0, SCHED_RR, &param) == 0 ? 0 : errno);
-    if (ThisThreadsScheduling().policy != SCHED_RR) return;
+    const int error = sched_setscheduler(0, SCHED_RR, &param) == 0 ? 0 : errno;
+    started.set_value(error);
+    if (error != 0) return;
     WorkPool compute_pool(1, WorkPool::PromptLane::kYes);
     WorkPool bulk_pool(1, WorkPool::Priority::kBulk);
     std::promise<void> release;
