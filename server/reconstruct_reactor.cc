@@ -11,6 +11,21 @@
 #include "storage/tenant_directory.h"
 
 namespace mocap {
+namespace {
+
+// Replies as the bytes the stream writes, made by the compute task that computed them.
+absl::StatusOr<std::vector<grpc::ByteBuffer>> Encode(const std::vector<v1::ReconstructResponse>& replies) {
+  std::vector<grpc::ByteBuffer> encoded(replies.size());
+  for (std::size_t i = 0; i < replies.size(); ++i) {
+    bool own_buffer = false;
+    const grpc::Status status =
+        grpc::SerializationTraits<v1::ReconstructResponse>::Serialize(replies[i], &encoded[i], &own_buffer);
+    if (!status.ok()) return absl::InternalError(StrCat("a reply could not be serialized: ", status.error_message()));
+  }
+  return encoded;
+}
+
+}  // namespace
 
 ReconstructReactor::ReconstructReactor(ReconstructionState& state, grpc::CallbackServerContext* context)
     : state_(state), call_(state.service, context, "Reconstruct"), session_id_(state.NextSessionId()) {
@@ -80,18 +95,7 @@ void ReconstructReactor::Post(std::function<void()> work) {
 }
 
 void ReconstructReactor::PostSliceLocked() {
-  const int begin = next_sample_;
-  const int end = std::min(samples_->samples_size(), begin + kSamplesPerTask);
-  next_sample_ = end;
-  std::optional<Clock::time_point> last_of_message;
-  std::shared_ptr<const v1::WristSamples> samples = samples_;
-  if (end == samples_->samples_size()) {
-    last_of_message = samples_arrival_;
-    samples_.reset();  // wholly dispatched: the next read waits for this task
-  }
-  Post([this, samples = std::move(samples), begin, end, last_of_message] {
-    HandleSlice(*samples, begin, end, last_of_message);
-  });
+  Post([this, samples = samples_, arrival = samples_arrival_] { HandleSlice(samples, arrival); });
 }
 
 void ReconstructReactor::OnReadDone(bool ok) {
@@ -111,23 +115,56 @@ void ReconstructReactor::OnReadDone(bool ok) {
     AdvanceTo(Phase::kInputDone);
     return Post([this] { EndInput(absl::OkStatus()); });
   }
-  switch (request_.kind_case()) {
+  // Only the message's shape is looked at on gRPC's thread; what it holds is parsed on the pool.
+  auto bytes = std::make_shared<SamplesReader>(read_buffer_);
+  if (!bytes->samples_only()) return Post([this, bytes, arrival] { HandleRequest(*bytes, arrival); });
+  if (!configured) {
+    CompleteLocked(absl::InvalidArgumentError("samples before the config: send SessionConfig first"), false);
+    return PumpLocked();
+  }
+  samples_ = std::move(bytes);
+  samples_arrival_ = arrival;
+  PumpLocked();
+}
+
+void ReconstructReactor::HandleRequest(SamplesReader& bytes, Clock::time_point arrival) {
+  absl::StatusOr<v1::ReconstructRequest> request = bytes.ParseWhole();
+  MutexLock lock(&mutex_);
+  // The call may have ended, or its input, while the message was parsed; this task's end pumps.
+  if (phase_ >= Phase::kInputDone) return;
+  if (!request.ok()) return CompleteLocked(request.status(), false);
+  DispatchLocked(*request, arrival);
+}
+
+void ReconstructReactor::DispatchLocked(v1::ReconstructRequest& request, Clock::time_point arrival) {
+  const bool configured = phase_ == Phase::kStreaming;
+  switch (request.kind_case()) {
     case v1::ReconstructRequest::kConfig:
       if (configured) {
         CompleteLocked(absl::InvalidArgumentError("config sent twice: one session per stream"), false);
         return PumpLocked();
       }
       AdvanceTo(Phase::kStreaming);
-      return Post([this, config = request_.config()] { HandleConfig(config); });
-    case v1::ReconstructRequest::kSamples:
+      return Post([this, config = std::move(*request.mutable_config())] { HandleConfig(config); });
+    case v1::ReconstructRequest::kSamples: {
       if (!configured) {
         CompleteLocked(absl::InvalidArgumentError("samples before the config: send SessionConfig first"), false);
         return PumpLocked();
       }
-      samples_ = std::make_shared<const v1::WristSamples>(std::move(*request_.mutable_samples()));
-      next_sample_ = 0;
+      // Samples in another form than one field (repeated fields merged, unknown ones dropped by
+      // the parser): written back as one, they are read as every samples message is.
+      v1::ReconstructRequest only;
+      only.mutable_samples()->Swap(request.mutable_samples());
+      grpc::ByteBuffer bytes;
+      bool own_buffer = false;
+      if (!grpc::SerializationTraits<v1::ReconstructRequest>::Serialize(only, &bytes, &own_buffer).ok()) {
+        CompleteLocked(absl::InternalError("a samples message could not be re-serialized"), false);
+        return PumpLocked();
+      }
+      samples_ = std::make_shared<SamplesReader>(bytes);
       samples_arrival_ = arrival;
       return PumpLocked();
+    }
     case v1::ReconstructRequest::kFinish:
       if (!configured) {
         CompleteLocked(absl::InvalidArgumentError("finish before the config message"), false);
@@ -183,18 +220,22 @@ void ReconstructReactor::HandleConfig(const v1::SessionConfig& config) {
       });
 }
 
-void ReconstructReactor::HandleSlice(const v1::WristSamples& samples, int begin, int end,
-                                     std::optional<Clock::time_point> arrival) {
+void ReconstructReactor::HandleSlice(const std::shared_ptr<SamplesReader>& samples, Clock::time_point arrival) {
   Replies replies;
   absl::Status status;
   {
     MutexLock session(&session_mutex_);
-    if (!driver_) return;  // the session ended before it started (drain, error)
-    status = driver_->Push(samples, begin, end, &replies);
-    if (arrival)
-      driver_->RecordReplyLatency(std::chrono::duration<double, std::milli>(Clock::now() - *arrival).count());
+    if (driver_) {  // null when the session ended before it started (drain, error)
+      const absl::Status read = samples->Next(kSamplesPerTask);
+      status = driver_->Push(samples->batch(), 0, samples->batch().samples_size(), &replies);
+      if (status.ok()) status = read;  // the samples before a malformed one are taken
+      if (samples->done() && status.ok())
+        driver_->RecordReplyLatency(std::chrono::duration<double, std::milli>(Clock::now() - arrival).count());
+    }
     MutexLock lock(&mutex_);
-    backlog_ = driver_->has_backlog();
+    if (driver_) backlog_ = driver_->has_backlog();
+    // Wholly read: the next read may start once this task has returned.
+    if ((samples->done() || !driver_ || !status.ok()) && samples_ == samples) samples_.reset();
   }
   Deliver(std::move(replies), status);
 }
@@ -214,6 +255,7 @@ void ReconstructReactor::ContinueBacklog() {
 
 void ReconstructReactor::EndInput(absl::Status final_status) {
   Replies replies;
+  absl::StatusOr<std::vector<grpc::ByteBuffer>> encoded;
   absl::Status status = final_status;
   bool done = true;
   {
@@ -227,9 +269,14 @@ void ReconstructReactor::EndInput(absl::Status final_status) {
       if (done) ReleaseDriverLocked();  // frees the session now; the database stays shared with others
     }
   }
+  encoded = Encode(replies);
+  if (!encoded.ok()) {
+    status = encoded.status();
+    done = true;
+  }
   MutexLock lock(&mutex_);
-  if (phase_ < Phase::kCompleting) {
-    for (v1::ReconstructResponse& reply : replies) outbox_.push_back(std::move(reply));
+  if (phase_ < Phase::kCompleting && encoded.ok()) {
+    for (grpc::ByteBuffer& reply : *encoded) outbox_.emplace_back().Swap(&reply);
     if (!done) {  // PumpLocked posts the next step as the replies are written
       finishing_ = final_status;
       return;
@@ -240,9 +287,11 @@ void ReconstructReactor::EndInput(absl::Status final_status) {
 }
 
 void ReconstructReactor::Deliver(Replies replies, const absl::Status& status) {
+  absl::StatusOr<std::vector<grpc::ByteBuffer>> encoded = Encode(replies);
   MutexLock lock(&mutex_);
   if (phase_ >= Phase::kCompleting) return;  // the call's outcome is decided: later replies are not sent
-  for (v1::ReconstructResponse& reply : replies) outbox_.push_back(std::move(reply));
+  if (!encoded.ok()) return CompleteLocked(encoded.status(), false);
+  for (grpc::ByteBuffer& reply : *encoded) outbox_.emplace_back().Swap(&reply);
   if (!status.ok()) CompleteLocked(status, false);
 }
 
@@ -265,7 +314,7 @@ bool ReconstructReactor::AdvanceTo(Phase phase) {
 void ReconstructReactor::PumpLocked() {
   if (phase_ == Phase::kFinished) return;
   if (!writing_ && !outbox_.empty()) {
-    writing_message_ = std::move(outbox_.front());
+    writing_message_.Swap(&outbox_.front());
     outbox_.pop_front();
     writing_ = true;
     StartWrite(&writing_message_);
@@ -300,7 +349,7 @@ void ReconstructReactor::PumpLocked() {
     if (paced_ && Clock::now() < next_read_) return WaitToReadLocked();
     reading_ = true;
     last_read_ = Clock::now();
-    StartRead(&request_);
+    StartRead(&read_buffer_);
   }
 }
 

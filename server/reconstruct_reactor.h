@@ -12,9 +12,11 @@
 //   kFinished        Finish(status) called
 // Any phase before kCompleting jumps to it when the call's outcome is decided (an error, a cancel,
 // the idle limit, a refusal); the first outcome stands.
-// A samples message is cut into tasks of kSamplesPerTask samples, posted under the tenant's key
-// of the fair compute pool: a large message is answered incrementally and cannot hold a compute
-// thread, and another tenant's task waits for at most one task per thread. The next slice is
+// Messages are read as bytes (samples_reader.h): gRPC's threads only look at a message's shape,
+// and a samples message is parsed kSamplesPerTask samples at a time, each slice a task posted
+// under the tenant's key of the fair compute pool, which also writes its replies' bytes: a large
+// message is answered incrementally and cannot hold a gRPC or compute thread, and another
+// tenant's task waits for at most one task per thread. Any other message is parsed whole in a task. The next slice is
 // posted only while few replies wait to be written, and the next message is read only after the
 // replies to the previous one have been written, so a slow reader slows its own session and
 // nothing queues without bound. Where several tenants share the server, a tenant's reads are paced
@@ -33,15 +35,16 @@
 #include <utility>
 
 #include <grpcpp/alarm.h>
+#include <grpcpp/support/byte_buffer.h>
 
 #include "motion/core/mutex.h"
 #include "server/owned_reactor.h"
 #include "server/reconstruction_service.h"
+#include "server/samples_reader.h"
 
 namespace mocap {
 
-class ReconstructReactor
-    : public OwnedReactor<grpc::ServerBidiReactor<v1::ReconstructRequest, v1::ReconstructResponse>> {
+class ReconstructReactor : public OwnedReactor<grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>> {
  public:
   ReconstructReactor(ReconstructionState& state, grpc::CallbackServerContext* context);
 
@@ -95,8 +98,12 @@ class ReconstructReactor
   void Post(std::function<void()> work) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   // Posts the next slice of the samples message in progress.
   void PostSliceLocked() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  // Samples [begin, end) of `samples`; `arrival` for the message's last slice (its reply latency).
-  void HandleSlice(const v1::WristSamples& samples, int begin, int end, std::optional<Clock::time_point> arrival);
+  // The next slice of `samples`, which arrived at `arrival` (the reply latency of its last slice).
+  void HandleSlice(const std::shared_ptr<SamplesReader>& samples, Clock::time_point arrival);
+  // A message other than one samples field (a config, a finish), parsed whole on the pool.
+  void HandleRequest(SamplesReader& bytes, Clock::time_point arrival);
+  // What a parsed request asks for, in the stream's phase.
+  void DispatchLocked(v1::ReconstructRequest& request, Clock::time_point arrival) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void Authenticate();
   void HandleConfig(const v1::SessionConfig& config);
   // Frees the session, keeping its counts for the end-of-session line.
@@ -126,7 +133,7 @@ class ReconstructReactor
   ReconstructionState& state_;
   CallScope call_;
   const std::string session_id_;
-  v1::ReconstructRequest request_;                    // read buffer
+  grpc::ByteBuffer read_buffer_;                      // the message being read, as bytes
   Mutex session_mutex_ ABSL_ACQUIRED_BEFORE(mutex_);  // the session itself (compute tasks)
   std::unique_ptr<SessionDriver> driver_ ABSL_GUARDED_BY(session_mutex_);
   bool session_started_ ABSL_GUARDED_BY(session_mutex_) = false;     // a driver was created: its end is logged
@@ -151,16 +158,15 @@ class ReconstructReactor
   Clock::time_point next_read_ ABSL_GUARDED_BY(mutex_);
   std::optional<grpc::Alarm> read_alarm_ ABSL_GUARDED_BY(mutex_);
   grpc::Status final_status_ ABSL_GUARDED_BY(mutex_);
-  std::deque<v1::ReconstructResponse> outbox_ ABSL_GUARDED_BY(mutex_);
-  v1::ReconstructResponse writing_message_ ABSL_GUARDED_BY(mutex_);
+  std::deque<grpc::ByteBuffer> outbox_ ABSL_GUARDED_BY(mutex_);  // replies, serialized by the task that made them
+  grpc::ByteBuffer writing_message_ ABSL_GUARDED_BY(mutex_);
   Clock::time_point last_read_ ABSL_GUARDED_BY(mutex_) = Clock::now();
   // The session has held samples to take before the next message (SessionDriver::has_backlog).
   bool backlog_ ABSL_GUARDED_BY(mutex_) = false;
   // The end of the input is being computed a slice at a time; the call then ends with this status.
   std::optional<absl::Status> finishing_ ABSL_GUARDED_BY(mutex_);
-  // The samples message being dispatched slice by slice (null when none or wholly dispatched).
-  std::shared_ptr<const v1::WristSamples> samples_ ABSL_GUARDED_BY(mutex_);
-  int next_sample_ ABSL_GUARDED_BY(mutex_) = 0;
+  // The samples message being read slice by slice (null when none or wholly read).
+  std::shared_ptr<SamplesReader> samples_ ABSL_GUARDED_BY(mutex_);
   Clock::time_point samples_arrival_ ABSL_GUARDED_BY(mutex_);
 };
 

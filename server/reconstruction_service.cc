@@ -76,7 +76,7 @@ ReconstructionService::~ReconstructionService() {
   watchdog_.join();
 }
 
-grpc::ServerBidiReactor<v1::ReconstructRequest, v1::ReconstructResponse>* ReconstructionService::Reconstruct(
+grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* ReconstructionService::Reconstruct(
     grpc::CallbackServerContext* context) {
   return new ReconstructReactor(state_, context);
 }

@@ -72,12 +72,16 @@ struct ReconstructionState {
   WorkPool compute;
 };
 
-class ReconstructionService final : public v1::Reconstruction::CallbackService {
+// Reconstruct is served raw (ByteBuffer in and out, reconstruct_reactor.h): its messages are parsed
+// and serialized on the compute pool, under the tenant's share, not on gRPC's threads.
+class ReconstructionService final
+    : public v1::Reconstruction::WithRawCallbackMethod_Reconstruct<
+          v1::Reconstruction::WithCallbackMethod_ReconstructTrajectory<v1::Reconstruction::Service>> {
  public:
   ReconstructionService(ServiceContext& service, const ReconstructionLimits& limits);
   ~ReconstructionService() override;
 
-  grpc::ServerBidiReactor<v1::ReconstructRequest, v1::ReconstructResponse>* Reconstruct(
+  grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* Reconstruct(
       grpc::CallbackServerContext* context) override;
   grpc::ServerUnaryReactor* ReconstructTrajectory(grpc::CallbackServerContext* context,
                                                   const v1::ReconstructTrajectoryRequest* request,
