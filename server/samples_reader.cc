@@ -64,9 +64,9 @@ absl::Status SamplesReader::Next(int max) {
   if (!samples_only_ || done_) return absl::OkStatus();
   auto malformed = [&] {
     done_ = true;
-    return absl::InvalidArgumentError(
-        StrCat("a samples message is malformed at its sample ", samples_read_ + batch_.samples_size(),
-               " (counting from 0): it is not a WristSamples message"));
+    return absl::InvalidArgumentError(StrCat("a samples message is malformed at its sample ",
+                                             samples_read_ + batch_.samples_size(),
+                                             " (counting from 0): it is not a WristSamples message"));
   };
   while (batch_.samples_size() < max && coded_->BytesUntilLimit() > 0) {
     const std::uint32_t tag = coded_->ReadTag();

@@ -196,6 +196,39 @@ TEST_F(ReconstructionServiceTest, BadSessionsGetClearErrors) {
   EXPECT_NE(status.error_message().find("config"), std::string::npos) << status.error_message();
 }
 
+// The server reads messages as bytes (server/samples_reader.h): samples in the form protobuf
+// merges (a second samples field) are all taken, and a malformed sample ends the call naming it.
+TEST_F(ReconstructionServiceTest, SamplesAreTakenInEveryWireFormAndAMalformedOneIsNamed) {
+  StartServer();
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  const std::vector<v1::WristSample> wrists = QueryWrists(30);
+  v1::ReconstructRequest config;
+  *config.mutable_config() = Config(0);
+
+  // 20 samples as the message's field, the last 10 in a second samples field after it.
+  v1::ReconstructRequest split;
+  for (int i = 0; i < 20; ++i) *split.mutable_samples()->add_samples() = wrists[i];
+  v1::WristSamples rest;
+  for (int i = 20; i < 30; ++i) *rest.add_samples() = wrists[i];
+  split.GetReflection()->MutableUnknownFields(&split)->AddLengthDelimited(v1::ReconstructRequest::kSamplesFieldNumber,
+                                                                          rest.SerializeAsString());
+  const testing::RawOutcome merged = testing::SendRaw(server_->address(), keys_["acme"], {config, split});
+  ASSERT_TRUE(merged.status.ok()) << merged.status.error_message();
+  EXPECT_EQ(merged.frames, 30);
+
+  // Five samples, then one whose bytes are no WristSample (a group's tag).
+  v1::ReconstructRequest bad;
+  for (int i = 0; i < 5; ++i) *bad.mutable_samples()->add_samples() = wrists[i];
+  v1::WristSamples* samples = bad.mutable_samples();
+  samples->GetReflection()->MutableUnknownFields(samples)->AddLengthDelimited(v1::WristSamples::kSamplesFieldNumber,
+                                                                              "\x0b");
+  const testing::RawOutcome malformed = testing::SendRaw(server_->address(), keys_["acme"], {config, bad});
+  EXPECT_EQ(malformed.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(malformed.status.error_message().find("malformed at its sample 5"), std::string::npos)
+      << malformed.status.error_message();
+}
+
 TEST_F(ReconstructionServiceTest, LimitsOnSessionsAndIdleTime) {
   StartServer({"--max-sessions-per-tenant", "1", "--idle-seconds", "0.5"});
   auto client = Connect(keys_["acme"]);

@@ -106,11 +106,11 @@ TEST(SamplesReaderTest, UnknownFieldsAmongTheSamplesAreSkipped) {
     return std::string{'\x0a', static_cast<char>(sample.size())} + sample;
   };
   inner += sample_bytes(0);
-  inner += std::string{'\x10', '\x96', '\x01'};                    // field 2, varint 150
-  inner += std::string{'\x19'} + std::string(8, '\x01');           // field 3, fixed64
+  inner += std::string{'\x10', '\x96', '\x01'};           // field 2, varint 150
+  inner += std::string{'\x19'} + std::string(8, '\x01');  // field 3, fixed64
   inner += sample_bytes(1);
-  inner += std::string{'\x22', '\x03', 'a', 'b', 'c'};             // field 4, 3 bytes
-  inner += std::string{'\x2d'} + std::string(4, '\x02');           // field 5, fixed32
+  inner += std::string{'\x22', '\x03', 'a', 'b', 'c'};    // field 4, 3 bytes
+  inner += std::string{'\x2d'} + std::string(4, '\x02');  // field 5, fixed32
   inner += sample_bytes(2);
   ASSERT_LT(inner.size(), 128u);
   const std::string bytes = std::string{'\x12', static_cast<char>(inner.size())} + inner;
@@ -144,7 +144,7 @@ TEST(SamplesReaderTest, AMalformedSampleStopsTheReadAndNamesTheSample) {
 
 TEST(SamplesReaderTest, AnInvalidWireTypeOrTruncatedSampleIsMalformed) {
   const std::string sample = Sample(1).SerializeAsString();
-  for (const std::string& inner : {std::string{'\x0b'},                                      // a group
+  for (const std::string& inner : {std::string{'\x0b'},                                     // a group
                                    std::string{'\x0a', static_cast<char>(sample.size())} +  // cut short
                                        sample.substr(0, sample.size() - 2)}) {
     const std::string bytes = std::string{'\x12', static_cast<char>(inner.size())} + inner;

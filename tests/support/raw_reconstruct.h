@@ -1,8 +1,9 @@
-// A Reconstruct stream on the raw stub that misbehaves as the SDK never would: it sends one
-// samples message first (no config), half-closes, drains the replies and returns the status.
+// Reconstruct streams on the raw stub that misbehave as the SDK never would: messages in an order
+// or a wire form the SDK does not send.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <grpcpp/grpcpp.h>
 
@@ -10,21 +11,35 @@
 
 namespace mocap::testing {
 
-// `key` empty: no authorization metadata at all.
-inline grpc::Status SamplesBeforeConfig(const std::string& address, const std::string& key,
-                                        const v1::WristSample& sample) {
+// What a raw stream was answered: its status and the frames it was sent.
+struct RawOutcome {
+  grpc::Status status;
+  int frames = 0;
+};
+
+// Sends `requests` in order on one stream, half-closes and drains the replies. `key` empty: no
+// authorization metadata at all.
+inline RawOutcome SendRaw(const std::string& address, const std::string& key,
+                          const std::vector<v1::ReconstructRequest>& requests) {
   auto stub = v1::Reconstruction::NewStub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
   grpc::ClientContext context;
   if (!key.empty()) context.AddMetadata("authorization", "Bearer " + key);
   auto stream = stub->Reconstruct(&context);
+  for (const v1::ReconstructRequest& request : requests)
+    if (!stream->Write(request)) break;
+  stream->WritesDone();
+  RawOutcome outcome;
+  v1::ReconstructResponse reply;
+  while (stream->Read(&reply)) outcome.frames += reply.frames().frames_size();
+  outcome.status = stream->Finish();
+  return outcome;
+}
+
+inline grpc::Status SamplesBeforeConfig(const std::string& address, const std::string& key,
+                                        const v1::WristSample& sample) {
   v1::ReconstructRequest samples;
   *samples.mutable_samples()->add_samples() = sample;
-  stream->Write(samples);
-  stream->WritesDone();
-  v1::ReconstructResponse reply;
-  while (stream->Read(&reply)) {
-  }
-  return stream->Finish();
+  return SendRaw(address, key, {samples}).status;
 }
 
 }  // namespace mocap::testing
