@@ -27,6 +27,32 @@ constexpr int kBulkNiceness = 10;
 // The pool whose task this thread runs (AnotherKeyWaits), null outside a pool thread.
 thread_local const std::atomic<bool>* this_threads_key_waits = nullptr;
 
+// A compute thread under a real-time policy: its priority there, and whether the task it runs now
+// left it (a backlogged key's: work_pool.h).
+struct RealTimeCompute {
+  bool active = false;
+  int policy = SCHED_OTHER;
+  int priority = 0;
+  bool demoted = false;
+};
+thread_local RealTimeCompute real_time_compute;
+
+// Runs the calling compute thread's next task at SCHED_OTHER (nice as compute elsewhere) when its
+// key is backlogged, at the thread's real-time priority otherwise; a syscall only on a change.
+void RunNextTaskInItsClass(bool backlogged) {
+  RealTimeCompute& lane = real_time_compute;
+  if (!lane.active || backlogged == lane.demoted) return;
+  sched_param param{};
+  param.sched_priority = backlogged ? 0 : lane.priority;
+  if (sched_setscheduler(0, backlogged ? SCHED_OTHER : lane.policy, &param) != 0) {
+    spdlog::warn("cannot move a compute thread {} the real-time policy: {}", backlogged ? "out of" : "back into",
+                 std::strerror(errno));
+    return;
+  }
+  if (backlogged) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kComputeNiceness);
+  lane.demoted = backlogged;
+}
+
 // A server started under a real-time policy (`chrt --rr P mocapd serve`, systemd's
 // CPUSchedulingPolicy=rr) keeps the same order in it: gRPC's threads and the prompt lane at P (as
 // started), compute at P − 1, and bulk work out of it, at SCHED_OTHER's nice 10. Nice values mean
@@ -49,7 +75,9 @@ bool RunThisThreadAtRealTime(WorkPool::Priority priority) {
   param.sched_priority = std::max(sched_get_priority_min(policy), param.sched_priority - 1);
   if (sched_setscheduler(0, policy, &param) != 0) {
     spdlog::warn("cannot set a server thread's real-time priority: {}", std::strerror(errno));
+    return true;
   }
+  real_time_compute = {.active = true, .policy = policy, .priority = param.sched_priority, .demoted = false};
   return true;
 }
 
@@ -104,6 +132,7 @@ void WorkPool::Post(Key key, std::function<void()> task) {
     MutexLock lock(&mutex_);
     const std::int64_t now = clock_();
     KeyState& state = keys_[key];
+    if (state.queue.empty() && state.running.empty()) state.busy_since = now;
     state.queue.push_back({next_sequence_++, std::move(task)});
     ++queued_;
     for_prompt_lane = ForPromptLaneLocked(state, now);
@@ -223,6 +252,7 @@ void WorkPool::Work(bool prompt_lane) {
     std::function<void()> task;
     Key key = kSharedKey;
     Running running;
+    bool backlogged = false;
     {
       MutexLock lock(&mutex_);
       auto picked = keys_.end();
@@ -239,6 +269,7 @@ void WorkPool::Work(bool prompt_lane) {
       state.finish = std::max(state.finish, virtual_time_) + kMinimumCharge;  // the rest when it ends
       virtual_time_ = tag;
       running.long_key = state.long_until > running.started;
+      backlogged = running.started - state.busy_since > kBackloggedAfter;
       if (running.long_key) ++long_running_;
       task = std::move(state.queue.front().task);
       state.queue.pop_front();
@@ -255,6 +286,7 @@ void WorkPool::Work(bool prompt_lane) {
         prompt_ready_.notify_all();
       }
     }
+    if (!prompt_lane) RunNextTaskInItsClass(backlogged);
     const std::int64_t work_began = work_clock_();
     try {
       task();

@@ -38,6 +38,14 @@
 // lane by sending more; and while a thread is free the lane stays out of the way (taking one
 // tenant's streams at gRPC's priority whenever they were quiet cost that tenant's own p99 at 30
 // streams 7.4 -> 11.0 ms: the lane then preempted the transport of its other streams).
+//
+// Under a real-time policy (work_pool.cc) a compute thread runs a backlogged key's task — one whose
+// tasks have been queued or running without a break for kBackloggedAfter: a flood, a long search,
+// a message of 80,000 samples — at SCHED_OTHER, and returns to its real-time priority for the next
+// key that is not. Real-time work that fills every core starves everything at SCHED_OTHER (the
+// kernel's workers, the network's softirq thread, a co-located client), and the kernel then runs
+// those for up to 50 ms of each second above every real-time thread, the live sessions' too
+// (`perf sched`, stop 70: the victim's thread waited 41 ms once a second beside such a flood).
 #pragma once
 
 #include <atomic>
@@ -63,6 +71,9 @@ class WorkPool {
   // 2-core machine: at 20 ms a setup made a live stream long for kLongMemory).
   static constexpr std::int64_t kLongTask = 50'000'000;       // ns
   static constexpr std::int64_t kLongMemory = 2'000'000'000;  // ns
+  // Longer than a live session's message or setup: a key busy this long without a break is
+  // backlogged (under a real-time policy its tasks leave it).
+  static constexpr std::int64_t kBackloggedAfter = 100'000'000;  // ns
 
   enum class PromptLane { kNo, kYes };
   // How far below gRPC's priority the pool's threads run (work_pool.cc): compute (nice 5) below
@@ -116,6 +127,7 @@ class WorkPool {
     std::int64_t finish = 0;       // virtual time: what the key's finished tasks were charged
     std::vector<Running> running;  // its tasks running now
     std::int64_t long_until = 0;   // a task of it ran longer than kLongTask: long until then
+    std::int64_t busy_since = 0;   // when it last got a task with none queued or running
   };
 
   void Work(bool prompt_lane);

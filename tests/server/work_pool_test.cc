@@ -503,6 +503,51 @@ TEST(WorkPoolTest, UnderARealTimePolicyThePoolsKeepTheirOrder) {
   EXPECT_EQ(bulk_got.niceness, 10);
 }
 
+// Under a real-time policy a backlogged key's tasks leave it (work_pool.h): real-time work that
+// fills the cores makes the kernel stop every real-time thread for the starved ones.
+TEST(WorkPoolTest, UnderARealTimePolicyABackloggedKeysTasksLeaveIt) {
+  std::atomic<std::int64_t> now{0};
+  std::promise<int> started;
+  std::promise<ThreadScheduling> first, backlogged, after;
+  std::thread server_main([&] {
+    sched_param param{};
+    param.sched_priority = 3;
+    const int error = sched_setscheduler(0, SCHED_RR, &param) == 0 ? 0 : errno;
+    started.set_value(error);
+    if (error != 0) return;
+    WorkPool pool(1, WorkPool::PromptLane::kNo, [&] { return now.load(); });
+    std::promise<void> release;
+    std::shared_future<void> released = release.get_future().share();
+    std::promise<void> first_running;
+    pool.Post(1, [&] {
+      first.set_value(ThisThreadsScheduling());
+      first_running.set_value();
+      released.wait();
+    });
+    pool.Post(1, [&] { backlogged.set_value(ThisThreadsScheduling()); });  // queued behind it
+    first_running.get_future().wait();
+    now = WorkPool::kBackloggedAfter + 1;  // the key has been busy that long without a break
+    release.set_value();
+    while (pool.queued() > 0 || pool.running() > 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    pool.Post(1, [&] { after.set_value(ThisThreadsScheduling()); });  // idle before: a fresh start
+  });
+  const int error = started.get_future().get();
+  if (error != 0) {
+    server_main.join();
+    GTEST_SKIP() << "this process may not use SCHED_RR (" << std::strerror(error) << "): needs CAP_SYS_NICE";
+  }
+  const ThreadScheduling first_got = first.get_future().get();
+  const ThreadScheduling backlogged_got = backlogged.get_future().get();
+  const ThreadScheduling after_got = after.get_future().get();
+  server_main.join();
+  EXPECT_EQ(first_got.policy, SCHED_RR);
+  EXPECT_EQ(first_got.priority, 2);
+  EXPECT_EQ(backlogged_got.policy, SCHED_OTHER) << "a backlogged key's task leaves the real-time policy";
+  EXPECT_EQ(backlogged_got.niceness, 5) << "at compute's niceness, above bulk work";
+  EXPECT_EQ(after_got.policy, SCHED_RR) << "the next key that is not backlogged has it back";
+  EXPECT_EQ(after_got.priority, 2);
+}
+
 TEST(WorkPoolTest, ThePromptLanesPoolRunsWhatIsQueuedBeforeTheDestructorReturns) {
   std::atomic<int> ran{0};
   {
