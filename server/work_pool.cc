@@ -38,7 +38,8 @@ struct RealTimeCompute {
 thread_local RealTimeCompute real_time_compute;
 
 // Runs the calling compute thread's next task at SCHED_OTHER (nice as compute elsewhere) when its
-// key is backlogged, at the thread's real-time priority otherwise; a syscall only on a change.
+// key is backlogged, at the thread's real-time priority otherwise (false also after such a task:
+// the thread waits at its real-time priority); a syscall only on a change.
 void RunNextTaskInItsClass(bool backlogged) {
   RealTimeCompute& lane = real_time_compute;
   if (!lane.active || backlogged == lane.demoted) return;
@@ -296,6 +297,10 @@ void WorkPool::Work(bool prompt_lane) {
       spdlog::error("work pool: a task threw a non-standard exception and was dropped");
     }
     task = nullptr;  // its captures go before the charge: their destructors are the task's work
+    // Back to the real-time priority before the pool's lock and the wait for the next task: woken
+    // as a normal thread for a live session's task, it waited for a core behind the very work it
+    // had left the policy for (the server's reply up to 20 ms beside the rigs flood, stop 70).
+    if (!prompt_lane) RunNextTaskInItsClass(false);
     const std::int64_t worked = work_clock_() - work_began;
     MutexLock lock(&mutex_);
     const std::int64_t now = clock_();

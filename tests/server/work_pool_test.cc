@@ -461,6 +461,16 @@ ThreadScheduling ThisThreadsScheduling() {
   return {sched_getscheduler(0), param.sched_priority, ThisThreadsNiceness()};
 }
 
+// The calling thread under SCHED_RR 3, as `chrt --rr 3` starts a server; `started` gets 0 or the
+// errno (no CAP_SYS_NICE: the test skips).
+bool EnterRealTimeAt3(std::promise<int>& started) {
+  sched_param param{};
+  param.sched_priority = 3;
+  const int error = sched_setscheduler(0, SCHED_RR, &param) == 0 ? 0 : errno;
+  started.set_value(error);
+  return error == 0;
+}
+
 TEST(WorkPoolTest, UnderARealTimePolicyThePoolsKeepTheirOrder) {
   // A server started by `chrt --rr 3`: its threads inherit SCHED_RR 3 from the thread that starts them.
   std::promise<ThreadScheduling> lane, compute, bulk;
@@ -468,11 +478,7 @@ TEST(WorkPoolTest, UnderARealTimePolicyThePoolsKeepTheirOrder) {
   std::shared_future<ThreadScheduling> compute_got_future = compute.get_future().share();
   std::promise<int> started;
   std::thread server_main([&] {
-    sched_param param{};
-    param.sched_priority = 3;
-    const int error = sched_setscheduler(0, SCHED_RR, &param) == 0 ? 0 : errno;
-    started.set_value(error);
-    if (error != 0) return;
+    if (!EnterRealTimeAt3(started)) return;
     WorkPool compute_pool(1, WorkPool::PromptLane::kYes);
     WorkPool bulk_pool(1, WorkPool::Priority::kBulk);
     std::promise<void> release;
@@ -510,11 +516,7 @@ TEST(WorkPoolTest, UnderARealTimePolicyABackloggedKeysTasksLeaveIt) {
   std::promise<int> started;
   std::promise<ThreadScheduling> first, backlogged, after;
   std::thread server_main([&] {
-    sched_param param{};
-    param.sched_priority = 3;
-    const int error = sched_setscheduler(0, SCHED_RR, &param) == 0 ? 0 : errno;
-    started.set_value(error);
-    if (error != 0) return;
+    if (!EnterRealTimeAt3(started)) return;
     WorkPool pool(1, WorkPool::PromptLane::kNo, [&] { return now.load(); });
     std::promise<void> release;
     std::shared_future<void> released = release.get_future().share();
