@@ -38,8 +38,8 @@ struct RealTimeCompute {
 thread_local RealTimeCompute real_time_compute;
 
 // Runs the calling compute thread's next task at SCHED_OTHER (nice as compute elsewhere) when its
-// key is backlogged, at the thread's real-time priority otherwise (false also after such a task:
-// the thread waits at its real-time priority); a syscall only on a change.
+// key is backlogged, at the thread's real-time priority otherwise (false also before the thread
+// waits for work); a syscall only on a change.
 void RunNextTaskInItsClass(bool backlogged) {
   RealTimeCompute& lane = real_time_compute;
   if (!lane.active || backlogged == lane.demoted) return;
@@ -259,10 +259,20 @@ void WorkPool::Work(bool prompt_lane) {
       auto picked = keys_.end();
       std::int64_t tag = 0;
       mutex_.Await(ready, [&]() ABSL_NO_THREAD_SAFETY_ANALYSIS {
-        if (queued_ == 0) return stopping_;
-        running.started = clock_();
-        picked = PickLocked(running.started, prompt_lane, &tag);
-        return picked != keys_.end();
+        if (queued_ > 0) {
+          running.started = clock_();
+          picked = PickLocked(running.started, prompt_lane, &tag);
+          if (picked != keys_.end()) return true;
+        } else if (stopping_) {
+          return true;
+        }
+        // A thread that left the real-time policy for a backlogged task waits at its real-time
+        // priority: woken as a normal thread for a live session's task, it waited for a core
+        // behind the very work it had left the policy for (the server's reply up to 20 ms beside
+        // the rigs flood, stop 70). Only when it would wait: a syscall pair after every task cost
+        // a flood of 3.5 MB messages a quarter of its frames.
+        if (!prompt_lane) RunNextTaskInItsClass(false);
+        return false;
       });
       if (queued_ == 0) return;  // stopping and drained
       key = picked->first;
@@ -297,10 +307,6 @@ void WorkPool::Work(bool prompt_lane) {
       spdlog::error("work pool: a task threw a non-standard exception and was dropped");
     }
     task = nullptr;  // its captures go before the charge: their destructors are the task's work
-    // Back to the real-time priority before the pool's lock and the wait for the next task: woken
-    // as a normal thread for a live session's task, it waited for a core behind the very work it
-    // had left the policy for (the server's reply up to 20 ms beside the rigs flood, stop 70).
-    if (!prompt_lane) RunNextTaskInItsClass(false);
     const std::int64_t worked = work_clock_() - work_began;
     MutexLock lock(&mutex_);
     const std::int64_t now = clock_();
