@@ -18,6 +18,7 @@ constexpr std::uint32_t kSampleTag = Tag(v1::WristSamples::kSamplesFieldNumber, 
 
 SamplesReader::SamplesReader(grpc::ByteBuffer& bytes) {
   bytes_.Swap(&bytes);
+  if (!bytes_.Valid()) return;  // no bytes: ParseWhole
   const std::size_t size = bytes_.Length();
   stream_.emplace(&bytes_);
   if (!stream_->status().ok()) return;
@@ -33,12 +34,14 @@ SamplesReader::SamplesReader(grpc::ByteBuffer& bytes) {
 }
 
 absl::StatusOr<v1::ReconstructRequest> SamplesReader::ParseWhole() {
+  done_ = true;
+  // No bytes at all is a message with no field set (gRPC may hand it over as no buffer).
+  if (!bytes_.Valid() || bytes_.Length() == 0) return v1::ReconstructRequest();
   coded_.reset();  // back to the first byte
   stream_.emplace(&bytes_);
   v1::ReconstructRequest request;
   if (!stream_->status().ok() || !request.ParseFromZeroCopyStream(&*stream_))
     return absl::InvalidArgumentError("a request message could not be parsed as a ReconstructRequest");
-  done_ = true;
   return request;
 }
 

@@ -227,6 +227,11 @@ TEST_F(ReconstructionServiceTest, SamplesAreTakenInEveryWireFormAndAMalformedOne
   EXPECT_EQ(malformed.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_NE(malformed.status.error_message().find("malformed at its sample 5"), std::string::npos)
       << malformed.status.error_message();
+
+  // A message of no bytes at all: no field set.
+  const testing::RawOutcome empty = testing::SendRaw(server_->address(), keys_["acme"], {config, {}});
+  EXPECT_EQ(empty.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(empty.status.error_message().find("empty request"), std::string::npos) << empty.status.error_message();
 }
 
 TEST_F(ReconstructionServiceTest, LimitsOnSessionsAndIdleTime) {

@@ -155,6 +155,16 @@ TEST(SamplesReaderTest, AnInvalidWireTypeOrTruncatedSampleIsMalformed) {
   }
 }
 
+TEST(SamplesReaderTest, NoBytesAtAllAreARequestWithNothingSet) {
+  for (grpc::ByteBuffer bytes : {grpc::ByteBuffer(), Bytes("")}) {
+    SamplesReader reader(bytes);
+    EXPECT_FALSE(reader.samples_only());
+    absl::StatusOr<v1::ReconstructRequest> parsed = reader.ParseWhole();
+    ASSERT_TRUE(parsed.ok()) << parsed.status();
+    EXPECT_EQ(parsed->kind_case(), v1::ReconstructRequest::KIND_NOT_SET);  // the reactor says "empty request"
+  }
+}
+
 TEST(SamplesReaderTest, BytesThatAreNoRequestAreRefusedWhenParsed) {
   grpc::ByteBuffer buffer = Bytes(std::string{'\x12', '\x50', '\x0a'});  // a samples field cut short
   SamplesReader reader(buffer);

@@ -351,7 +351,8 @@ class YieldProbe {
   explicit YieldProbe(int steps) : steps_(steps), read_(steps) {}
   // The task's body.
   void Run() {
-    for (int i = 0; i < steps_; ++i) {
+    const int steps = steps_;  // the test may leave once the last step is signalled
+    for (int i = 0; i < steps; ++i) {
       go_[i].get_future().wait();
       read_[i] = WorkPool::AnotherKeyWaits();
       done_[i].set_value();
@@ -372,15 +373,17 @@ class YieldProbe {
 };
 
 TEST(WorkPoolTest, ATaskIsToldWhenAnotherKeyWaitsForAThread) {
-  WorkPool pool(2);
+  // The pool goes first (reset at the end): its threads are joined while what their tasks touch
+  // still lives (ASan: a task read the probe's step count after the test had left its scope).
+  auto pool = std::make_unique<WorkPool>(2);
   YieldProbe probe(4);
-  pool.Post(1, [&] { probe.Run(); });
+  pool->Post(1, [&] { probe.Run(); });
   EXPECT_FALSE(probe.Read(0)) << "nothing queued";
 
   // A second key's task takes the idle thread: nobody waits.
   std::promise<void> second_started;
   std::promise<void> release_second;
-  pool.Post(2, [&, release = release_second.get_future().share()] {
+  pool->Post(2, [&, release = release_second.get_future().share()] {
     second_started.set_value();
     release.wait();
   });
@@ -389,18 +392,19 @@ TEST(WorkPoolTest, ATaskIsToldWhenAnotherKeyWaitsForAThread) {
 
   // More of a running key's own work does not wait for another key.
   std::latch own_ran(1);
-  pool.Post(1, [&] { own_ran.count_down(); });
+  pool->Post(1, [&] { own_ran.count_down(); });
   EXPECT_FALSE(probe.Read(2)) << "only key 1's own task queued";
 
   // A third key with nothing running waits: both threads are busy.
   std::latch third_ran(1);
-  pool.Post(3, [&] { third_ran.count_down(); });
+  pool->Post(3, [&] { third_ran.count_down(); });
   EXPECT_TRUE(probe.Read(3)) << "key 3 waits for a thread";
   EXPECT_FALSE(WorkPool::AnotherKeyWaits()) << "outside the pool's threads it is always false";
 
   release_second.set_value();
   third_ran.wait();
   own_ran.wait();
+  pool.reset();
 }
 
 // The calling thread's nice value.
