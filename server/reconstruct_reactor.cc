@@ -6,6 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "server/log_text.h"
 #include "storage/tenant_directory.h"
@@ -13,15 +14,19 @@
 namespace mocap {
 namespace {
 
+// A message as the bytes a raw stream reads or writes.
+template <typename Message>
+absl::Status ToBytes(const Message& message, grpc::ByteBuffer* bytes) {
+  bool own_buffer = false;
+  const grpc::Status status = grpc::SerializationTraits<Message>::Serialize(message, bytes, &own_buffer);
+  if (!status.ok()) return absl::InternalError(StrCat("a message could not be serialized: ", status.error_message()));
+  return absl::OkStatus();
+}
+
 // Replies as the bytes the stream writes, made by the compute task that computed them.
 absl::StatusOr<std::vector<grpc::ByteBuffer>> Encode(const std::vector<v1::ReconstructResponse>& replies) {
   std::vector<grpc::ByteBuffer> encoded(replies.size());
-  for (std::size_t i = 0; i < replies.size(); ++i) {
-    bool own_buffer = false;
-    const grpc::Status status =
-        grpc::SerializationTraits<v1::ReconstructResponse>::Serialize(replies[i], &encoded[i], &own_buffer);
-    if (!status.ok()) return absl::InternalError(StrCat("a reply could not be serialized: ", status.error_message()));
-  }
+  for (std::size_t i = 0; i < replies.size(); ++i) MOCAP_RETURN_IF_ERROR(ToBytes(replies[i], &encoded[i]));
   return encoded;
 }
 
@@ -156,9 +161,8 @@ void ReconstructReactor::DispatchLocked(v1::ReconstructRequest& request, Clock::
       v1::ReconstructRequest only;
       only.mutable_samples()->Swap(request.mutable_samples());
       grpc::ByteBuffer bytes;
-      bool own_buffer = false;
-      if (!grpc::SerializationTraits<v1::ReconstructRequest>::Serialize(only, &bytes, &own_buffer).ok()) {
-        CompleteLocked(absl::InternalError("a samples message could not be re-serialized"), false);
+      if (absl::Status written = ToBytes(only, &bytes); !written.ok()) {
+        CompleteLocked(written, false);
         return PumpLocked();
       }
       samples_ = std::make_shared<SamplesReader>(bytes);
@@ -234,8 +238,9 @@ void ReconstructReactor::HandleSlice(const std::shared_ptr<SamplesReader>& sampl
     }
     MutexLock lock(&mutex_);
     if (driver_) backlog_ = driver_->has_backlog();
-    // Wholly read: the next read may start once this task has returned.
-    if ((samples->done() || !driver_ || !status.ok()) && samples_ == samples) samples_.reset();
+    // Wholly read (or no session to read it into): the next read may start once this task has
+    // returned. A failed slice ends the call in Deliver, which drops samples_ too.
+    if ((samples->done() || !driver_) && samples_ == samples) samples_.reset();
   }
   Deliver(std::move(replies), status);
 }
@@ -255,7 +260,6 @@ void ReconstructReactor::ContinueBacklog() {
 
 void ReconstructReactor::EndInput(absl::Status final_status) {
   Replies replies;
-  absl::StatusOr<std::vector<grpc::ByteBuffer>> encoded;
   absl::Status status = final_status;
   bool done = true;
   {
@@ -269,7 +273,7 @@ void ReconstructReactor::EndInput(absl::Status final_status) {
       if (done) ReleaseDriverLocked();  // frees the session now; the database stays shared with others
     }
   }
-  encoded = Encode(replies);
+  absl::StatusOr<std::vector<grpc::ByteBuffer>> encoded = Encode(replies);
   if (!encoded.ok()) {
     status = encoded.status();
     done = true;

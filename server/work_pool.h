@@ -42,9 +42,9 @@
 // Under a real-time policy (work_pool.cc) a compute thread runs a backlogged key's task — one whose
 // tasks have been queued or running without a break for kBackloggedAfter: a flood, a long search,
 // a message of 80,000 samples — at SCHED_OTHER, and returns to its real-time priority for the next
-// key that is not. Real-time work that fills every core starves everything at SCHED_OTHER (the
-// kernel's workers, the network's softirq thread, a co-located client), and the kernel then runs
-// those for up to 50 ms of each second above every real-time thread, the live sessions' too
+// key that is not, or before it waits for work. Real-time work that fills every core starves everything at SCHED_OTHER
+// (the kernel's workers, the network's softirq thread, a co-located client), and the kernel then runs those for up to
+// 50 ms of each second above every real-time thread, the live sessions' too
 // (`perf sched`, stop 70: the victim's thread waited 41 ms once a second beside such a flood).
 #pragma once
 
