@@ -19,7 +19,7 @@ an input that is a guess), so they have a model of their own:
     log e_k = a'_k + b_u log(1 + u / 0.1 s)
 fitted the same way. Prints the constants to paste and how well they do in each regime.
 
-Usage: eval/fit_confidence.py [--mocap-eval build/eval/mocap-eval] [--work DIR]
+Usage: eval/fit_confidence.py [--mocap-eval build/eval/mocap-eval] [--work DIR] [--no-run] [--check FILE ...]
 Needs python3-numpy and the shared data (bandai-namco-2 unpacked where mocap-eval finds it).
 """
 import argparse
@@ -95,6 +95,9 @@ def main():
     parser.add_argument("--data", default=os.path.expanduser("~/.cache/mocap/data/bandai-namco-2"),
                         help="the unpacked bandai-namco-2 folder")
     parser.add_argument("--no-run", action="store_true", help="refit the samples an earlier run left in --work")
+    parser.add_argument("--check", nargs="*", default=[], type=pathlib.Path,
+                        help="--confidence-samples files of other runs (the standard split, the cross-dataset protocol) "
+                             "to report the new constants on: measured there, never fitted")
     args = parser.parse_args()
     work = pathlib.Path(args.work)
     work.mkdir(parents=True, exist_ok=True)
@@ -136,6 +139,9 @@ def main():
         if untracked.any():
             report(f"  of which untracked ({untracked.sum()} pairs)", predicted[untracked], actual[untracked])
             report(f"  of which tracked ({(~untracked).sum()} pairs)", predicted[~untracked], actual[~untracked])
+    for path in args.check:
+        l, actual, cues = load(path)
+        report(f"check {path.name}", predict(beta, guessed, l, cues), actual)
 
 
 def untracked_design(landmark, untracked_s, per_landmark=False):
