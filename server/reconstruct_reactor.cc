@@ -9,19 +9,11 @@
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "server/log_text.h"
+#include "server/raw_message.h"
 #include "storage/tenant_directory.h"
 
 namespace mocap {
 namespace {
-
-// A message as the bytes a raw stream reads or writes.
-template <typename Message>
-absl::Status ToBytes(const Message& message, grpc::ByteBuffer* bytes) {
-  bool own_buffer = false;
-  const grpc::Status status = grpc::SerializationTraits<Message>::Serialize(message, bytes, &own_buffer);
-  if (!status.ok()) return absl::InternalError(StrCat("a message could not be serialized: ", status.error_message()));
-  return absl::OkStatus();
-}
 
 // Replies as the bytes the stream writes, made by the compute task that computed them.
 absl::StatusOr<std::vector<grpc::ByteBuffer>> Encode(const std::vector<v1::ReconstructResponse>& replies) {

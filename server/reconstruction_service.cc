@@ -82,8 +82,8 @@ grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* ReconstructionServi
 }
 
 grpc::ServerUnaryReactor* ReconstructionService::ReconstructTrajectory(grpc::CallbackServerContext* context,
-                                                                       const v1::ReconstructTrajectoryRequest* request,
-                                                                       v1::ReconstructTrajectoryResponse* response) {
+                                                                       const grpc::ByteBuffer* request,
+                                                                       grpc::ByteBuffer* response) {
   return new TrajectoryReactor(state_, context, request, response);
 }
 

@@ -72,20 +72,19 @@ struct ReconstructionState {
   WorkPool compute;
 };
 
-// Reconstruct is served raw (ByteBuffer in and out, reconstruct_reactor.h): its messages are parsed
-// and serialized on the compute pool, under the tenant's share, not on gRPC's threads.
+// Reconstruct and ReconstructTrajectory are served raw (ByteBuffer in and out, raw_message.h): their
+// messages are parsed and serialized on the compute pool, under the tenant's share, not on gRPC's threads.
 class ReconstructionService final
     : public v1::Reconstruction::WithRawCallbackMethod_Reconstruct<
-          v1::Reconstruction::WithCallbackMethod_ReconstructTrajectory<v1::Reconstruction::Service>> {
+          v1::Reconstruction::WithRawCallbackMethod_ReconstructTrajectory<v1::Reconstruction::Service>> {
  public:
   ReconstructionService(ServiceContext& service, const ReconstructionLimits& limits);
   ~ReconstructionService() override;
 
   grpc::ServerBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer>* Reconstruct(
       grpc::CallbackServerContext* context) override;
-  grpc::ServerUnaryReactor* ReconstructTrajectory(grpc::CallbackServerContext* context,
-                                                  const v1::ReconstructTrajectoryRequest* request,
-                                                  v1::ReconstructTrajectoryResponse* response) override;
+  grpc::ServerUnaryReactor* ReconstructTrajectory(grpc::CallbackServerContext* context, const grpc::ByteBuffer* request,
+                                                  grpc::ByteBuffer* response) override;
 
   // Refuses new sessions (UNAVAILABLE) and ends the live ones: each emits its remaining frames
   // and summary, then ends with UNAVAILABLE so the client reconnects elsewhere.

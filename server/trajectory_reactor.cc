@@ -4,13 +4,16 @@
 #include <exception>
 
 #include "motion/core/str_cat.h"
+#include "server/raw_message.h"
 
 namespace mocap {
 
 TrajectoryReactor::TrajectoryReactor(ReconstructionState& state, grpc::CallbackServerContext* context,
-                                     const v1::ReconstructTrajectoryRequest* request,
-                                     v1::ReconstructTrajectoryResponse* response)
-    : state_(state), call_(state.service, context, "ReconstructTrajectory"), request_(request), response_(response) {
+                                     const grpc::ByteBuffer* request, grpc::ByteBuffer* response)
+    : state_(state),
+      call_(state.service, context, "ReconstructTrajectory"),
+      request_bytes_(request),
+      response_bytes_(response) {
   state_.compute.Post([this] { Begin(); });
 }
 
@@ -20,8 +23,18 @@ void TrajectoryReactor::Begin() {
   if (status.ok() && state_.draining) status = absl::UnavailableError("the server is shutting down; connect again");
   if (!status.ok()) return Complete(status);
   pool_key_ = static_cast<WorkPool::Key>(call_.tenant().id) + 1;  // 0 is the pool's shared key
+  state_.compute.Post(pool_key_, [this] {
+    MutexLock lock(&mutex_);
+    Parse();
+  });
+}
+
+void TrajectoryReactor::Parse() {
+  if (cancelled_) return Complete(absl::CancelledError("the client went away or its deadline passed"));
+  if (absl::Status parsed = FromBytes(*request_bytes_, &request_, "ReconstructTrajectoryRequest"); !parsed.ok())
+    return Complete(parsed);
   AcquireSessionDatabase(
-      state_, call_, request_->config().database(),
+      state_, call_, request_.config().database(),
       [this](absl::StatusOr<ReconstructionDatabases::Database> database) { Start(std::move(database)); });
 }
 
@@ -29,11 +42,12 @@ void TrajectoryReactor::Start(absl::StatusOr<ReconstructionDatabases::Database> 
   MutexLock lock(&mutex_);
   if (!database.ok()) return Complete(database.status());
   absl::StatusOr<std::unique_ptr<SessionDriver>> driver = SessionDriver::Create(
-      request_->config(), *database, state_.NextSessionId(), state_.limits.session, call_.metrics(), &cancelled_);
+      request_.config(), *database, state_.NextSessionId(), state_.limits.session, call_.metrics(), &cancelled_);
   if (!driver.ok()) return Complete(driver.status());
   driver_ = std::move(*driver);
-  *response_->mutable_started() = driver_->started();
-  *samples_.mutable_samples() = request_->samples();
+  *response_.mutable_started() = driver_->started();
+  samples_.mutable_samples()->Swap(request_.mutable_samples());
+  request_.Clear();
   PostSlice(0);
 }
 
@@ -70,14 +84,14 @@ void TrajectoryReactor::Slice(int begin) {
     if (reply.has_frames()) {
       // The body sized at the end of the input: the response has one skeleton, the frames'.
       if (reply.frames().has_skeleton())
-        response_->mutable_started()->mutable_skeleton()->Swap(reply.mutable_frames()->mutable_skeleton());
-      for (v1::Frame& frame : *reply.mutable_frames()->mutable_frames()) response_->add_frames()->Swap(&frame);
+        response_.mutable_started()->mutable_skeleton()->Swap(reply.mutable_frames()->mutable_skeleton());
+      for (v1::Frame& frame : *reply.mutable_frames()->mutable_frames()) response_.add_frames()->Swap(&frame);
     } else if (reply.has_rejected()) {
-      response_->add_rejected()->Swap(reply.mutable_rejected());
+      response_.add_rejected()->Swap(reply.mutable_rejected());
     } else if (reply.has_summary()) {
-      response_->mutable_summary()->Swap(reply.mutable_summary());
+      response_.mutable_summary()->Swap(reply.mutable_summary());
     } else if (reply.has_input_report()) {  // one report: the floor, every warning
-      v1::InputReport* report = response_->mutable_input_report();
+      v1::InputReport* report = response_.mutable_input_report();
       report->set_floor_height(reply.input_report().floor_height());
       report->set_floor_calibrated(reply.input_report().floor_calibrated());
       for (v1::InputWarning& warning : *reply.mutable_input_report()->mutable_warnings())
@@ -85,7 +99,7 @@ void TrajectoryReactor::Slice(int begin) {
     }
   }
   // An answer over the send limit would fail in the transport after this call logged OK.
-  const size_t bytes = response_->ByteSizeLong();
+  const size_t bytes = response_.ByteSizeLong();
   if (bytes > static_cast<size_t>(state_.service.limits.max_message_bytes)) {
     return Complete(
         absl::ResourceExhaustedError(StrCat("the answer has ", bytes, " bytes, over the server's message limit of ",
@@ -96,9 +110,12 @@ void TrajectoryReactor::Slice(int begin) {
 }
 
 void TrajectoryReactor::Complete(absl::Status status) {
-  driver_.reset();  // frees the session now; the response stays until gRPC has sent it
+  driver_.reset();  // frees the session now; the response's bytes stay until gRPC has sent them
   replies_.clear();
-  if (!status.ok()) response_->Clear();
+  samples_.Clear();
+  request_.Clear();
+  if (status.ok()) status = ToBytes(response_, response_bytes_);
+  response_.Clear();
   Finish(call_.End(status));
 }
 

@@ -2,6 +2,8 @@
 // request, every frame in one response. Computed like a stream's messages: kSamplesPerTask samples
 // per task on the fair compute pool under the caller's tenant, so one large request cannot hold a
 // compute thread; a cancelled call (client gone, deadline passed) stops within one frame's work.
+// Served raw, as Reconstruct is (raw_message.h): the request is parsed, and the response
+// serialized, by compute tasks under the caller's tenant, not on gRPC's threads.
 #pragma once
 
 #include <atomic>
@@ -16,8 +18,8 @@ namespace mocap {
 class TrajectoryReactor : public OwnedReactor<grpc::ServerUnaryReactor> {
  public:
   // Starts the call; the reactor deletes itself when gRPC is done with it.
-  TrajectoryReactor(ReconstructionState& state, grpc::CallbackServerContext* context,
-                    const v1::ReconstructTrajectoryRequest* request, v1::ReconstructTrajectoryResponse* response);
+  TrajectoryReactor(ReconstructionState& state, grpc::CallbackServerContext* context, const grpc::ByteBuffer* request,
+                    grpc::ByteBuffer* response);
 
   void OnCancel() override { cancelled_ = true; }
 
@@ -25,6 +27,7 @@ class TrajectoryReactor : public OwnedReactor<grpc::ServerUnaryReactor> {
   static constexpr int kSamplesPerTask = 8;
 
   void Begin();
+  void Parse() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void Start(absl::StatusOr<ReconstructionDatabases::Database> database);
   void PostSlice(int begin) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void Slice(int begin) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
@@ -32,8 +35,10 @@ class TrajectoryReactor : public OwnedReactor<grpc::ServerUnaryReactor> {
 
   ReconstructionState& state_;
   CallScope call_;
-  const v1::ReconstructTrajectoryRequest* request_;
-  v1::ReconstructTrajectoryResponse* response_;
+  const grpc::ByteBuffer* request_bytes_;
+  grpc::ByteBuffer* response_bytes_;
+  v1::ReconstructTrajectoryRequest request_ ABSL_GUARDED_BY(mutex_);    // parsed by Parse
+  v1::ReconstructTrajectoryResponse response_ ABSL_GUARDED_BY(mutex_);  // serialized by Complete
   std::atomic<bool> cancelled_{false};
   WorkPool::Key pool_key_ = WorkPool::kSharedKey;
   // Compute tasks run one after another (each posts the next); each holds mutex_.

@@ -234,6 +234,36 @@ TEST_F(ReconstructionServiceTest, SamplesAreTakenInEveryWireFormAndAMalformedOne
   EXPECT_NE(empty.status.error_message().find("empty request"), std::string::npos) << empty.status.error_message();
 }
 
+// ReconstructTrajectory is read as bytes too: a request in the wire form protobuf merges (samples
+// in two fields) is taken whole, and bytes that are no request end the call with INVALID_ARGUMENT
+// naming what they should have been (before, gRPC's own parse failed it with a bare INTERNAL).
+TEST_F(ReconstructionServiceTest, AWholeTrajectoryIsReadAsBytesAndAMalformedOneIsNamed) {
+  StartServer();
+  auto client = Connect(keys_["acme"]);
+  ImportWalks(*client);
+  const std::vector<v1::WristSample> wrists = QueryWrists(30);
+  v1::ReconstructTrajectoryRequest request;
+  *request.mutable_config() = Config(0);
+  for (int i = 0; i < 20; ++i) *request.add_samples() = wrists[i];
+  std::string bytes = request.SerializeAsString();
+  v1::ReconstructTrajectoryRequest rest;
+  for (int i = 20; i < 30; ++i) *rest.add_samples() = wrists[i];
+  bytes += rest.SerializeAsString();  // a second run of the repeated field: protobuf appends it
+  v1::ReconstructTrajectoryResponse answer;
+  const grpc::Status merged = testing::CallTrajectoryRaw(server_->address(), keys_["acme"], bytes, &answer);
+  ASSERT_TRUE(merged.ok()) << merged.error_message();
+  EXPECT_EQ(answer.frames_size(), 30);
+  EXPECT_TRUE(answer.has_summary());
+
+  const grpc::Status malformed = testing::CallTrajectoryRaw(server_->address(), keys_["acme"], bytes + "\x0b", &answer);
+  EXPECT_EQ(malformed.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(malformed.error_message().find("ReconstructTrajectoryRequest"), std::string::npos)
+      << malformed.error_message();
+  // Nobody's key: refused before a byte of the request is read.
+  EXPECT_EQ(testing::CallTrajectoryRaw(server_->address(), "", bytes + "\x0b", &answer).error_code(),
+            grpc::StatusCode::UNAUTHENTICATED);
+}
+
 TEST_F(ReconstructionServiceTest, LimitsOnSessionsAndIdleTime) {
   StartServer({"--max-sessions-per-tenant", "1", "--idle-seconds", "0.5"});
   auto client = Connect(keys_["acme"]);

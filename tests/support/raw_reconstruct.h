@@ -2,9 +2,12 @@
 // or a wire form the SDK does not send.
 #pragma once
 
+#include <condition_variable>
+#include <mutex>
 #include <string>
 #include <vector>
 
+#include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/grpcpp.h>
 
 #include "mocap/v1/reconstruction.grpc.pb.h"
@@ -33,6 +36,39 @@ inline RawOutcome SendRaw(const std::string& address, const std::string& key,
   while (stream->Read(&reply)) outcome.frames += reply.frames().frames_size();
   outcome.status = stream->Finish();
   return outcome;
+}
+
+// One ReconstructTrajectory call whose request is `request` as bytes, whatever they are. `*response`
+// is the answer parsed, when the call succeeded.
+inline grpc::Status CallTrajectoryRaw(const std::string& address, const std::string& key, const std::string& request,
+                                      v1::ReconstructTrajectoryResponse* response) {
+  grpc::GenericStub stub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()));
+  grpc::ClientContext context;
+  if (!key.empty()) context.AddMetadata("authorization", "Bearer " + key);
+  grpc::Slice slice(request);
+  const grpc::ByteBuffer sent(&slice, 1);
+  grpc::ByteBuffer received;
+  std::mutex mutex;
+  std::condition_variable done_cv;
+  bool done = false;
+  grpc::Status status;
+  stub.UnaryCall(&context, "/mocap.v1.Reconstruction/ReconstructTrajectory", grpc::StubOptions(), &sent, &received,
+                 [&](grpc::Status s) {
+                   std::lock_guard lock(mutex);
+                   status = std::move(s);
+                   done = true;
+                   done_cv.notify_one();
+                 });
+  std::unique_lock lock(mutex);
+  done_cv.wait(lock, [&] { return done; });
+  if (status.ok()) {
+    std::vector<grpc::Slice> slices;
+    if (!received.Dump(&slices).ok()) return grpc::Status(grpc::StatusCode::INTERNAL, "unreadable answer");
+    std::string bytes;
+    for (const grpc::Slice& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+    if (!response->ParseFromString(bytes)) return grpc::Status(grpc::StatusCode::INTERNAL, "unparsable answer");
+  }
+  return status;
 }
 
 inline grpc::Status SamplesBeforeConfig(const std::string& address, const std::string& key,
