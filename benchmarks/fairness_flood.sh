@@ -25,6 +25,9 @@
 #   rebuilds REBUILDERS (2) clients each importing one more clip into the flood tenant's copy of
 #           the database and reconstructing it there, again and again: every import makes a new
 #           version of that 306k-frame database, whose indices the next session's start builds
+#   unary   UNARY_CLIENTS (4) clients each sending 80,000 samples (3.5 MB) in one ReconstructTrajectory
+#           call naming a database the tenant does not have, again and again: the server parses each
+#           request before it can refuse it (NOT_FOUND: every run of these clients "fails")
 # The victim's p99 frame latency must stay <= 50 ms, and within 2x of its p99 alone (issue #24):
 # the victim runs alone just before each shape, and the end prints each shape's ratio.
 #
@@ -36,7 +39,7 @@
 # at nice FLOOD_NICE (19; FLOOD_NICE=0 measures the co-located case as well).
 #   usage: benchmarks/fairness_flood.sh
 #   env: SECONDS_PER_RUN (20), ROUNDS (1: alone then beside, per shape; more print each shape's
-#        median ratio), FLOOD_SCHED (idle), FLOOD_NICE (19), SHAPES ("idle rate big reopen mixed search rigs imports rebuilds"),
+#        median ratio), FLOOD_SCHED (idle), FLOOD_NICE (19), SHAPES ("idle rate big reopen mixed search rigs imports rebuilds unary"),
 #        K1 (the server's), SEARCHES, RIG_SESSIONS, RIG_JOINTS, IMPORTS, IMPORT_CLIPS, REBUILDERS, BURNERS,
 #        SERVER_EXTRA (more `mocapd serve` flags, e.g. --no-prompt-lane), SERVER_SCHED (other; rr: the
 #        server and the victim under `chrt --rr 2`, root only)
@@ -169,6 +172,17 @@ if [ "${RIG_JOINTS:-1000}" -gt 0 ]; then
   python3 "$repo/benchmarks/make_big_rig.py" "$clip" "${RIG_JOINTS:-1000}" >"$out/big-rig.bvh"
   rig=(--target-rig "$out/big-rig.bvh")
 fi
+flood_unary() {
+  local i
+  python3 -c 'import math
+print("time,left_x,left_y,left_z,right_x,right_y,right_z")
+for i in range(80000):
+    t = i / 1000; s = 0.2 * math.sin(t)
+    print(f"{t:.3f},{0.3 + s:.4f},1.0,{s:.4f},{-0.3 + s:.4f},1.0,{-s:.4f}")' >"$out/unary.csv"
+  for ((i = 0; i < ${UNARY_CLIENTS:-4}; i++)); do
+    flood_loop "unary$i" reconstruct --unary --quiet --database not-this-tenants --csv "$out/unary.csv" -o "$out/unary-$i"
+  done
+}
 flood_rigs() {
   local i
   for ((i = 0; i < ${RIG_SESSIONS:-8}; i++)); do
@@ -228,7 +242,7 @@ PY
 
 ratios=()
 rounds=${ROUNDS:-1}
-for shape in ${SHAPES:-idle rate big reopen mixed search rigs imports rebuilds}; do
+for shape in ${SHAPES:-idle rate big reopen mixed search rigs imports rebuilds unary}; do
   for ((round = 1; round <= rounds; round++)); do
     run=$shape
     [ "$round" -gt 1 ] && run=$shape-$round
@@ -240,6 +254,7 @@ for shape in ${SHAPES:-idle rate big reopen mixed search rigs imports rebuilds};
       mixed) flood_rate 22 -mixed; flood_big 21 -mixed; flood_reopen 21 -mixed ;;
       search) flood_search ;;
       rigs) flood_rigs ;;
+      unary) flood_unary ;;
       imports) flood_imports ;;
       rebuilds) flood_rebuilds "$round" ;;
       idle) flood_idle ;;
@@ -256,6 +271,7 @@ for shape in ${SHAPES:-idle rate big reopen mixed search rigs imports rebuilds};
       rigs) loop_report rigs "${RIG_SESSIONS:-8}" ;;
       imports) loop_report imports "${IMPORTS:-2}" ;;
       rebuilds) loop_report rebuilds "${REBUILDERS:-2}" ;;
+      unary) loop_report unary "${UNARY_CLIENTS:-4}" ;;
       idle) echo "  flood idle     : ${BURNERS:-4} busy loops, no request to the server" ;;
       *) flood_report "$shape" ;;
     esac
