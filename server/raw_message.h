@@ -4,9 +4,9 @@
 // thread ~40 ms).
 #pragma once
 
+#include <grpcpp/impl/codegen/proto_utils.h>
 #include <grpcpp/support/byte_buffer.h>
 #include <grpcpp/support/proto_buffer_reader.h>
-#include <grpcpp/support/proto_buffer_writer.h>
 
 #include "absl/status/status.h"
 #include "motion/core/str_cat.h"
@@ -31,7 +31,7 @@ absl::Status FromBytes(const grpc::ByteBuffer& bytes, Message* message, const ch
   grpc::ByteBuffer copy(bytes);  // shares the slices: ProtoBufferReader reads a non-const buffer
   grpc::ProtoBufferReader reader(&copy);
   if (!reader.status().ok() || !message->ParseFromZeroCopyStream(&reader))
-    return absl::InvalidArgumentError(StrCat("the request could not be parsed as a ", what));
+    return absl::InvalidArgumentError(StrCat("a request message could not be parsed as a ", what));
   return absl::OkStatus();
 }
 

@@ -2,7 +2,9 @@
 
 #include <google/protobuf/io/coded_stream.h>
 
+#include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
+#include "server/raw_message.h"
 
 namespace mocap {
 namespace {
@@ -35,13 +37,10 @@ SamplesReader::SamplesReader(grpc::ByteBuffer& bytes) {
 
 absl::StatusOr<v1::ReconstructRequest> SamplesReader::ParseWhole() {
   done_ = true;
-  // No bytes at all is a message with no field set (gRPC may hand it over as no buffer).
-  if (!bytes_.Valid() || bytes_.Length() == 0) return v1::ReconstructRequest();
-  coded_.reset();  // back to the first byte
-  stream_.emplace(&bytes_);
+  coded_.reset();  // the shape's read is over: the whole message is parsed from its first byte
+  stream_.reset();
   v1::ReconstructRequest request;
-  if (!stream_->status().ok() || !request.ParseFromZeroCopyStream(&*stream_))
-    return absl::InvalidArgumentError("a request message could not be parsed as a ReconstructRequest");
+  MOCAP_RETURN_IF_ERROR(FromBytes(bytes_, &request, "ReconstructRequest"));
   return request;
 }
 

@@ -2,8 +2,7 @@
 // or a wire form the SDK does not send.
 #pragma once
 
-#include <condition_variable>
-#include <mutex>
+#include <future>
 #include <string>
 #include <vector>
 
@@ -11,6 +10,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "mocap/v1/reconstruction.grpc.pb.h"
+#include "server/raw_message.h"
 
 namespace mocap::testing {
 
@@ -48,26 +48,12 @@ inline grpc::Status CallTrajectoryRaw(const std::string& address, const std::str
   grpc::Slice slice(request);
   const grpc::ByteBuffer sent(&slice, 1);
   grpc::ByteBuffer received;
-  std::mutex mutex;
-  std::condition_variable done_cv;
-  bool done = false;
-  grpc::Status status;
+  std::promise<grpc::Status> done;  // the generic stub's unary call is asynchronous only
   stub.UnaryCall(&context, "/mocap.v1.Reconstruction/ReconstructTrajectory", grpc::StubOptions(), &sent, &received,
-                 [&](grpc::Status s) {
-                   std::lock_guard lock(mutex);
-                   status = std::move(s);
-                   done = true;
-                   done_cv.notify_one();
-                 });
-  std::unique_lock lock(mutex);
-  done_cv.wait(lock, [&] { return done; });
-  if (status.ok()) {
-    std::vector<grpc::Slice> slices;
-    if (!received.Dump(&slices).ok()) return grpc::Status(grpc::StatusCode::INTERNAL, "unreadable answer");
-    std::string bytes;
-    for (const grpc::Slice& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
-    if (!response->ParseFromString(bytes)) return grpc::Status(grpc::StatusCode::INTERNAL, "unparsable answer");
-  }
+                 [&](grpc::Status status) { done.set_value(std::move(status)); });
+  const grpc::Status status = done.get_future().get();
+  if (status.ok() && !FromBytes(received, response, "ReconstructTrajectoryResponse").ok())
+    return grpc::Status(grpc::StatusCode::INTERNAL, "the answer is no ReconstructTrajectoryResponse");
   return status;
 }
 
