@@ -171,6 +171,15 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--components", base.pose_components, "A5 PCA components D'")->capture_default_str();
   app.add_option("--prior-weight", base.solver.prior_weight, "A6 E_prior weight")->capture_default_str();
+  app.add_option("--unfamiliar-prior-max", base.unfamiliar_prior.max_factor,
+                 "A6: the largest factor on the prior weight in a session unlike the database; 1: off")
+      ->capture_default_str();
+  app.add_option("--unfamiliar-prior-from", base.unfamiliar_prior.from_log_cost,
+                 "A6: the session mean log energy where the prior weight starts to rise")
+      ->capture_default_str();
+  app.add_option("--unfamiliar-prior-to", base.unfamiliar_prior.to_log_cost,
+                 "A6: the session mean log energy where the prior weight reaches its largest factor")
+      ->capture_default_str();
   app.add_option("--control-weight", base.solver.control_weight, "A6 E_ctrl weight")->capture_default_str();
   app.add_option("--smooth-weight", base.solver.smooth_weight, "A6 E_smooth weight")->capture_default_str();
   app.add_option("--wrist-sigma", base.smoothing.local_linear_sigma,

@@ -260,6 +260,7 @@ void ToProto(const ReconstructedFrame& frame, const SizeMap& map, float skeleton
   o->set_ankle_source_row(d.ankle_source_row);
   o->set_pose_neighbour_distance(d.pose_neighbour_distance);
   o->set_solver_cost(d.solver_cost);
+  o->set_prior_weight_factor(d.prior_weight_factor);
   o->set_solver_evaluations(d.solver_evaluations);
   o->set_left_wrist_error(d.control_error[0] * s);
   o->set_right_wrist_error(d.control_error[1] * s);

@@ -45,6 +45,9 @@ class SessionCost {
   explicit SessionCost(double frame_time, double window_seconds = 10.0);
   // Adds a frame's energy; returns the mean log energy including it.
   float Add(float solver_cost);
+  // The mean so far, and how many frames it is over (0: none yet).
+  float mean() const { return static_cast<float>(mean_log_); }
+  long frames() const { return frames_; }
 
  private:
   double window_frames_;

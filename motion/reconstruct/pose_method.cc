@@ -63,7 +63,9 @@ class LocalModelMethod final : public PoseMethod {
     MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, components_));
     const SolvedPose initial =
         history.previous ? *history.previous : DatabasePoseInQueryFrame(db, neighbours.front().row, ref);
-    return SolvePose(db.body(), model, targets, initial, history.previous, history.before_previous, solver_);
+    PoseSolverOptions solver = solver_;
+    solver.prior_weight *= history.prior_weight_factor;
+    return SolvePose(db.body(), model, targets, initial, history.previous, history.before_previous, solver);
   }
 
  private:

@@ -17,10 +17,12 @@
 
 namespace mocap {
 
-// The segment's last two solved poses: A6 starts from the previous one, E_smooth reads both.
+// The segment's last two solved poses: A6 starts from the previous one, E_smooth reads both. And
+// the session's factor on A6's prior weight (unfamiliar_prior.h).
 struct PoseHistory {
   const SolvedPose* previous = nullptr;
   const SolvedPose* before_previous = nullptr;
+  float prior_weight_factor = 1.0f;
 };
 
 class PoseMethod {

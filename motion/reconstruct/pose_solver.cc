@@ -138,6 +138,7 @@ absl::StatusOr<SolvedPose> SolvePose(const BodyModel& body, const LocalPoseModel
   Eigen::VectorXd residuals(energy.values());
   energy(x, residuals);
   result.cost = static_cast<float>(residuals.squaredNorm());
+  result.prior_cost = static_cast<float>((x.head(n).array() * energy.inverse_std.array()).square().sum());
   result.evaluations = static_cast<int>(solver.nfev);
   std::array<Eigen::Vector3d, kNumControlPoints> points;
   const Eigen::VectorXd q = result.pose_feature.tail(features - 2).cast<double>();

@@ -38,6 +38,7 @@ struct SolvedPose {
   Eigen::Vector3f pelvis_position = Eigen::Vector3f::Zero();
   Eigen::VectorXf pose_feature;  // 2 + 3 × pose joints
   float cost = 0.0f;             // total energy at the solution
+  float prior_cost = 0.0f;       // E_prior at the solution, unweighted (Σ w_i² / λ_i)
   int evaluations = 0;
   std::array<float, kNumControlPoints> control_error{};  // metres, |FK − target|
 };

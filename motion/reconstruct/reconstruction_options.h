@@ -7,6 +7,7 @@
 #include "motion/reconstruct/motion_guard.h"
 #include "motion/reconstruct/pose_solver.h"
 #include "motion/reconstruct/reach_lean.h"
+#include "motion/reconstruct/unfamiliar_prior.h"
 #include "motion/reconstruct/wrist_smoother.h"
 
 namespace mocap {
@@ -41,9 +42,11 @@ struct ReconstructionOptions {
   // A5: K2. The patent's 200 makes a blurred local model (its mean is the average of 200 poses);
   // 50 measured best with 25 (--dev-split MPJPE 2.38 → 2.29 cm; 25: 2.27 but more jitter).
   int pose_neighbours = 50;
-  int pose_components = 6;             // A5: D'
-  int average_neighbours = 10;         // the kNearestAverage baseline's K
-  PoseSolverOptions solver;            // A6: energy weights, LM
+  int pose_components = 6;      // A5: D'
+  int average_neighbours = 10;  // the kNearestAverage baseline's K
+  PoseSolverOptions solver;     // A6: energy weights, LM
+  // A6: the prior weight rises in a session unlike the database (unfamiliar_prior.h).
+  UnfamiliarPriorOptions unfamiliar_prior;
   FootskateOptions footskate;          // A7: contacts, leg IK
   float joint_smoothing_sigma = 1.0f;  // A7: the joint-space filter's σ, frames (0 = none)
   // A7: in a whole clip (window 0: the output waits for the whole input anyway) the joint filter

@@ -17,6 +17,7 @@
 #include "motion/reconstruct/grip_offset.h"
 #include "motion/reconstruct/hand_floor.h"
 #include "motion/reconstruct/pose_method.h"
+#include "motion/reconstruct/unfamiliar_prior.h"
 
 namespace mocap {
 namespace {
@@ -551,10 +552,13 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   if (!full) s.wrist_distance[f] = neighbours.front().distance;
   const int nearest = neighbours.front().row;
   const ControlTargets targets = {wrists.position[0], wrists.position[1], ankles[0], ankles[1]};
+  const float prior_factor =
+      UnfamiliarPriorFactor(options_.unfamiliar_prior, session_cost_.mean(), session_cost_.frames());
   MOCAP_ASSIGN_OR_RETURN(SolvedPose solved,
                          method_->Pose(db, neighbours, ref, targets,
                                        {.previous = s.previous ? &*s.previous : nullptr,
-                                        .before_previous = s.before_previous ? &*s.before_previous : nullptr}));
+                                        .before_previous = s.before_previous ? &*s.before_previous : nullptr,
+                                        .prior_weight_factor = prior_factor}));
   if (method_->solves()) {
     s.before_previous = std::move(s.previous);
     s.previous = solved;
@@ -581,7 +585,8 @@ absl::Status ReconstructionSession::SolveFrame(int f, std::vector<ReconstructedF
   d.wrist_neighbour_distance = s.wrist_distance[f];
   d.ankle_source_row = full ? s.raw_rows[f] : nearest;
   d.pose_neighbour_distance = neighbours.front().distance;
-  d.solver_cost = solved.cost;
+  d.solver_cost = CostAtConfiguredPrior(solved, options_.solver.prior_weight, prior_factor);
+  d.prior_weight_factor = prior_factor;
   d.solver_evaluations = solved.evaluations;
   for (int c = 0; c < kNumControlPoints; ++c) d.control_error[c] = solved.control_error[c];
   d.untracked_seconds = s.untracked[f];

@@ -40,7 +40,8 @@ struct FrameDiagnostics {
   float wrist_neighbour_distance = 0;  // eq. 2 value of the nearest database frame
   int ankle_source_row = -1;           // database frame whose ankles the A4 path chose
   float pose_neighbour_distance = 0;   // eq. 8 (or eq. 2 for the wrists-only model) of the nearest
-  float solver_cost = 0;               // A6 energy at the solution
+  float solver_cost = 0;               // A6 energy at the solution, the prior at its configured weight
+  float prior_weight_factor = 1;       // the session's factor on that weight (unfamiliar_prior.h)
   int solver_evaluations = 0;
   std::array<float, 4> control_error{};  // metres: left/right wrist, left/right ankle before A7
   std::array<bool, 2> contact{};         // A7 planted flags (left, right)

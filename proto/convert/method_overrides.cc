@@ -40,6 +40,9 @@ const std::array kTunables = {
                   hand_target_sigma),
     MOCAP_TUNABLE("ankle_data_weight", "", "A4 node cost on the wrist distance (0: the patent's path cost)", 0, 100,
                   ankle_path.data_weight),
+    MOCAP_TUNABLE("unfamiliar_prior_max", "",
+                  "A6: the largest factor on the prior weight in a session unlike the database (1: off)", 1, 16,
+                  unfamiliar_prior.max_factor),
 };
 #undef MOCAP_TUNABLE
 
