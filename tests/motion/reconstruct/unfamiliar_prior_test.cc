@@ -44,9 +44,9 @@ TEST_F(UnfamiliarPriorSolveTest, AHeavierPriorsCostIsReadAtTheConfiguredWeight) 
     const LocalPoseModel model = *FitLocalPoseModel(examples, 6);
     // Targets a body unlike the database's would set: the wrists 12 cm further apart.
     const Eigen::Vector3f apart(0.06f, 0.0f, 0.0f);
-    const ControlTargets targets = {
-        setup_.truth.position(f, l.left_wrist) + apart, setup_.truth.position(f, l.right_wrist) - apart,
-        setup_.truth.position(f, l.left_ankle), setup_.truth.position(f, l.right_ankle)};
+    const ControlTargets targets = {setup_.truth.position(f, l.left_wrist) + apart,
+                                    setup_.truth.position(f, l.right_wrist) - apart,
+                                    setup_.truth.position(f, l.left_ankle), setup_.truth.position(f, l.right_ankle)};
     SolvedPose initial;
     initial.pose_feature = model.mean;
     initial.pelvis_rotation = setup_.truth.rotation(f, l.pelvis);
