@@ -41,4 +41,16 @@ const SyntheticReconstructionSetup& SharedSyntheticReconstructionSetup() {
   return *setup;
 }
 
+LocalPoseModel LocalModelAtTestFrame(const SyntheticReconstructionSetup& setup, int frame, int neighbours,
+                                     int components) {
+  const ReconstructionDatabase& db = *setup.database;
+  float query[kWristAnkleFeatureDims];
+  WristAnkleFeature(setup.test_clip.features[frame], db.position_weight(), query);
+  const std::vector<Neighbour> nearest = db.NearestByWristsAndAnkles(query, neighbours).value();
+  Eigen::MatrixXf examples(static_cast<Eigen::Index>(nearest.size()), db.pose_feature_size());
+  for (size_t i = 0; i < nearest.size(); ++i)
+    examples.row(static_cast<Eigen::Index>(i)) = db.pose_feature(nearest[i].row);
+  return FitLocalPoseModel(examples, components).value();
+}
+
 }  // namespace mocap::testing

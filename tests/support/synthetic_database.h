@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "motion/preprocess/clip_preprocessor.h"
+#include "motion/reconstruct/local_pose_model.h"
 #include "motion/reconstruct/reconstruction_database.h"
 #include "motion/reconstruct/wrist_resampler.h"
 #include "motion/skeleton/forward_kinematics.h"
@@ -29,5 +30,10 @@ const SyntheticReconstructionSetup& SharedSyntheticReconstructionSetup();
 
 // The test clip's wrists as timestamped samples (database rate, starting at `start_time`).
 std::vector<WristSample> WristSamplesOf(const SyntheticReconstructionSetup& setup, double start_time = 0.0);
+
+// A5's local model of test frame `frame`: the `neighbours` database frames nearest to its true
+// wrists and ankles (eq. 8), `components` principal components.
+LocalPoseModel LocalModelAtTestFrame(const SyntheticReconstructionSetup& setup, int frame, int neighbours = 60,
+                                     int components = 6);
 
 }  // namespace mocap::testing

@@ -12,17 +12,7 @@ class PoseSolverTest : public ::testing::Test {
  protected:
   void SetUp() override { setup_ = testing::MakeSyntheticReconstructionSetup({}, 40); }
 
-  // Local model from the K2 frames nearest to the true wrists and ankles of test frame `f`.
-  LocalPoseModel ModelAt(int f) {
-    const ReconstructionDatabase& db = *setup_.database;
-    float query[kWristAnkleFeatureDims];
-    WristAnkleFeature(setup_.test_clip.features[f], db.position_weight(), query);
-    auto neighbours = db.NearestByWristsAndAnkles(query, 60);
-    EXPECT_TRUE(neighbours.ok());
-    Eigen::MatrixXf examples(neighbours->size(), db.pose_feature_size());
-    for (size_t i = 0; i < neighbours->size(); ++i) examples.row(i) = db.pose_feature((*neighbours)[i].row);
-    return *FitLocalPoseModel(examples, 6);
-  }
+  LocalPoseModel ModelAt(int f) { return testing::LocalModelAtTestFrame(setup_, f); }
   ControlTargets TargetsAt(int f) const {
     const BodyLandmarks& l = setup_.rig.topology.landmarks;
     return {setup_.truth.position(f, l.left_wrist), setup_.truth.position(f, l.right_wrist),

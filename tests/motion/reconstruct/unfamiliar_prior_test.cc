@@ -35,13 +35,7 @@ TEST_F(UnfamiliarPriorSolveTest, AHeavierPriorsCostIsReadAtTheConfiguredWeight) 
   const ReconstructionDatabase& db = *setup_.database;
   const BodyLandmarks& l = setup_.rig.topology.landmarks;
   for (int f : {6, 19, 33}) {
-    float query[kWristAnkleFeatureDims];
-    WristAnkleFeature(setup_.test_clip.features[f], db.position_weight(), query);
-    auto neighbours = db.NearestByWristsAndAnkles(query, 60);
-    ASSERT_TRUE(neighbours.ok());
-    Eigen::MatrixXf examples(neighbours->size(), db.pose_feature_size());
-    for (size_t i = 0; i < neighbours->size(); ++i) examples.row(i) = db.pose_feature((*neighbours)[i].row);
-    const LocalPoseModel model = *FitLocalPoseModel(examples, 6);
+    const LocalPoseModel model = testing::LocalModelAtTestFrame(setup_, f);
     // Targets a body unlike the database's would set: the wrists 12 cm further apart.
     const Eigen::Vector3f apart(0.06f, 0.0f, 0.0f);
     const ControlTargets targets = {setup_.truth.position(f, l.left_wrist) + apart,
