@@ -405,6 +405,7 @@ TEST(FrameToProtoTest, LengthsAreScaledToThePerformerAndRotationsAreNot) {
   frame.diagnostics.ankle_source_row = 77;
   frame.diagnostics.contact = {true, false};
   frame.diagnostics.bridged = true;
+  frame.diagnostics.prior_weight_factor = 2.5f;
   const SizeMap scale{.scale = 2.0f};
 
   v1::Frame out;
@@ -432,6 +433,7 @@ TEST(FrameToProtoTest, LengthsAreScaledToThePerformerAndRotationsAreNot) {
   EXPECT_TRUE(out.diagnostics().left_foot_planted());
   EXPECT_FALSE(out.diagnostics().right_foot_planted());
   EXPECT_TRUE(out.diagnostics().bridged());
+  EXPECT_FLOAT_EQ(out.diagnostics().prior_weight_factor(), 2.5f);
 }
 
 TEST(FrameToProtoTest, ABodyGrowingInAStreamCarriesItsScaleAndPositionsThroughItsMap) {
