@@ -62,6 +62,12 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions gaussian = base;
   gaussian.joint_low_pass = false;  // the joint filter a Gaussian of σ = 1 frame, as at a fixed lag
   add("full_gaussian_joint_filter", "main", 0, gaussian, noise_cm);
+  ReconstructionOptions patent_prior = base;
+  patent_prior.unfamiliar_prior.max_factor = 1.0f;  // the prior at its configured weight in every session
+  add("full_no_unfamiliar_prior", "main", 0, patent_prior, noise_cm);
+  patent_prior.mode = StreamMode::kFixedLag;
+  patent_prior.lag = 5;
+  add("lag_5_no_unfamiliar_prior", "main", 0, patent_prior, noise_cm);
   for (int lag : {0, 5}) {
     ReconstructionOptions o = base;
     o.mode = StreamMode::kFixedLag;

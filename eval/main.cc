@@ -124,9 +124,10 @@ int main(int argc, char** argv) {
       "towards it (full_no_reach_shift), with the shift over the ground only (full_horizontal_shift), "
       "twice as fast (full_shift_speed_0.5), with ankles left under the floor (full_feet_under_floor), with the "
       "torso's turn unsmoothed (full_unsmoothed_lean), with the joint filter not widened for a jittering body "
-      "(full_jittery_body), with the whole clip's joint filter a Gaussian (full_gaussian_joint_filter) and, at lag "
-      "0 and 5, with the ankle filter repeating the path's newest frame (lag_0_clamped_ankle_edges, "
-      "lag_5_clamped_ankle_edges)");
+      "(full_jittery_body), with the whole clip's joint filter a Gaussian (full_gaussian_joint_filter), with A6's "
+      "prior at its configured weight in a session unlike the database too (full_no_unfamiliar_prior, "
+      "lag_5_no_unfamiliar_prior) and, at lag 0 and 5, with the ankle filter repeating the path's newest frame "
+      "(lag_0_clamped_ankle_edges, lag_5_clamped_ankle_edges)");
   bool cross_dataset = false, landmarks = false, devices = false, size_oracle = false;
   app.add_flag("--cross-dataset", cross_dataset,
                "the cross-dataset protocol of shared/data/README: database = all of bandai-namco-2; tests = "
