@@ -84,9 +84,6 @@ struct ReconstructionOptions {
   // Before the arm IK, an ankle below the database's planted ankle height is lifted to it by the
   // leg IK (the knee bends): a body whose solve sank with low input does not stand in the floor.
   bool feet_above_floor = true;
-  // Before that, the whole body rises where any other joint but the hands' is under the floor
-  // (body_floor.h): a trunk the solve bent into the ground for input down on the floor.
-  bool body_above_floor = true;
 
   // Last: the output pelvis moves no faster, and accelerates no harder, than the database's
   // bodies; frames whose input jumps are flagged (issue #22).

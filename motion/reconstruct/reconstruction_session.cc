@@ -13,7 +13,6 @@
 #include "motion/core/status_macros.h"
 #include "motion/core/str_cat.h"
 #include "motion/reconstruct/ankle_cloud.h"
-#include "motion/reconstruct/body_floor.h"
 #include "motion/reconstruct/frame_history.h"
 #include "motion/reconstruct/grip_offset.h"
 #include "motion/reconstruct/hand_floor.h"
@@ -136,7 +135,6 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
       reach_lean_(database_->body().skeleton(), database_->rig().topology.landmarks, options.reach_lean),
       method_(MakePoseMethod(options)) {
   options_.ankle_path.planted_ankle_height = database_->planted_ankle_height();
-  floor_bearing_joints_ = FloorBearingJoints(database_->body().skeleton(), database_->rig().topology.landmarks);
   if (const float forearm = ForearmLength(database_->body()); forearm > 0.0f) {
     grip_over_forearm_ = options_.grip_offset / forearm;
   }
@@ -750,8 +748,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // floor is lifted by the floor rule below.
       if (!shift.isZero()) ReimposeAnklePins(&frame, &world_rotations, &world_positions);
     }
-    if (options_.body_above_floor || options_.feet_above_floor)
-      KeepBodyAboveFloor(&frame, &world_rotations, &world_positions);
+    if (options_.feet_above_floor) KeepFeetAboveFloor(&frame, &world_rotations, &world_positions);
     if (hand_target) {
       for (int side = 0; side < 2; ++side) {
         if (s.grip.active() && !under_floor[side]) {  // the forearm reaches the device past the wrist
@@ -806,29 +803,17 @@ void ReconstructionSession::ReimposeAnklePins(ReconstructedFrame* frame,
   }
 }
 
-void ReconstructionSession::KeepBodyAboveFloor(ReconstructedFrame* frame,
+void ReconstructionSession::KeepFeetAboveFloor(ReconstructedFrame* frame,
                                                std::vector<Eigen::Quaternionf>* world_rotations,
                                                std::vector<Eigen::Vector3f>* world_positions) const {
   const BodyModel& body = database_->body();
   const BodyLandmarks& l = database_->rig().topology.landmarks;
   const float ground = database_->planted_ankle_height();
   body.WorldTransforms(frame->pose, world_rotations, world_positions);
-  if (options_.feet_above_floor) {
-    bool lifted = false;
-    for (const int ankle : {l.left_ankle, l.right_ankle}) {
-      if (ankle < 0) continue;
-      const Eigen::Vector3f at = (*world_positions)[ankle];
-      if (at.y() >= ground) continue;
-      SolveLegIk(body, ankle, Eigen::Vector3f(at.x(), ground, at.z()), &frame->pose);
-      lifted = true;
-    }
-    if (lifted) body.WorldTransforms(frame->pose, world_rotations, world_positions);
-  }
-  // After the feet: a knee the leg IK bent down to lift its ankle bears the body too.
-  if (!options_.body_above_floor) return;
-  if (const float lift = FloorLift(*world_positions, floor_bearing_joints_); lift > 0.0f) {
-    frame->pose.root_position.y() += lift;
-    body.WorldTransforms(frame->pose, world_rotations, world_positions);
+  for (const int ankle : {l.left_ankle, l.right_ankle}) {
+    if (ankle < 0) continue;
+    const Eigen::Vector3f at = (*world_positions)[ankle];
+    if (at.y() < ground) SolveLegIk(body, ankle, Eigen::Vector3f(at.x(), ground, at.z()), &frame->pose);
   }
 }
 

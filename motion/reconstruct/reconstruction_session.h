@@ -204,10 +204,8 @@ class ReconstructionSession {
   // `world_rotations`, `world_positions`: scratch.
   void ReimposeAnklePins(ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
                          std::vector<Eigen::Vector3f>* world_positions) const;
-  // An ankle under the database's planted ankle height goes up to it by the leg IK
-  // (feet_above_floor); then, where a floor-bearing joint is still under the ground, the whole body
-  // rises (body_floor.h; body_above_floor).
-  void KeepBodyAboveFloor(ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
+  // An ankle under the database's planted ankle height goes up to it by the leg IK.
+  void KeepFeetAboveFloor(ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
                           std::vector<Eigen::Vector3f>* world_positions) const;
   // Marks a tracked hand whose input lies beyond its arm's reach from the emitted body's shoulder,
   // or under the floor (`under_floor`, read from the smoothed input).
@@ -229,9 +227,8 @@ class ReconstructionSession {
   int next_output_index_ = 0;
   int joint_filter_lag_ = 0;
   int ankle_lag_ = 0;
-  int lookahead_ = 0;                      // A2 frames (local linear smoothing)
-  std::vector<int> floor_bearing_joints_;  // FloorBearingJoints of the database's rig
-  float grip_over_forearm_ = 0;            // options' grip_offset over the body's forearm (AddGripUncertainty)
+  int lookahead_ = 0;            // A2 frames (local linear smoothing)
+  float grip_over_forearm_ = 0;  // options' grip_offset over the body's forearm (AddGripUncertainty)
   std::vector<float> ankle_kernel_, wrist_kernel_;
   // The joint filter's kernels from joint_smoothing_sigma (first) to
   // weak_input_joint_smoothing_sigma (last), 0.1 frame of σ apart; the hands' targets' alongside.
