@@ -50,6 +50,12 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions sinking = base;
   sinking.feet_above_floor = false;  // ankles left where the solve put them, under the floor or not
   add("full_feet_under_floor", "main", 0, sinking, noise_cm);
+  ReconstructionOptions trunk_in_floor = base;
+  trunk_in_floor.solver.floor_weight = 0.0f;  // A6 without E_floor: the trunk may go under the floor
+  add("full_body_under_floor", "main", 0, trunk_in_floor, noise_cm);
+  trunk_in_floor.mode = StreamMode::kFixedLag;
+  trunk_in_floor.lag = 5;
+  add("lag_5_body_under_floor", "main", 0, trunk_in_floor, noise_cm);
   ReconstructionOptions sudden = base;
   sudden.reach_lean.turn_smoothing_seconds = 0.0f;  // the torso's turn follows the input at once
   add("full_unsmoothed_lean", "main", 0, sudden, noise_cm);

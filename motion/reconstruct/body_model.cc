@@ -1,10 +1,12 @@
 #include "motion/reconstruct/body_model.h"
 
 #include <algorithm>
+#include <limits>
 #include <optional>
 
 #include "motion/core/rotation_vector.h"
 #include "motion/core/str_cat.h"
+#include "motion/reconstruct/hand_floor.h"
 
 namespace mocap {
 
@@ -47,9 +49,29 @@ absl::StatusOr<BodyModel> BodyModel::Create(const RigModel& rig, const Skeleton&
     model.chain_rotation_ = model.chain_rotation_ * model.reference_[j];
   }
   model.control_landmarks_ = {l.left_wrist, l.right_wrist, l.left_ankle, l.right_ankle};
+  // A joint's centre lies a limb's radius above the ground at the lowest; the head's, half a head.
+  for (const auto& [joint, lowest] : {std::pair{l.pelvis, kLowestJointHeight},
+                                      {l.head, kLowestHeadHeight},
+                                      {l.left_shoulder, kLowestJointHeight},
+                                      {l.right_shoulder, kLowestJointHeight},
+                                      {l.left_elbow, kLowestJointHeight},
+                                      {l.right_elbow, kLowestJointHeight},
+                                      {l.left_hip, kLowestJointHeight},
+                                      {l.right_hip, kLowestJointHeight},
+                                      {l.left_knee, kLowestJointHeight},
+                                      {l.right_knee, kLowestJointHeight}}) {
+    if (joint < 0 ||
+        std::find(model.floor_joints_.begin(), model.floor_joints_.end(), joint) != model.floor_joints_.end())
+      continue;
+    model.floor_joints_.push_back(joint);
+    model.floor_heights_.push_back(lowest);
+  }
   std::vector<bool> needed(joints, false);
   for (int landmark : model.control_landmarks_) {
     for (int j = landmark; j >= 0; j = skeleton.parent(j)) needed[j] = true;
+  }
+  for (int joint : model.floor_joints_) {
+    for (int j = joint; j >= 0; j = skeleton.parent(j)) needed[j] = true;
   }
   for (int j = 0; j < joints; ++j) {
     if (needed[j]) model.control_joints_.push_back(j);
@@ -64,7 +86,8 @@ void BodyModel::RootFromPelvis(const Eigen::Quaterniond& pelvis_rotation, const 
 }
 
 void BodyModel::ControlPoints(const Eigen::Quaterniond& pelvis_rotation, const Eigen::Vector3d& pelvis_position,
-                              const double* q, std::array<Eigen::Vector3d, kNumControlPoints>* out) const {
+                              const double* q, std::array<Eigen::Vector3d, kNumControlPoints>* out,
+                              double* clearances) const {
   // Small fixed-size work per call (the solver calls this ~100 times per frame): world transforms
   // of the needed joints only, in a stack buffer when the rig is small enough.
   constexpr int kStack = 128;
@@ -93,6 +116,18 @@ void BodyModel::ControlPoints(const Eigen::Quaterniond& pelvis_rotation, const E
     rotation[j] = rotation[parent] * local;
   }
   for (int c = 0; c < kNumControlPoints; ++c) (*out)[c] = position[control_landmarks_[c]];
+  if (clearances) {
+    for (size_t f = 0; f < floor_joints_.size(); ++f)
+      clearances[f] = position[floor_joints_[f]].y() - floor_heights_[f];
+  }
+}
+
+float BodyModel::FloorClearance(std::span<const Eigen::Vector3f> world_positions) const {
+  float clearance = std::numeric_limits<float>::infinity();
+  for (size_t f = 0; f < floor_joints_.size(); ++f) {
+    clearance = std::min(clearance, world_positions[floor_joints_[f]].y() - static_cast<float>(floor_heights_[f]));
+  }
+  return clearance;
 }
 
 BodyPose BodyModel::Pose(const Eigen::Quaternionf& pelvis_rotation, const Eigen::Vector3f& pelvis_position,

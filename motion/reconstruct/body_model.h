@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -41,15 +42,25 @@ class BodyModel {
   const RigModel& rig() const { return rig_; }
   int num_pose_joints() const { return static_cast<int>(pose_joints_.size()); }
 
-  // World positions (metres) of the wrists and ankles. `q` holds 3 values per pose joint.
+  // World positions (metres) of the wrists and ankles. `q` holds 3 values per pose joint. With
+  // `clearances`, also how far each floor joint is above its lowest height (negative: under it),
+  // num_floor_joints() values.
   void ControlPoints(const Eigen::Quaterniond& pelvis_rotation, const Eigen::Vector3d& pelvis_position, const double* q,
-                     std::array<Eigen::Vector3d, kNumControlPoints>* out) const;
+                     std::array<Eigen::Vector3d, kNumControlPoints>* out, double* clearances = nullptr) const;
   template <typename Derived>
   void ControlPoints(const Eigen::Quaterniond& pelvis_rotation, const Eigen::Vector3d& pelvis_position,
                      const Eigen::MatrixBase<Derived>& q, std::array<Eigen::Vector3d, kNumControlPoints>* out) const {
     const Eigen::VectorXd qd = q.template cast<double>();
     ControlPoints(pelvis_rotation, pelvis_position, qd.data(), out);
   }
+
+  // The joints the body rests on when it is down on the ground, which the solve keeps above it
+  // (docs/method.md A6, "The floor"): pelvis, head, shoulders, elbows, hips, knees — not the feet
+  // and hands, which have their own rules.
+  int num_floor_joints() const { return static_cast<int>(floor_joints_.size()); }
+  // How far the lowest of them is above its lowest height in a pose's world positions (every
+  // joint's, WorldTransforms), metres; negative: under it; +infinity for a rig without them.
+  float FloorClearance(std::span<const Eigen::Vector3f> world_positions) const;
 
   // The whole pose: every joint's local rotation and the root translation that puts the pelvis
   // at `pelvis_position` (other joints keep their offsets).
@@ -73,6 +84,8 @@ class BodyModel {
   std::vector<int> pose_slot_;       // per joint: index into pose_joints_, or -1
   std::vector<int> control_joints_;  // joints on the root-to-control-point paths, parents first
   std::array<int, kNumControlPoints> control_landmarks_{};
+  std::vector<int> floor_joints_;      // see num_floor_joints()
+  std::vector<double> floor_heights_;  // per floor joint: the lowest its joint centre goes, metres
   std::vector<Eigen::Quaterniond> reference_;
   std::vector<Eigen::Vector3d> offset_;
   Eigen::Quaterniond chain_rotation_ = Eigen::Quaterniond::Identity();  // root→pelvis, reference pose

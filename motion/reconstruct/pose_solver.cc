@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
@@ -32,12 +33,13 @@ struct PoseEnergy {
   Eigen::Vector4d smooth_rotation_target;  // 2 z_R^(t−1) − z_R^(t−2), sign-aligned
   Eigen::Vector3d smooth_position_target;
   Eigen::VectorXd smooth_q_target;
-  mutable Eigen::VectorXd m;  // scratch
+  mutable Eigen::VectorXd m;               // scratch
+  mutable std::vector<double> clearances;  // scratch, per floor joint
 
   int components() const { return static_cast<int>(basis.cols()); }
   int inputs() const { return components() + 7; }
   int values() const {
-    return 3 + components() + 3 * kNumControlPoints +
+    return 3 + components() + 3 * kNumControlPoints + body.num_floor_joints() +
            (previous && before_previous ? 7 + static_cast<int>(mean.size()) - 2 : 0);
   }
 
@@ -58,7 +60,7 @@ struct PoseEnergy {
     const double w_prior = std::sqrt(options.prior_weight);
     for (int c = 0; c < n; ++c) r[i++] = w_prior * x[c] * inverse_std[c];
     std::array<Eigen::Vector3d, kNumControlPoints> points;
-    body.ControlPoints(unit, z_p, m.data() + 2, &points);
+    body.ControlPoints(unit, z_p, m.data() + 2, &points, clearances.data());
     const double w_ctrl = std::sqrt(options.control_weight) * scale;
     for (int c = 0; c < kNumControlPoints; ++c) {
       if (!options.control_ankles && c >= kLeftAnkle) {
@@ -68,6 +70,8 @@ struct PoseEnergy {
       const Eigen::Vector3d miss = points[c] - targets[c].cast<double>();
       for (int axis = 0; axis < 3; ++axis) r[i++] = w_ctrl * miss[axis];
     }
+    const double w_floor = std::sqrt(options.floor_weight) * scale;
+    for (const double clearance : clearances) r[i++] = w_floor * std::min(clearance, 0.0);
     if (previous && before_previous) {
       const double w_smooth = std::sqrt(options.smooth_weight);
       for (int k = 0; k < 4; ++k) r[i++] = w_smooth * (z_r.coeffs()[(k + 3) % 4] - smooth_rotation_target[k]);
@@ -108,6 +112,7 @@ absl::StatusOr<SolvedPose> SolvePose(const BodyModel& body, const LocalPoseModel
   energy.basis = model.basis.cast<double>();
   energy.inverse_std = model.variances.cast<double>().array().max(options.min_variance).rsqrt().matrix();
   energy.m.resize(features);
+  energy.clearances.resize(body.num_floor_joints());
   if (previous && before_previous) {
     // Quaternions q and −q are one rotation: align both history frames with the initial guess.
     Eigen::Vector4d q1 = Wxyz(previous->pelvis_rotation), q2 = Wxyz(before_previous->pelvis_rotation);

@@ -4,7 +4,9 @@
 //   E_prior  = Σ w_i² / λ_i                      (= (m − p̄)ᵀ Λ⁻¹ (m − p̄) within the model)
 //   E_ctrl   = ‖x(w,z) − x̃‖² + ‖y(w,z) − ỹ‖²    (wrists and ankles by forward kinematics)
 //   E_smooth = ‖z^t − 2z^(t−1) + z^(t−2)‖² + ‖q^t − 2q^(t−1) + q^(t−2)‖²
-// as E_const + 1.0·E_prior + 0.8·E_ctrl + 0.2·E_smooth with Levenberg–Marquardt (Eigen's, with
+//   E_floor  = Σ_j min(0, y_j − y_j,lowest)²    (the service's: no joint the body rests on under
+//                                                the floor, BodyModel::num_floor_joints; 0 standing)
+// as E_const + 1.0·E_prior + 0.8·E_ctrl + 0.2·E_smooth + 10·E_floor with Levenberg–Marquardt (Eigen's, with
 // forward-difference Jacobians). The patent does not state its length unit; lengths enter the
 // energies multiplied by `length_scale` (100: centimetres), which balances E_ctrl against the
 // unit-free E_prior (a typical prior cost is ~D' = 6; a 2 cm miss on four points costs 12.8).
@@ -26,6 +28,7 @@ struct PoseSolverOptions {
   float prior_weight = 1.0f;
   float control_weight = 0.8f;
   float smooth_weight = 0.2f;
+  float floor_weight = 10.0f;   // E_floor (not the patent's): near-hard; 0: joints may go under the floor
   float length_scale = 100.0f;  // lengths in the energies are in metres × this (cm)
   float min_variance = 1e-6f;   // floor on λ_i
   int max_evaluations = 200;    // residual evaluations (LM steps, excluding the Jacobians')

@@ -42,6 +42,10 @@ struct ReachLeanOptions {
   // a jump. 0.25 m/s kept the clips over the allowed pelvis speed at 7 of 227 (cross-dataset);
   // 0.5 m/s made them 11 (wrists 1.07 → 1.00 cm), unbounded 41.
   float max_shift_speed = 0.25f;
+  // How fast a shift down gives way where the body under it comes lower than its floor joints
+  // allow the shift to take it (m/s; docs/method.md A7): faster than the shift itself, so a body
+  // going down to the floor is not pushed into it for long, and no jump.
+  float floor_give_way_speed = 2.0f;
   // The streamed turn (the Apply with a state) follows the least turn through an exponential
   // filter of this time constant, seconds (0 = at once): the least turn moves with the input's
   // noise, and the torso above the pivot magnifies it (a shoulder 0.4 m from the pivot, the head
@@ -71,7 +75,8 @@ class ReachLean {
   // After `Apply`: the least shift of the whole body, at most `max_shift`, that brings the
   // shoulders of the reaching hands within an arm of their targets. `*state` is the shift of the
   // frame before (`frame_time` earlier); it moves towards the new one no faster than
-  // `max_shift_speed`. Moves `pose`'s root by it and returns it.
+  // `max_shift_speed`. Downwards it goes no further than the body's floor joints allow
+  // (BodyModel::FloorClearance). Moves `pose`'s root by it and returns it.
   Eigen::Vector3f Shift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
                         const std::array<bool, 2>& reach, double frame_time, Eigen::Vector3f* state, BodyPose* pose);
 

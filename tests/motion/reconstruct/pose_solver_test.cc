@@ -1,5 +1,9 @@
 #include "motion/reconstruct/pose_solver.h"
 
+#include <algorithm>
+#include <limits>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "motion/reconstruct/local_pose_model.h"
@@ -54,6 +58,48 @@ TEST_F(PoseSolverTest, SmoothnessPullsTowardsTheHistory) {
   ASSERT_TRUE(free.ok() && held.ok());
   EXPECT_LT((held->pelvis_position - history.pelvis_position).norm(),
             (free->pelvis_position - history.pelvis_position).norm());
+}
+
+// Hands on the floor (a dancer down on it, a tracker's drift): without E_floor the body folds to
+// follow them and a knee goes into the ground; with it the joints it rests on stay above it.
+TEST_F(PoseSolverTest, TheFloorTermKeepsTheTrunkAboveTheGround) {
+  const int f = 12;
+  const LocalPoseModel model = ModelAt(f);
+  const BodyLandmarks& l = setup_.rig.topology.landmarks;
+  const BodyModel& body = setup_.database->body();
+  ASSERT_GE(body.num_floor_joints(), 6);
+  ControlTargets on_floor = TargetsAt(f);
+  for (const int wrist : {kLeftWrist, kRightWrist}) on_floor[wrist].y() = 0.06f;
+  SolvedPose initial;
+  initial.pose_feature = model.mean;
+  initial.pelvis_rotation = setup_.truth.rotation(f, l.pelvis);
+  initial.pelvis_position = setup_.truth.position(f, l.pelvis);
+  const auto lowest = [&](const SolvedPose& solved) {
+    const BodyPose pose = body.Pose(solved.pelvis_rotation, solved.pelvis_position, solved.pose_feature.data() + 2);
+    std::vector<Eigen::Quaternionf> rotations;
+    std::vector<Eigen::Vector3f> positions;
+    body.WorldTransforms(pose, &rotations, &positions);
+    float y = std::numeric_limits<float>::infinity();
+    for (const int joint : {l.pelvis, l.head, l.left_shoulder, l.right_shoulder, l.left_elbow, l.right_elbow,
+                            l.left_hip, l.right_hip, l.left_knee, l.right_knee}) {
+      if (joint >= 0) y = std::min(y, positions[joint].y());
+    }
+    return y;
+  };
+  PoseSolverOptions no_floor;
+  no_floor.floor_weight = 0.0f;
+  auto sinking = SolvePose(body, model, on_floor, initial, nullptr, nullptr, no_floor);
+  auto resting = SolvePose(body, model, on_floor, initial, nullptr, nullptr, {});
+  ASSERT_TRUE(sinking.ok() && resting.ok());
+  EXPECT_LT(lowest(*sinking), -0.02f);
+  EXPECT_GT(lowest(*resting), 0.0f);
+  // Standing, the term costs nothing: the same solve as without it.
+  auto standing = SolvePose(body, model, TargetsAt(f), initial, nullptr, nullptr, {});
+  auto standing_free = SolvePose(body, model, TargetsAt(f), initial, nullptr, nullptr, no_floor);
+  ASSERT_TRUE(standing.ok() && standing_free.ok());
+  EXPECT_GT(lowest(*standing), 0.05f);
+  EXPECT_NEAR(standing->cost, standing_free->cost, 1e-4f);
+  EXPECT_LT((standing->pelvis_position - standing_free->pelvis_position).norm(), 1e-5f);
 }
 
 TEST_F(PoseSolverTest, RefusesNonFiniteTargetsAndMismatchedModels) {

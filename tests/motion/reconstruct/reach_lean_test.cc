@@ -21,7 +21,7 @@ class ReachLeanTest : public ::testing::Test {
     setup_ = &testing::SharedSyntheticReconstructionSetup();
     const BodyModel& body = setup_->database->body();
     pose_.rotations.assign(body.skeleton().num_joints(), Eigen::Quaternionf::Identity());
-    pose_.root_position = Eigen::Vector3f(0.3f, 0.0f, -0.2f);
+    pose_.root_position = Eigen::Vector3f(0.3f, 1.0f, -0.2f);  // the body's floor joints ~0.5 m over the ground
     landmarks_ = setup_->database->rig().topology.landmarks;
   }
   const BodyModel& body() const { return setup_->database->body(); }
@@ -183,6 +183,49 @@ TEST_F(ReachLeanTest, WhatTheTurnCannotReachTheBodyStepsTowardsNoFasterThanItsSp
   }
   EXPECT_LT(state.norm(), 1e-6f);
   EXPECT_TRUE(pose.root_position.isApprox(pose_.root_position));
+}
+
+// A body already low (a dancer down on the floor) reaching for input further down: the shift
+// takes it no lower than its floor joints allow, and a shift made frames ago gives way, no faster
+// than floor_give_way_speed, when the body under it comes lower.
+TEST_F(ReachLeanTest, TheShiftTakesTheBodyNoLowerThanTheFloor) {
+  const ReachLeanOptions options{
+      .max_angle = 0.0f, .max_shift = 0.3f, .max_shift_speed = 0.5f, .floor_give_way_speed = 0.6f};
+  ReachLean lean(body().skeleton(), landmarks_, options);
+  BodyPose low = pose_;
+  low.root_position.y() -= body().FloorClearance(Positions(low)) - 0.05f;  // 5 cm to spare
+  ASSERT_NEAR(body().FloorClearance(Positions(low)), 0.05f, 1e-4f);
+  const auto [shoulder, arm] = Arm(landmarks_.left_wrist);
+  const std::vector<Eigen::Vector3f> before = Positions(low);
+  const Eigen::Vector3f target = before[shoulder] + (arm + 0.3f) * Eigen::Vector3f(0.0f, -0.8f, 0.6f).normalized();
+  const std::array<Eigen::Vector3f, 2> targets{target, before[landmarks_.right_wrist]};
+  const double frame_time = 1.0 / 30.0;
+  Eigen::Vector3f state = Eigen::Vector3f::Zero();
+  BodyPose pose;
+  for (int frame = 0; frame < 30; ++frame) {
+    pose = low;
+    const Eigen::Vector3f shift = lean.Shift(body(), targets, {true, false}, frame_time, &state, &pose);
+    EXPECT_GE(shift.y(), -0.05f - 1e-5f) << frame;
+    EXPECT_GE(body().FloorClearance(Positions(pose)), -1e-5f) << frame;
+  }
+  EXPECT_NEAR(state.y(), -0.05f, 1e-4f);  // down as far as it goes
+  EXPECT_GT(state.z(), 0.05f);            // and forward, towards the input
+  // The body under the shift comes 6 cm lower (1 cm under its floor height): the shift gives way
+  // by at least floor_give_way_speed a frame, and is gone in a few frames.
+  BodyPose lower = low;
+  lower.root_position.y() -= 0.06f;
+  float previous = state.y();
+  for (int frame = 0; frame < 4; ++frame) {
+    pose = lower;
+    const Eigen::Vector3f shift = lean.Shift(body(), targets, {true, false}, frame_time, &state, &pose);
+    EXPECT_LE(shift.y(), 1e-5f) << frame;  // gives way, lifts nothing
+    if (frame == 0) {
+      EXPECT_LT(shift.y(), -0.005f);  // not at once
+      EXPECT_GE(shift.y(), previous + options.floor_give_way_speed * frame_time - 1e-5f);
+    }
+    previous = shift.y();
+  }
+  EXPECT_NEAR(state.y(), 0.0f, 1e-5f);
 }
 
 TEST_F(ReachLeanTest, AShiftNeverGoesFurtherThanMaxShiftAndIsOffAtZero) {
