@@ -170,17 +170,22 @@ Eigen::Vector3f ReachLean::LeastTurn(const BodyModel& body, const std::array<Eig
 Eigen::Vector3f ReachLean::Shift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
                                  const std::array<bool, 2>& reach, double frame_time, Eigen::Vector3f* state,
                                  BodyPose* pose) {
-  const Eigen::Vector3f wanted = WantedShift(body, targets, reach, *pose);
+  Eigen::Vector3f wanted = WantedShift(body, targets, reach, *pose);
+  // Down towards input on the floor no further than the body can go: the joints it rests on stay
+  // above the ground, as in A6's solve (E_floor). A shift made frames ago gives way where the body
+  // the solve gives now is lower, no faster than floor_give_way_speed.
+  float lowest = 0.0f;  // the lowest shift the floor allows (≤ 0)
+  const bool down = options_.vertical_shift && (wanted.y() < 0.0f || state->y() < 0.0f);
+  if (down) {
+    body.WorldTransforms(*pose, &rotations_, &positions_);
+    lowest = std::min(0.0f, -body.FloorClearance(positions_));
+    wanted.y() = std::max(wanted.y(), lowest);
+  }
   const float step = options_.max_shift_speed * static_cast<float>(frame_time);
   const Eigen::Vector3f change = wanted - *state;
   *state += change.norm() > step ? Eigen::Vector3f(change * (step / change.norm())) : change;
-  if (options_.vertical_shift && state->y() < 0.0f) {
-    // A shift made frames ago goes no lower than the body the solve gives now can, giving way
-    // no faster than floor_give_way_speed.
-    body.WorldTransforms(*pose, &rotations_, &positions_);
-    const float lowest = std::min(0.0f, -body.FloorClearance(positions_));
-    const float give_way = options_.floor_give_way_speed * static_cast<float>(frame_time);
-    if (state->y() < lowest) state->y() = std::min(lowest, state->y() + give_way);
+  if (down && state->y() < lowest) {
+    state->y() = std::min(lowest, state->y() + options_.floor_give_way_speed * static_cast<float>(frame_time));
   }
   pose->root_position += *state;
   return *state;
@@ -213,9 +218,6 @@ Eigen::Vector3f ReachLean::WantedShift(const BodyModel& body, const std::array<E
     shift += (-normal.ldlt().solve(gradient)).cwiseProduct(axes);
     if (shift.norm() > options_.max_shift) shift *= options_.max_shift / shift.norm();
   }
-  // Down towards input on the floor no further than the body can go: the joints it rests on stay
-  // above the ground, as in A6's solve (E_floor).
-  if (options_.vertical_shift) shift.y() = std::max(shift.y(), std::min(0.0f, -body.FloorClearance(positions_)));
   return shift;
 }
 
