@@ -80,6 +80,11 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
     o.lag = lag;
     o.ankle_path.edge_fit_speed = -1.0f;  // the ankle filter repeats the path's newest frame (before stop 67)
     add(StrCat("lag_", lag, "_clamped_ankle_edges"), "main", 0, o, noise_cm);
+    o = base;
+    o.mode = StreamMode::kFixedLag;
+    o.lag = lag;
+    o.footskate.stream_plant_ankles = false;  // A6 given the decided ankles unplanted (before stop 74)
+    add(StrCat("lag_", lag, "_unplanted_ankles"), "main", 0, o, noise_cm);
   }
   for (int window : {10, 50, 100}) {
     ReconstructionOptions o = base;

@@ -58,17 +58,11 @@ std::array<bool, 2> PlantedFeet(const DatabaseFrame& frame, float planted_ankle_
   return planted;
 }
 
-namespace {
-
-// The cleanup's rule for a contact by the estimate: a ground-plane step slower than
-// `contact_speed` into `estimate`, at most `contact_height` above the planted ankle height.
 bool EstimateSaysPlanted(const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate, float planted_ankle_height,
                          float rate, const FootskateOptions& options) {
   const Eigen::Vector2f step(estimate.x() - previous.x(), estimate.z() - previous.z());
   return step.norm() * rate < options.contact_speed && estimate.y() < planted_ankle_height + options.contact_height;
 }
-
-}  // namespace
 
 void PlantAnkleContacts(std::span<std::array<Eigen::Vector3f, 2>> ankles, const std::array<Eigen::Vector3f, 2>* before,
                         bool segment_ends, float planted_ankle_height, double frame_time,

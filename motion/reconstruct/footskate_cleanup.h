@@ -53,6 +53,9 @@ struct FootskateOptions {
   // (docs/method.md A7): MPJPE 2.276 -> 2.267 cm, skate 0.350 -> 0.311 cm/frame, jitter 171 -> 158.
   float stream_hold_seconds = 0.1f;
   bool stream_pin_at_mean = true;
+  // Streams only: the decided A4 ankles planted at their contacts' running means before A6
+  // (StreamAnklePlanter), as whole clips plant theirs (PlantAnkleContacts).
+  bool stream_plant_ankles = true;
 };
 
 // The planted feet of a stretch of A4 ankle estimates (docs/method.md A7, "planted at the mean"):
@@ -103,6 +106,12 @@ std::optional<EasedPin> EasePin(std::span<const float> kernel, std::span<const s
 // lower bone (a device gripped beyond the wrist, grip_offset.h); 0: the end joint itself.
 void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose,
                 float beyond = 0.0f);
+
+// The cleanup's rule for a contact by the estimate: a ground-plane step slower than
+// `contact_speed` into `estimate` from `previous` (`rate` steps a second), at most
+// `contact_height` above the planted ankle height.
+bool EstimateSaysPlanted(const Eigen::Vector3f& previous, const Eigen::Vector3f& estimate, float planted_ankle_height,
+                         float rate, const FootskateOptions& options);
 
 // Whether each foot of a captured database frame is planted (ground-plane speed and height).
 std::array<bool, 2> PlantedFeet(const DatabaseFrame& frame, float planted_ankle_height,

@@ -17,6 +17,7 @@
 #include "motion/reconstruct/grip_offset.h"
 #include "motion/reconstruct/hand_floor.h"
 #include "motion/reconstruct/pose_method.h"
+#include "motion/reconstruct/stream_ankle_planter.h"
 #include "motion/reconstruct/unfamiliar_prior.h"
 
 namespace mocap {
@@ -59,7 +60,8 @@ struct ReconstructionSession::Segment {
         smoother(o.smoothing, db.frame_time()),
         grip(o.grip_offset),
         window_dp(db.frame_time(), o.ankle_path),
-        cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), o.footskate, o.mode == StreamMode::kFixedLag) {}
+        cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), o.footskate, o.mode == StreamMode::kFixedLag),
+        planter(db.planted_ankle_height(), db.frame_time(), o.footskate, o.motion_guard.standing_hands_speed) {}
   int id;
   WristSmoother smoother;
   float cloud_heading = 0.0f, pose_heading = 0.0f;
@@ -98,6 +100,7 @@ struct ReconstructionSession::Segment {
   // A5–A7 state.
   std::optional<SolvedPose> previous, before_previous;
   FootskateCleaner cleaner;
+  StreamAnklePlanter planter;           // fixed lag: the decided ankles planted as they come
   std::deque<ReconstructedFrame> post;  // solved frames waiting for the joint filter
   int post_first = 0;
   int emitted = 0;
@@ -493,6 +496,9 @@ absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
   }
   PlantAnkleContacts(batch, before, segment_ends, database_->planted_ankle_height(), database_->frame_time(),
                      options_.footskate, {hands, options_.motion_guard.standing_hands_speed});
+  if (options_.mode == StreamMode::kFixedLag && options_.footskate.stream_plant_ankles) {
+    for (size_t i = 0; i < batch.size(); ++i) s.planter.Next(&batch[i], hands[i]);
+  }
   s.ankles.append(batch.begin(), batch.end());
   s.decided = up_to_frame;
   return SolvePending(true, out);
