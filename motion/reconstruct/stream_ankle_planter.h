@@ -50,7 +50,7 @@ class StreamAnklePlanter {
   float standing_speed_;
   int hold_frames_, short_frames_, standing_frames_;
   std::array<Foot, 2> feet_;
-  RecentValues<AnklePair> estimates_;     // the last estimates as decided (before planting)
+  RecentValues<AnklePair> estimates_;    // the last estimates as decided (before planting)
   RecentValues<Eigen::Vector2f> hands_;  // the hands' midpoint over the last standing window
 };
 

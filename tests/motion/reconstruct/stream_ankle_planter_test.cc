@@ -95,7 +95,8 @@ TEST(StreamAnklePlanterTest, StandingHandsHoldAFootThatSlidesWithoutLifting) {
 
 TEST(StreamAnklePlanterTest, ResetForgetsTheContact) {
   StreamAnklePlanter planter(kPlanted, kFrameTime, {}, 0.25f);
-  Plant(&planter, 20, [](int) { return Eigen::Vector3f(0.0f, kPlanted, 0.0f); }, StillHands);
+  Plant(
+      &planter, 20, [](int) { return Eigen::Vector3f(0.0f, kPlanted, 0.0f); }, StillHands);
   planter.Reset();
   AnklePair ankles = {Eigen::Vector3f(1.0f, kPlanted, 0.0f), Eigen::Vector3f(-0.1f, 0.5f, 0.0f)};
   planter.Next(&ankles, StillHands(0));
