@@ -19,12 +19,6 @@ StreamAnklePlanter::StreamAnklePlanter(float planted_ankle_height, double frame_
       estimates_(static_cast<size_t>(hold_frames_)),
       hands_(static_cast<size_t>(standing_frames_ + 1)) {}
 
-void StreamAnklePlanter::Reset() {
-  feet_ = {};
-  estimates_.Clear();
-  hands_.Clear();
-}
-
 bool StreamAnklePlanter::Stands() const {
   if (!(standing_speed_ > 0) || hands_.size() < 2) return false;
   // Over both windows of the guard (kHandsWindowsSeconds): the longer says the body stands, the

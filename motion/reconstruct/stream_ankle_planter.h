@@ -32,8 +32,6 @@ class StreamAnklePlanter {
   // The next decided frame's ankles (A4, smoothed; world metres), rewritten where planted;
   // `hands`: the input wrists' midpoint over the ground at that frame.
   void Next(AnklePair* ankles, const Eigen::Vector2f& hands);
-  // A new segment: nothing before it is known.
-  void Reset();
 
  private:
   struct Foot {

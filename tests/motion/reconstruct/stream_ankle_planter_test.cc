@@ -93,15 +93,5 @@ TEST(StreamAnklePlanterTest, StandingHandsHoldAFootThatSlidesWithoutLifting) {
   EXPECT_LT((plain.back() - sliding(slide + 9)).norm(), 1e-6f);
 }
 
-TEST(StreamAnklePlanterTest, ResetForgetsTheContact) {
-  StreamAnklePlanter planter(kPlanted, kFrameTime, {}, 0.25f);
-  Plant(
-      &planter, 20, [](int) { return Eigen::Vector3f(0.0f, kPlanted, 0.0f); }, StillHands);
-  planter.Reset();
-  AnklePair ankles = {Eigen::Vector3f(1.0f, kPlanted, 0.0f), Eigen::Vector3f(-0.1f, 0.5f, 0.0f)};
-  planter.Next(&ankles, StillHands(0));
-  EXPECT_EQ(ankles[0], Eigen::Vector3f(1.0f, kPlanted, 0.0f)) << "a new segment's first frame is as estimated";
-}
-
 }  // namespace
 }  // namespace mocap
