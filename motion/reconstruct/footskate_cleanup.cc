@@ -1,6 +1,7 @@
 #include "motion/reconstruct/footskate_cleanup.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "motion/reconstruct/plausibility.h"
@@ -31,6 +32,37 @@ void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& t
       (pose->rotations[knee] * (rotations[knee].conjugate() * knee_turn * rotations[knee])).normalized();
   const Eigen::Quaternionf new_knee_world = hip_turn * knee_turn * rotations[knee];
   pose->rotations[ankle_joint] = (new_knee_world.conjugate() * ankle_world).normalized();
+}
+
+float SolveLegIkKneeAboveFloor(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, float knee_floor,
+                               BodyPose* pose) {
+  const Skeleton& skeleton = body.skeleton();
+  const int knee = skeleton.parent(ankle_joint);
+  const int hip = knee >= 0 ? skeleton.parent(knee) : -1;
+  if (hip < 0) return 0.0f;
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  body.WorldTransforms(*pose, &rotations, &positions);
+  const Eigen::Vector3f from = positions[ankle_joint];
+  const float floor = std::min(knee_floor, positions[knee].y());  // a knee already under goes no lower
+  const std::array<Eigen::Quaternionf, 3> leg = {pose->rotations[hip], pose->rotations[knee],
+                                                 pose->rotations[ankle_joint]};
+  auto knee_stays_up = [&](float part) {  // solves from the leg as it was
+    pose->rotations[hip] = leg[0];
+    pose->rotations[knee] = leg[1];
+    pose->rotations[ankle_joint] = leg[2];
+    if (part > 0.0f) SolveLegIk(body, ankle_joint, from + part * (target - from), pose);
+    body.WorldTransforms(*pose, &rotations, &positions);
+    return positions[knee].y() >= floor;
+  };
+  if (knee_stays_up(1.0f)) return 1.0f;
+  float kept = 0.0f;
+  float step = 0.5f;
+  for (int iteration = 0; iteration < 6; ++iteration, step *= 0.5f) {
+    if (knee_stays_up(kept + step)) kept += step;
+  }
+  knee_stays_up(kept);
+  return kept;
 }
 
 FootskateCleaner::FootskateCleaner(const BodyModel& body, float planted_ankle_height, double frame_time,

@@ -107,6 +107,14 @@ std::optional<EasedPin> EasePin(std::span<const float> kernel, std::span<const s
 void SolveLegIk(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, BodyPose* pose,
                 float beyond = 0.0f);
 
+// SolveLegIk for a leg whose knee must stay on or above the floor: where reaching `target` would
+// put the knee under `knee_floor` (world height), and lower than it was, the ankle goes only the
+// largest part of the way from where it is that keeps the knee up (a bisection to 1/64). The body
+// is not moved: lifting it instead made a one-frame jump of the pelvis. Returns the part taken,
+// in [0, 1].
+float SolveLegIkKneeAboveFloor(const BodyModel& body, int ankle_joint, const Eigen::Vector3f& target, float knee_floor,
+                               BodyPose* pose);
+
 // The cleanup's rule for a contact by the estimate: a ground-plane step slower than
 // `contact_speed` into `estimate` from `previous` (`rate` steps a second), at most
 // `contact_height` above the planted ankle height.

@@ -41,6 +41,49 @@ TEST(FootskateCleanupTest, LegIkReachesTheTargetAndKeepsTheFootOrientation) {
   }
 }
 
+TEST(FootskateCleanupTest, ALegBentOverItsPinKeepsItsKneeAboveTheFloor) {
+  const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
+  const ReconstructionDatabase& db = *setup.database;
+  const int ankle = setup.rig.topology.landmarks.left_ankle;
+  const int knee = db.body().skeleton().parent(ankle);
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  // The leg bent (the foot lifted forward), then sent back to where it stood: its knee goes down
+  // from `bent` to `straight` on the way.
+  BodyPose start = PoseOfRow(db, 20);
+  db.body().WorldTransforms(start, &rotations, &positions);
+  const Eigen::Vector3f stood = positions[ankle];
+  const float straight = positions[knee].y();
+  SolveLegIk(db.body(), ankle, stood + Eigen::Vector3f(0.0f, 0.25f, 0.15f), &start);
+  db.body().WorldTransforms(start, &rotations, &positions);
+  const Eigen::Vector3f from = positions[ankle];
+  const float bent = positions[knee].y();
+  ASSERT_GT(bent, straight + 0.05f);
+
+  // A floor under the straight leg's knee: the pin is reached.
+  BodyPose pose = start;
+  EXPECT_EQ(SolveLegIkKneeAboveFloor(db.body(), ankle, stood, straight - 0.01f, &pose), 1.0f);
+  db.body().WorldTransforms(pose, &rotations, &positions);
+  EXPECT_LT((positions[ankle] - stood).norm(), 1e-4f);
+
+  // A floor halfway up: the foot goes part of the way, as far as keeps the knee on or above it.
+  const float floor = 0.5f * (straight + bent);
+  pose = start;
+  const float part = SolveLegIkKneeAboveFloor(db.body(), ankle, stood, floor, &pose);
+  EXPECT_GT(part, 0.0f);
+  EXPECT_LT(part, 1.0f);
+  db.body().WorldTransforms(pose, &rotations, &positions);
+  EXPECT_GE(positions[knee].y(), floor - 1e-5f);
+  EXPECT_LT(positions[knee].y(), floor + 0.05f * (bent - straight));  // not short of it by more than the bisection
+  EXPECT_LT((positions[ankle] - (from + part * (stood - from))).norm(), 1e-4f);
+
+  // A knee already under the floor goes no lower, and may stay where it is.
+  pose = start;
+  EXPECT_EQ(SolveLegIkKneeAboveFloor(db.body(), ankle, stood, bent + 0.1f, &pose), 0.0f);
+  db.body().WorldTransforms(pose, &rotations, &positions);
+  EXPECT_NEAR(positions[knee].y(), bent, 1e-5f);
+}
+
 TEST(FootskateCleanupTest, APlantedFootStaysWhereItLandedAndIsReleasedSmoothly) {
   const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
   const ReconstructionDatabase& db = *setup.database;
