@@ -794,21 +794,24 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
 void ReconstructionSession::ReimposeAnklePins(ReconstructedFrame* frame,
                                               std::vector<Eigen::Quaternionf>* world_rotations,
                                               std::vector<Eigen::Vector3f>* world_positions) const {
-  const auto& targets = frame->ankle_targets;
-  if (!targets[0] && !targets[1]) return;
   const BodyModel& body = database_->body();
   const BodyLandmarks& l = database_->rig().topology.landmarks;
   const int ankle_joints[2] = {l.left_ankle, l.right_ankle};
+  const auto& targets = frame->ankle_targets;
   const auto& weights = frame->ankle_target_weight;
   // Where the body puts the feet (one leg's IK does not move the other's ankle).
-  body.WorldTransforms(frame->pose, world_rotations, world_positions);
-  const std::array<Eigen::Vector3f, 2> at = {(*world_positions)[ankle_joints[0]], (*world_positions)[ankle_joints[1]]};
+  if ((targets[0] && weights[0] < 1.0f) || (targets[1] && weights[1] < 1.0f))
+    body.WorldTransforms(frame->pose, world_rotations, world_positions);
   for (int side = 0; side < 2; ++side) {
     if (!targets[side]) continue;
-    const Eigen::Vector3f target = at[side] + std::min(weights[side], 1.0f) * (*targets[side] - at[side]);
+    Eigen::Vector3f target = *targets[side];
+    if (weights[side] < 1.0f) {
+      const Eigen::Vector3f& at = (*world_positions)[ankle_joints[side]];
+      target = at + weights[side] * (target - at);
+    }
     // A leg bent over its pin after the body went down to it (the reach shift's crouch) can fold
-    // its knee through the floor (`dance-short` at lag 0: 11 cm under): the floor wins, and the
-    // foot comes off its pin as little as keeps the knee above it.
+    // its knee through the floor (`dance-short` at lag 0: 8 cm under the ground): the floor wins,
+    // and the foot comes off its pin as little as keeps the knee above it.
     SolveLegIkKneeAboveFloor(body, ankle_joints[side], target, static_cast<float>(kLowestJointHeight), &frame->pose);
   }
 }
