@@ -120,6 +120,7 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
     previous_time_ = time;
     previous_output_ = previous_target_ = target;
     previous_velocity_.setZero();
+    speed_bound_ = std::numeric_limits<float>::infinity();
     return target;
   }
   const float dt = static_cast<float>(std::max(time - previous_time_, 0.5 * frame_time_));
@@ -141,8 +142,8 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   // moved while their hands moved as these do), then acceleration. The second always holds, and so does the first: the
   // step from the previous velocity towards one within the speed bound stays within it, unless the bound itself shrank
   // (the hands stopped), when the body brakes as hard as a body can.
-  Eigen::Vector3f velocity =
-      Clamped(wanted, std::min(speed_limit_, hands_limits_.PelvisSpeedBoundForHands(hands_speed)));
+  speed_bound_ = std::min(speed_limit_, hands_limits_.PelvisSpeedBoundForHands(hands_speed));
+  Eigen::Vector3f velocity = Clamped(wanted, speed_bound_);
   if (velocity_known) velocity = previous_velocity_ + Clamped(velocity - previous_velocity_, acceleration_limit_ * dt);
   Eigen::Vector3f output = previous_output_ + velocity * dt;
   // Within a millimetre: on the target (unless that step would break the acceleration bound).

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -77,10 +78,17 @@ class MotionGuard {
   void SetLeadingHands(double seconds, const Eigen::Vector3f& displacement);
 
   float speed_limit() const { return speed_limit_; }
+  // After Next: the pelvis's velocity into the frame it returned (m/s; zero on a stream's first
+  // frame) and the fastest it could have gone there (m/s; infinite on a stream's first frame,
+  // whose speed is not known). What moves the body after the guard keeps within the same bound
+  // (ReachLean::Shift).
+  const Eigen::Vector3f& velocity() const { return previous_velocity_; }
+  float speed_bound() const { return speed_bound_; }
 
  private:
   double frame_time_;
   float speed_limit_, acceleration_limit_;
+  float speed_bound_ = std::numeric_limits<float>::infinity();  // the last Next's
   MotionLimits hands_limits_;  // only the bounds by the hands' speed are read, margins applied
   float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_, standing_window_seconds_,
       start_ease_seconds_;

@@ -53,6 +53,17 @@ struct ReachLeanOptions {
   float turn_smoothing_seconds = 0.1f;
 };
 
+// How the body under a shift moves (ReachLean::Shift): its pelvis's velocity this frame and the
+// fastest the pelvis may go, m/s.
+struct BodyMotion {
+  Eigen::Vector3f velocity = Eigen::Vector3f::Zero();
+  float speed_bound = 0.0f;
+};
+
+// The largest part α ∈ [0, 1] of `change` such that |`step` + α·`change`| ≤ max(`limit`, |`step`|):
+// a change on top of a step no longer than the limit allows (nor longer than the step already is).
+float PartWithinLimit(const Eigen::Vector3f& step, const Eigen::Vector3f& change, float limit);
+
 class ReachLean {
  public:
   // No spine between the pelvis and the shoulders (or no shoulders): the lean does nothing.
@@ -77,8 +88,14 @@ class ReachLean {
   // frame before (`frame_time` earlier); it moves towards the new one no faster than
   // `max_shift_speed`. Downwards it goes no further than the body's floor joints allow
   // (BodyModel::FloorClearance). Moves `pose`'s root by it and returns it.
+  // `moving`: how the body under the shift moves this frame (the motion guard's pelvis): the
+  // shift's change is cut so that the two together stay within its speed bound (a braking body's
+  // own speed, if that is more). Without it the shift's `max_shift_speed` came on top of a guard
+  // at its bound: a guiding gesture 1.25 × over the allowed pelvis speed at lag 0 (issue #22). A
+  // shift down that gives way to the floor is not cut.
   Eigen::Vector3f Shift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
-                        const std::array<bool, 2>& reach, double frame_time, Eigen::Vector3f* state, BodyPose* pose);
+                        const std::array<bool, 2>& reach, double frame_time, Eigen::Vector3f* state, BodyPose* pose,
+                        const BodyMotion* moving = nullptr);
 
   int pivot() const { return pivot_; }
 

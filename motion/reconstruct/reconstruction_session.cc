@@ -752,8 +752,10 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
                                             frame.hand_state[1] == TrackingState::kTracked};
       reach_lean_.MoveCollars(body, targets, reaching, &frame.pose);
       reach_lean_.Apply(body, targets, reaching, database_->frame_time(), &s.reach_turn, &frame.pose);
-      const Eigen::Vector3f shift =
-          reach_lean_.Shift(body, targets, reaching, database_->frame_time(), &s.reach_shift, &frame.pose);
+      // Within the guard's speed bound, with the guard's own motion (issue #22).
+      const BodyMotion guarded{motion_guard_.velocity(), motion_guard_.speed_bound()};
+      const Eigen::Vector3f shift = reach_lean_.Shift(body, targets, reaching, database_->frame_time(), &s.reach_shift,
+                                                      &frame.pose, options_.motion_guard.enabled ? &guarded : nullptr);
       // Planted feet stay on their pins (the legs bend); a free foot the shift pushed into the
       // floor is lifted by the floor rule below.
       if (!shift.isZero()) ReimposeAnklePins(&frame, &world_rotations, &world_positions);

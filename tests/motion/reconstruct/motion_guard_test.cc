@@ -139,6 +139,12 @@ TEST(MotionGuardTest, ABodyDoesNotRunOffWhileItsHandsStayPut) {
     const Eigen::Vector3f out = guard.Next(f * kDt, target, Eigen::Vector3f(0, 1.0f, 0.3f), &limited);
     if (f > 0) {
       EXPECT_LE((out - previous).norm() / kDt, limits.pelvis_speed_beyond_hands_max + 1e-3f) << f;
+      // What it tells the stages after it (ReachLean::Shift): the step it made and the bound it kept.
+      EXPECT_TRUE(guard.velocity().isApprox((out - previous) / kDt, 1e-4f)) << f;
+      EXPECT_NEAR(guard.speed_bound(), limits.pelvis_speed_beyond_hands_max, 1e-5f) << f;
+    } else {
+      EXPECT_TRUE(guard.velocity().isZero());
+      EXPECT_TRUE(std::isinf(guard.speed_bound())) << "a stream's first frame has no speed to bound";
     }
     previous = out;
   }

@@ -5,7 +5,11 @@
 // faster than max_shift_speed, and back when the input comes within reach again.
 #include "motion/reconstruct/reach_lean.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -183,6 +187,62 @@ TEST_F(ReachLeanTest, WhatTheTurnCannotReachTheBodyStepsTowardsNoFasterThanItsSp
   }
   EXPECT_LT(state.norm(), 1e-6f);
   EXPECT_TRUE(pose.root_position.isApprox(pose_.root_position));
+}
+
+TEST(PartWithinLimitTest, CutsAChangeToWhatTheBoundLeavesAndNeverSpeedsUpABrakingStep) {
+  const Eigen::Vector3f step(0.03f, 0.0f, 0.0f);
+  // Room for all of it, none at all, and part of it along the step.
+  EXPECT_FLOAT_EQ(PartWithinLimit(step, Eigen::Vector3f(0.005f, 0.0f, 0.0f), 0.04f), 1.0f);
+  EXPECT_FLOAT_EQ(PartWithinLimit(step, Eigen::Vector3f(0.01f, 0.0f, 0.0f), 0.03f), 0.0f);
+  EXPECT_NEAR(PartWithinLimit(step, Eigen::Vector3f(0.02f, 0.0f, 0.0f), 0.04f), 0.5f, 1e-5f);
+  // Across the step: |(0.03, 0.04α)| = 0.04 at α = √(0.0007) / 0.04.
+  EXPECT_NEAR(PartWithinLimit(step, Eigen::Vector3f(0.0f, 0.04f, 0.0f), 0.04f), std::sqrt(0.0007f) / 0.04f, 1e-4f);
+  // Against the step: slows the body, always allowed.
+  EXPECT_FLOAT_EQ(PartWithinLimit(step, Eigen::Vector3f(-0.01f, 0.0f, 0.0f), 0.03f), 1.0f);
+  // A step already past the limit (a body braking as hard as it can): no faster than it is.
+  EXPECT_FLOAT_EQ(PartWithinLimit(step, Eigen::Vector3f(0.01f, 0.0f, 0.0f), 0.02f), 0.0f);
+  EXPECT_FLOAT_EQ(PartWithinLimit(step, Eigen::Vector3f(-0.01f, 0.0f, 0.0f), 0.02f), 1.0f);
+  // No bound, no change.
+  EXPECT_FLOAT_EQ(PartWithinLimit(step, Eigen::Vector3f(0.5f, 0.0f, 0.0f), std::numeric_limits<float>::infinity()),
+                  1.0f);
+  EXPECT_FLOAT_EQ(PartWithinLimit(step, Eigen::Vector3f::Zero(), 0.0f), 1.0f);
+}
+
+// The shift moves on top of a body the motion guard already moves: together no faster than the
+// guard's bound (issue #22: the two added up to 1.2 × the allowed pelvis speed on bows at lag 0).
+TEST_F(ReachLeanTest, TheShiftAndTheBodyUnderItTogetherStayWithinTheSpeedBound) {
+  const ReachLeanOptions options{.max_angle = 0.0f, .max_shift = 0.3f, .max_shift_speed = 0.5f};
+  ReachLean lean(body().skeleton(), landmarks_, options);
+  const auto [shoulder, arm] = Arm(landmarks_.left_wrist);
+  const std::vector<Eigen::Vector3f> before = Positions(pose_);
+  const Eigen::Vector3f forward(0.0f, 0.0f, 1.0f);
+  const std::array<Eigen::Vector3f, 2> targets{before[shoulder] + (arm + 0.2f) * forward,
+                                               before[landmarks_.right_wrist]};
+  const double frame_time = 1.0 / 30.0;
+  const float dt = static_cast<float>(frame_time);
+  const float bound = 1.0f;  // m/s
+  auto run = [&](const Eigen::Vector3f& body_velocity) {
+    Eigen::Vector3f state = Eigen::Vector3f::Zero();
+    Eigen::Vector3f previous = state;
+    float fastest = 0.0f;
+    const BodyMotion moving{body_velocity, bound};
+    for (int frame = 0; frame < 30; ++frame) {
+      BodyPose pose = pose_;
+      const Eigen::Vector3f shift = lean.Shift(body(), targets, {true, false}, frame_time, &state, &pose, &moving);
+      fastest = std::max(fastest, (body_velocity + (shift - previous) / dt).norm());
+      previous = shift;
+    }
+    return std::pair{fastest, state};
+  };
+  // The body already goes towards the input at 0.9 m/s: the shift adds at most 0.1 m/s.
+  const auto [along_fastest, along_state] = run(0.9f * forward);
+  EXPECT_LE(along_fastest, bound + 1e-4f);
+  EXPECT_NEAR(along_state.z(), 0.1f * 30 * dt, 2e-3f);
+  // At the bound, no shift; going away from the input, the shift comes at its own speed.
+  EXPECT_LT(run(bound * forward).second.norm(), 1e-6f);
+  const auto [away_fastest, away_state] = run(-0.8f * forward);
+  EXPECT_LE(away_fastest, 0.8f + 1e-4f);
+  EXPECT_GT(away_state.z(), 0.19f);
 }
 
 // A body already low (a dancer down on the floor) reaching for input further down: the shift
