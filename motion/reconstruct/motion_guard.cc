@@ -210,4 +210,10 @@ Eigen::Vector3f PlantedFootOffset(const Eigen::Vector3f& body_offset, float leg_
   return norm > leg_give ? Eigen::Vector3f((1.0f - leg_give / norm) * body_offset) : Eigen::Vector3f::Zero();
 }
 
+Eigen::Vector3f OffsetAboveFloor(const Eigen::Vector3f& body_offset, float floor_clearance) {
+  Eigen::Vector3f offset = body_offset;
+  if (offset.y() < 0.0f) offset.y() = std::max(offset.y(), std::min(0.0f, -floor_clearance));
+  return offset;
+}
+
 }  // namespace mocap

@@ -149,4 +149,11 @@ class InputJumpDetector {
 // stepped the feet by up to `leg_give` between frames).
 Eigen::Vector3f PlantedFootOffset(const Eigen::Vector3f& body_offset, float leg_give);
 
+// The guard's rigid move of the body, no lower than the joints it rests on allow:
+// `floor_clearance` is how far the lowest of them is above the floor (BodyModel::FloorClearance;
+// negative when one is already under). Down by at most that much, never further down from under
+// the floor; up and over the ground as it is. A body the guard held back while the solve rose
+// from the floor went under it (a knee 5 cm under on `dance-short` at lag 5; stop 73).
+Eigen::Vector3f OffsetAboveFloor(const Eigen::Vector3f& body_offset, float floor_clearance);
+
 }  // namespace mocap

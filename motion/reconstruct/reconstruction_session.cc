@@ -711,11 +711,11 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
         motion_guard_.SetLeadingHands(last * database_->frame_time(),
                                       WristsMidpoint(s.wrists[last]) - WristsMidpoint(s.wrists[0]));
       }
-      Eigen::Vector3f offset = motion_guard_.Next(frame.time, solved, hands, &frame.motion_limited) - solved;
-      // The guard moves the body rigidly, and a body it holds back while the solve rises from the
-      // floor would go under it (a knee 5 cm under on `dance-short` at lag 5): no lower than the
-      // joints it rests on allow, as the reach shift (docs/method.md A7).
-      if (offset.y() < 0.0f) offset.y() = std::max(offset.y(), std::min(0.0f, -body.FloorClearance(world_positions)));
+      // The guard moves the body rigidly, no lower than the joints it rests on allow, as the reach
+      // shift (docs/method.md A7).
+      const Eigen::Vector3f offset =
+          OffsetAboveFloor(motion_guard_.Next(frame.time, solved, hands, &frame.motion_limited) - solved,
+                           body.FloorClearance(world_positions));
       frame.pose.root_position += offset;
       // A planted foot stays where it is planted when the body moved a little (the standing
       // filter's centimetres: its legs take the difference); it goes along by as much as the

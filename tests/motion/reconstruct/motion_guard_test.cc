@@ -62,6 +62,18 @@ TEST(MotionGuardTest, APlantedFootGoesAlongOnlyBeyondWhatTheLegGivesAndNeverStep
   }
 }
 
+// The guard's rigid move goes down no further than the body's lowest resting joint allows; from
+// under the floor, no further down at all; up and over the ground, untouched.
+TEST(MotionGuardTest, TheGuardsMoveTakesTheBodyNoLowerThanTheFloor) {
+  const Eigen::Vector3f down(0.3f, -0.10f, 0.2f);
+  EXPECT_TRUE(OffsetAboveFloor(down, 0.04f).isApprox(Eigen::Vector3f(0.3f, -0.04f, 0.2f)));
+  EXPECT_TRUE(OffsetAboveFloor(down, 0.5f).isApprox(down)) << "room enough: as it is";
+  EXPECT_TRUE(OffsetAboveFloor(down, -0.02f).isApprox(Eigen::Vector3f(0.3f, 0.0f, 0.2f))) << "under: no lower";
+  const Eigen::Vector3f up(0.0f, 0.07f, -0.1f);
+  EXPECT_TRUE(OffsetAboveFloor(up, -0.02f).isApprox(up)) << "never raised nor lowered by the rule";
+  EXPECT_TRUE(OffsetAboveFloor(up, 0.0f).isApprox(up));
+}
+
 TEST(MotionGuardTest, FollowsMotionWithinTheBoundsExactly) {
   MotionGuard guard(Limits(), kDt, Exact());
   for (int f = 0; f < 60; ++f) {
