@@ -170,6 +170,7 @@ Eigen::Vector3f ReachLean::LeastTurn(const BodyModel& body, const std::array<Eig
 Eigen::Vector3f ReachLean::Shift(const BodyModel& body, const std::array<Eigen::Vector3f, 2>& targets,
                                  const std::array<bool, 2>& reach, double frame_time, Eigen::Vector3f* state,
                                  BodyPose* pose, const BodyMotion* moving) {
+  const float dt = static_cast<float>(frame_time);
   Eigen::Vector3f wanted = WantedShift(body, targets, reach, *pose);
   // Down towards input on the floor no further than the body can go: the joints it rests on stay
   // above the ground, as in A6's solve (E_floor). A shift made frames ago gives way where the body
@@ -181,25 +182,19 @@ Eigen::Vector3f ReachLean::Shift(const BodyModel& body, const std::array<Eigen::
     lowest = std::min(0.0f, -body.FloorClearance(positions_));
     wanted.y() = std::max(wanted.y(), lowest);
   }
-  const float step = options_.max_shift_speed * static_cast<float>(frame_time);
+  const float step = options_.max_shift_speed * dt;
   Eigen::Vector3f change = wanted - *state;
   if (change.norm() > step) change *= step / change.norm();
-  if (moving != nullptr) {
-    const float dt = static_cast<float>(frame_time);
-    change *= PartWithinLimit(moving->velocity * dt, change, moving->speed_bound * dt);
-  }
+  if (moving != nullptr) change *= PartWithinLimit(moving->velocity * dt, change, moving->speed_bound * dt);
   *state += change;
-  if (down && state->y() < lowest) {
-    state->y() = std::min(lowest, state->y() + options_.floor_give_way_speed * static_cast<float>(frame_time));
-  }
+  if (down && state->y() < lowest) state->y() = std::min(lowest, state->y() + options_.floor_give_way_speed * dt);
   pose->root_position += *state;
   return *state;
 }
 
 float PartWithinLimit(const Eigen::Vector3f& step, const Eigen::Vector3f& change, float limit) {
   const float change_squared = change.squaredNorm();
-  if (!(change_squared > 0.0f)) return 1.0f;
-  if (!std::isfinite(limit)) return 1.0f;
+  if (!(change_squared > 0.0f) || !std::isfinite(limit)) return 1.0f;
   // |step + α change|² ≤ R² for α up to the larger root of α²|c|² + 2α s·c + |s|² − R² (R ≥ |s|,
   // so the roots bracket 0).
   const float radius_squared = std::max(limit * limit, step.squaredNorm());

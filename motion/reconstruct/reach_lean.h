@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -54,10 +55,10 @@ struct ReachLeanOptions {
 };
 
 // How the body under a shift moves (ReachLean::Shift): its pelvis's velocity this frame and the
-// fastest the pelvis may go, m/s.
+// fastest the pelvis may go, m/s (infinite: no bound, as on a stream's first frame).
 struct BodyMotion {
   Eigen::Vector3f velocity = Eigen::Vector3f::Zero();
-  float speed_bound = 0.0f;
+  float speed_bound = std::numeric_limits<float>::infinity();
 };
 
 // The largest part α ∈ [0, 1] of `change` such that |`step` + α·`change`| ≤ max(`limit`, |`step`|):
