@@ -17,15 +17,22 @@ struct ClipPlausibility {
   double truth_pelvis_speed_max = 0;  // m/s, the fastest capture
   double clips_over_allowed_speed = 0;
   double worst_speed_over_allowed = 0;  // the largest output max / allowed over clips
+  // The same for the ankles (either; a foot that teleports is as visible as a body that does).
+  double truth_ankle_speed_max = 0;
+  double clips_feet_over_allowed_speed = 0;
+  double worst_ankle_speed_over_allowed = 0;
 
-  // One clip: its output's measures against its capture's fastest pelvis, which allows
-  // AllowedPelvisSpeed() (issue #22).
-  void SetClip(PlausibilityStats stats, double truth_max) {
+  // One clip: its output's measures against its capture's fastest pelvis and ankle, which allow
+  // AllowedSpeed() (issue #22).
+  void SetClip(PlausibilityStats stats, double truth_pelvis_max, double truth_ankle_max) {
     plausibility = std::move(stats);
     clips = 1;
-    truth_pelvis_speed_max = truth_max;
-    worst_speed_over_allowed = plausibility.pelvis_speed.max() / AllowedPelvisSpeed(static_cast<float>(truth_max));
+    truth_pelvis_speed_max = truth_pelvis_max;
+    worst_speed_over_allowed = plausibility.pelvis_speed.max() / AllowedSpeed(static_cast<float>(truth_pelvis_max));
     clips_over_allowed_speed = worst_speed_over_allowed > 1.0 ? 1 : 0;
+    truth_ankle_speed_max = truth_ankle_max;
+    worst_ankle_speed_over_allowed = plausibility.ankle_speed.max() / AllowedSpeed(static_cast<float>(truth_ankle_max));
+    clips_feet_over_allowed_speed = worst_ankle_speed_over_allowed > 1.0 ? 1 : 0;
   }
   void AddPlausibility(const ClipPlausibility& o) {
     plausibility.Merge(o.plausibility);
@@ -33,6 +40,9 @@ struct ClipPlausibility {
     truth_pelvis_speed_max = std::max(truth_pelvis_speed_max, o.truth_pelvis_speed_max);
     clips_over_allowed_speed += o.clips_over_allowed_speed;
     worst_speed_over_allowed = std::max(worst_speed_over_allowed, o.worst_speed_over_allowed);
+    truth_ankle_speed_max = std::max(truth_ankle_speed_max, o.truth_ankle_speed_max);
+    clips_feet_over_allowed_speed += o.clips_feet_over_allowed_speed;
+    worst_ankle_speed_over_allowed = std::max(worst_ankle_speed_over_allowed, o.worst_ankle_speed_over_allowed);
   }
 };
 
@@ -48,6 +58,11 @@ inline nlohmann::json PlausibilityJson(const ClipPlausibility& m) {
       {"clips", m.clips},
       {"clips_faster_than_allowed", m.clips_over_allowed_speed},
       {"worst_speed_over_allowed", m.worst_speed_over_allowed},
+      {"ankle_speed_max_m_per_s", p.ankle_speed.max()},
+      {"ankle_speed_p99_m_per_s", p.ankle_speed.Quantile(0.99)},
+      {"capture_ankle_speed_max_m_per_s", m.truth_ankle_speed_max},
+      {"clips_feet_faster_than_allowed", m.clips_feet_over_allowed_speed},
+      {"worst_ankle_speed_over_allowed", m.worst_ankle_speed_over_allowed},
       {"hand_to_input_p50_cm", 100 * hands.Quantile(0.5)},
       {"hand_to_input_p99_cm", 100 * hands.Quantile(0.99)},
       {"hand_to_input_max_cm", 100 * hands.max()},

@@ -115,14 +115,17 @@ Metrics Measure(const ReconstructionDatabase& database, const PreparedClip& clip
       m.truth_jitter += truth_jitter / measured_count * rate * rate * rate;
     }
   }
-  double truth_max = 0;
-  for (int f = 1; f < truth.num_frames(); ++f) {
-    truth_max = std::max(
-        truth_max, static_cast<double>((truth.position(f, l.pelvis) - truth.position(f - 1, l.pelvis)).norm()) * rate);
-  }
+  auto truth_max = [&](int joint) {
+    double fastest = 0;
+    for (int f = 1; f < truth.num_frames(); ++f) {
+      fastest = std::max(fastest,
+                         static_cast<double>((truth.position(f, joint) - truth.position(f - 1, joint)).norm()) * rate);
+    }
+    return fastest;
+  };
   m.SetClip(MeasurePlausibility(plausibility_frames, database.planted_ankle_height(),
                                 database.motion_limits().pelvis_speed_max),
-            truth_max);
+            truth_max(l.pelvis), std::max(truth_max(ankles[0]), truth_max(ankles[1])));
   return m;
 }
 

@@ -37,13 +37,13 @@ void LandmarkMetrics::Add(const LandmarkMetrics& o) {
 
 namespace {
 
-// The capture's fastest pelvis, measured over the database's frame time (the output's), so a
+// The capture's fastest `landmark`, measured over the database's frame time (the output's), so a
 // 120 fps capture's marker noise is not taken for speed.
-double TruthPelvisSpeedMax(const LandmarkTruth& truth, double database_frame_time) {
+double TruthSpeedMax(const LandmarkTruth& truth, int landmark, double database_frame_time) {
   const int step = std::max(1, static_cast<int>(std::lround(database_frame_time / truth.frame_time)));
   double fastest = 0;
   for (int f = step; f < truth.num_frames(); ++f) {
-    const double moved = (truth.positions[f][kPelvisLandmark] - truth.positions[f - step][kPelvisLandmark]).norm();
+    const double moved = (truth.positions[f][landmark] - truth.positions[f - step][landmark]).norm();
     fastest = std::max(fastest, moved / (step * truth.frame_time));
   }
   return fastest;
@@ -112,7 +112,9 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
   }
   m.SetClip(MeasurePlausibility(plausibility_frames, database.planted_ankle_height(),
                                 database.motion_limits().pelvis_speed_max),
-            TruthPelvisSpeedMax(truth, database.frame_time()));
+            TruthSpeedMax(truth, kPelvisLandmark, database.frame_time()),
+            std::max(TruthSpeedMax(truth, kLeftAnkleLandmark, database.frame_time()),
+                     TruthSpeedMax(truth, kRightAnkleLandmark, database.frame_time())));
   return m;
 }
 

@@ -290,6 +290,8 @@ int main(int argc, char** argv) {
     const mocap::MotionLimits& limits = database->motion_limits();
     context["database_frames"] = database->num_frames();
     context["database_pelvis_speed_max_m_per_s"] = limits.pelvis_speed_max;
+    context["database_ankle_speed_max_m_per_s"] = limits.ankle_speed_max;
+    context["database_ankle_speed_by_hands_speed_m_per_s"] = limits.ankle_speed_by_hands_speed[0];
     context["database_pelvis_speed_beyond_hands_max_m_per_s"] = limits.pelvis_speed_beyond_hands_max;
     context["database_pelvis_speed_by_hands_speed_m_per_s"] = limits.pelvis_speed_by_hands_speed[0];
     context["database_pelvis_speed_by_long_hands_speed_m_per_s"] = limits.pelvis_speed_by_hands_speed[1];
@@ -366,6 +368,8 @@ int main(int argc, char** argv) {
   context["database_frames"] = database->num_frames();
   const mocap::MotionLimits& motion_limits = database->motion_limits();
   context["database_pelvis_speed_max_m_per_s"] = motion_limits.pelvis_speed_max;
+  context["database_ankle_speed_max_m_per_s"] = motion_limits.ankle_speed_max;
+  context["database_ankle_speed_by_hands_speed_m_per_s"] = motion_limits.ankle_speed_by_hands_speed[0];
   context["database_pelvis_speed_p99_m_per_s"] = motion_limits.pelvis_speed_p99;
   context["database_pelvis_acceleration_max_m_per_s2"] = motion_limits.pelvis_acceleration_max;
   context["database_pelvis_speed_beyond_hands_max_m_per_s"] = motion_limits.pelvis_speed_beyond_hands_max;

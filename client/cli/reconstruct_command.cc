@@ -290,6 +290,8 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
           {"pelvis_speed_max_m_per_s", p.pelvis_speed.max()},
           {"pelvis_speed_p99_m_per_s", p.pelvis_speed.Quantile(0.99)},
           {"pelvis_acceleration_max_m_per_s2", p.pelvis_acceleration_max},
+          {"ankle_speed_max_m_per_s", p.ankle_speed.max()},
+          {"ankle_speed_p99_m_per_s", p.ankle_speed.Quantile(0.99)},
           {"input_wrists_speed_max_m_per_s", plausibility->input_speed_max},
           {"hand_to_input_p99_cm", 100 * p.hand_distance.Quantile(0.99)},
           {"hand_to_input_max_cm", 100 * p.hand_distance.max()},
@@ -344,7 +346,8 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
     std::cout << std::fixed << std::setprecision(2) << "  plausibility: pelvis at most " << p.pelvis_speed.max()
               << " m/s (99% ≤ " << p.pelvis_speed.Quantile(0.99) << "; input wrists at most "
               << plausibility->input_speed_max << " m/s), acceleration ≤ " << p.pelvis_acceleration_max
-              << " m/s²; hands within " << 100 * p.hand_distance.Quantile(0.99) << " cm of the input in 99% of "
+              << " m/s²; ankles at most " << p.ankle_speed.max() << " m/s; hands within "
+              << 100 * p.hand_distance.Quantile(0.99) << " cm of the input in 99% of "
               << "frames (max " << 100 * p.hand_distance.max() << " cm"
               << (p.hand_frames_out_of_reach
                       ? ", " + std::to_string(p.hand_frames_out_of_reach) + " hand-frames out of reach"

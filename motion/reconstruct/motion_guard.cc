@@ -47,6 +47,12 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
   for (auto& by_hands : hands_limits_.pelvis_speed_by_hands_speed) {
     for (float& bound : by_hands) bound *= options.beyond_hands_margin;
   }
+  // The feet's, alike: the fastest ankle with the speed margin, the bins with the hands' margin.
+  hands_limits_.ankle_speed_max = OrUnbounded(limits.ankle_speed_max, options.speed_margin);
+  for (auto& by_hands : hands_limits_.ankle_speed_by_hands_speed) {
+    if (!(limits.ankle_speed_max > 0)) by_hands.clear();
+    for (float& bound : by_hands) bound *= options.beyond_hands_margin;
+  }
 }
 
 void MotionGuard::SetLeadingHands(double seconds, const Eigen::Vector3f& displacement) {
@@ -120,7 +126,7 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
     previous_time_ = time;
     previous_output_ = previous_target_ = target;
     previous_velocity_.setZero();
-    speed_bound_ = std::numeric_limits<float>::infinity();
+    speed_bound_ = foot_speed_bound_ = std::numeric_limits<float>::infinity();
     return target;
   }
   const float dt = static_cast<float>(std::max(time - previous_time_, 0.5 * frame_time_));
@@ -143,6 +149,7 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   // step from the previous velocity towards one within the speed bound stays within it, unless the bound itself shrank
   // (the hands stopped), when the body brakes as hard as a body can.
   speed_bound_ = std::min(speed_limit_, hands_limits_.PelvisSpeedBoundForHands(hands_speed));
+  foot_speed_bound_ = hands_limits_.AnkleSpeedBoundForHands(hands_speed);
   Eigen::Vector3f velocity = Clamped(wanted, speed_bound_);
   if (velocity_known) velocity = previous_velocity_ + Clamped(velocity - previous_velocity_, acceleration_limit_ * dt);
   Eigen::Vector3f output = previous_output_ + velocity * dt;

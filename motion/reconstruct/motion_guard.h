@@ -84,12 +84,17 @@ class MotionGuard {
   // (ReachLean::Shift).
   const Eigen::Vector3f& velocity() const { return previous_velocity_; }
   float speed_bound() const { return speed_bound_; }
+  // After Next: the fastest either foot may move into that frame (m/s; infinite on a stream's
+  // first frame): the database's ankles' bound for hands that move as these do
+  // (MotionLimits::AnkleSpeedBoundForHands), with the margins of the pelvis' bounds.
+  float foot_speed_bound() const { return foot_speed_bound_; }
 
  private:
   double frame_time_;
   float speed_limit_, acceleration_limit_;
-  float speed_bound_ = std::numeric_limits<float>::infinity();  // the last Next's
-  MotionLimits hands_limits_;  // only the bounds by the hands' speed are read, margins applied
+  float speed_bound_ = std::numeric_limits<float>::infinity();       // the last Next's
+  float foot_speed_bound_ = std::numeric_limits<float>::infinity();  // the last Next's
+  MotionLimits hands_limits_;  // only the bounds by the hands' speed and the ankles' are read, margins applied
   float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_, standing_window_seconds_,
       start_ease_seconds_;
   std::array<int, kHandsWindowsSeconds.size()> bound_window_frames_;  // the windows of the speed bound

@@ -35,6 +35,17 @@ float EnvelopeSpeed(std::vector<float> speeds) {
   return Percentile(std::move(speeds), kEnvelopeQuantile);
 }
 
+// Each bin's EnvelopeSpeed, never less than the bin's before it (a faster body's bound holds a
+// slower one's).
+std::vector<float> RunningEnvelopes(std::vector<std::vector<float>> bins) {
+  std::vector<float> envelopes(bins.size(), 0.0f);
+  for (size_t bin = 0; bin < bins.size(); ++bin) {
+    envelopes[bin] = EnvelopeSpeed(std::move(bins[bin]));
+    if (bin > 0) envelopes[bin] = std::max(envelopes[bin], envelopes[bin - 1]);
+  }
+  return envelopes;
+}
+
 }  // namespace
 
 int HandsWindowFrames(double frame_time, int w) {
@@ -46,7 +57,8 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
   std::vector<float> pelvis_speed, pelvis_acceleration, wrist_acceleration;
   MotionLimits limits;
   limits.pelvis_speed_beyond_hands_max = -std::numeric_limits<float>::infinity();
-  std::array<std::vector<std::vector<float>>, kHandsWindowsSeconds.size()> speeds_by_hands;
+  // Per window and hands' speed bin: the pelvis' speeds, and the faster ankle's.
+  std::array<std::vector<std::vector<float>>, kHandsWindowsSeconds.size()> speeds_by_hands, ankle_speeds_by_hands;
   for (std::span<const FrameFeatures> clip : clips) {
     std::vector<Eigen::Vector3f> midpoints;
     Eigen::Vector3f previous_pelvis = Eigen::Vector3f::Zero(), previous_velocity = Eigen::Vector3f::Zero();
@@ -70,13 +82,18 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
             limits.pelvis_speed_beyond_hands_max =
                 std::max(limits.pelvis_speed_beyond_hands_max, velocity.norm() - speed);
           }
-          auto& by_hands = speeds_by_hands[w];
           const size_t bin = static_cast<size_t>(speed / MotionLimits::kHandsSpeedBin);
-          if (bin >= by_hands.size()) by_hands.resize(bin + 1);
-          by_hands[bin].push_back(velocity.norm());
+          for (auto* by_hands : {&speeds_by_hands[w], &ankle_speeds_by_hands[w]}) {
+            if (bin >= by_hands->size()) by_hands->resize(bin + 1);
+          }
+          speeds_by_hands[w][bin].push_back(velocity.norm());
+          ankle_speeds_by_hands[w][bin].push_back(
+              std::max(Vec(clip[f].ankle_velocity[0]).norm(), Vec(clip[f].ankle_velocity[1]).norm()));
         }
-        for (int side = 0; side < 2; ++side)
+        for (int side = 0; side < 2; ++side) {
           limits.wrist_speed_max = std::max(limits.wrist_speed_max, wrist_velocity[side].norm());
+          limits.ankle_speed_max = std::max(limits.ankle_speed_max, Vec(clip[f].ankle_velocity[side]).norm());
+        }
         if (f >= 2) {
           pelvis_acceleration.push_back((velocity - previous_velocity).norm() * rate);
           for (int side = 0; side < 2; ++side)
@@ -90,12 +107,8 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
   }
   if (pelvis_speed.empty()) limits.pelvis_speed_beyond_hands_max = 0;
   for (size_t w = 0; w < kHandsWindowsSeconds.size(); ++w) {
-    auto& by_hands = limits.pelvis_speed_by_hands_speed[w];
-    by_hands.assign(speeds_by_hands[w].size(), 0.0f);
-    for (size_t bin = 0; bin < by_hands.size(); ++bin) {
-      by_hands[bin] = EnvelopeSpeed(std::move(speeds_by_hands[w][bin]));
-      if (bin > 0) by_hands[bin] = std::max(by_hands[bin], by_hands[bin - 1]);
-    }
+    limits.pelvis_speed_by_hands_speed[w] = RunningEnvelopes(std::move(speeds_by_hands[w]));
+    limits.ankle_speed_by_hands_speed[w] = RunningEnvelopes(std::move(ankle_speeds_by_hands[w]));
   }
   limits.pelvis_speed_p99 = Percentile(pelvis_speed, 0.99);
   limits.pelvis_speed_max = Max(pelvis_speed);
@@ -110,6 +123,16 @@ float MotionLimits::PelvisSpeedBoundForHands(const std::array<float, kHandsWindo
   float bound = hands_speed[0] + pelvis_speed_beyond_hands_max;
   for (size_t w = 0; w < hands_speed.size(); ++w) {
     const auto& by_hands = pelvis_speed_by_hands_speed[w];
+    const size_t bin = static_cast<size_t>(std::max(0.0f, hands_speed[w]) / kHandsSpeedBin);
+    if (bin < by_hands.size()) bound = std::min(bound, by_hands[bin]);
+  }
+  return bound;
+}
+
+float MotionLimits::AnkleSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const {
+  float bound = ankle_speed_max;
+  for (size_t w = 0; w < hands_speed.size(); ++w) {
+    const auto& by_hands = ankle_speed_by_hands_speed[w];
     const size_t bin = static_cast<size_t>(std::max(0.0f, hands_speed[w]) / kHandsSpeedBin);
     if (bin < by_hands.size()) bound = std::min(bound, by_hands[bin]);
   }
@@ -208,6 +231,7 @@ void PlausibilityStats::Merge(const PlausibilityStats& o) {
   pelvis_speed.Merge(o.pelvis_speed);
   pelvis_acceleration_max = std::max(pelvis_acceleration_max, o.pelvis_acceleration_max);
   frames_over_speed_limit += o.frames_over_speed_limit;
+  ankle_speed.Merge(o.ankle_speed);
   hand_distance.Merge(o.hand_distance);
   hand_frames_out_of_reach += o.hand_frames_out_of_reach;
   hand_distance_out_of_reach_max = std::max(hand_distance_out_of_reach_max, o.hand_distance_out_of_reach_max);
@@ -235,6 +259,8 @@ PlausibilityStats MeasurePlausibility(std::span<const PlausibilityFrame> frames,
       const float speed = static_cast<float>((f.pelvis - p.pelvis).norm() / dt);
       stats.pelvis_speed.Add(speed);
       if (speed_limit > 0 && speed > speed_limit) ++stats.frames_over_speed_limit;
+      for (int side = 0; side < 2; ++side)
+        stats.ankle_speed.Add(static_cast<float>((f.ankles[side] - p.ankles[side]).norm() / dt));
       if (i >= 2 && p.segment == f.segment && frames[i - 2].segment == f.segment && p.time > frames[i - 2].time) {
         const PlausibilityFrame& q = frames[i - 2];
         const Eigen::Vector3d v1 = (p.pelvis - q.pelvis).cast<double>() / (p.time - q.time);

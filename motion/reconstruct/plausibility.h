@@ -51,7 +51,13 @@ struct MotionLimits {
   // `hands_speed` (m/s): the smallest of the bounds above, each of which all but the bins'
   // outliers keep (past a window's last bin, that window's bound is the sum, or none).
   float PelvisSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const;
+  // The same for the faster ankle (a foot swings faster than the body it carries): per window, how
+  // fast it moved while the hands moved as slowly as bin i's top; past a window's last bin, the
+  // fastest ankle.
+  std::array<std::vector<float>, kHandsWindowsSeconds.size()> ankle_speed_by_hands_speed;
+  float AnkleSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const;
   float wrist_speed_max = 0;                                     // either wrist, m/s
+  float ankle_speed_max = 0;                                     // either ankle, m/s
   float wrist_acceleration_p99 = 0, wrist_acceleration_max = 0;  // either wrist, m/s²
   bool valid() const { return pelvis_speed_max > 0; }
 };
@@ -117,6 +123,7 @@ struct PlausibilityStats {
   Histogram pelvis_speed{0.01f};      // m/s, per frame after a segment's first
   float pelvis_acceleration_max = 0;  // m/s²
   long frames_over_speed_limit = 0;   // pelvis faster than the `speed_limit` given to Measure
+  Histogram ankle_speed{0.01f};       // m/s, per ankle and frame after the first (a foot teleports too)
   Histogram hand_distance{0.001f};    // m, per hand-frame with the input in reach
   long hand_frames_out_of_reach = 0;  // reported apart
   float hand_distance_out_of_reach_max = 0;
@@ -136,8 +143,8 @@ struct PlausibilityStats {
 PlausibilityStats MeasurePlausibility(std::span<const PlausibilityFrame> frames, float planted_ankle_height,
                                       float speed_limit);
 
-// The issue #22 bound for a clip whose own pelvis moves at most `own_max_speed` (m/s): the output's
-// pelvis may move at most max(2 × own, own + 1 m/s).
-inline float AllowedPelvisSpeed(float own_max_speed) { return std::max(2.0f * own_max_speed, own_max_speed + 1.0f); }
+// The issue #22 bound for a point of a clip's body (its pelvis, an ankle) that the capture moves at
+// most `own_max_speed` (m/s): the output's may move at most max(2 × own, own + 1 m/s).
+inline float AllowedSpeed(float own_max_speed) { return std::max(2.0f * own_max_speed, own_max_speed + 1.0f); }
 
 }  // namespace mocap

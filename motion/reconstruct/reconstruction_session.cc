@@ -124,6 +124,8 @@ struct ReconstructionSession::Segment {
   double noisy_input_time = -1e30;
   Eigen::Vector3f reach_shift = Eigen::Vector3f::Zero();  // reach_lean.h: where the body stepped to
   Eigen::Vector3f reach_turn = Eigen::Vector3f::Zero();   // reach_lean.h: the torso's turn
+  // The last emitted frame's time and world ankles (LimitFootSpeed).
+  std::optional<std::pair<double, std::array<Eigen::Vector3f, 2>>> emitted_feet;
 };
 
 ReconstructionSession::ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database,
@@ -761,6 +763,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       if (!shift.isZero()) ReimposeAnklePins(&frame, &world_rotations, &world_positions);
     }
     if (options_.feet_above_floor) KeepFeetAboveFloor(&frame, &world_rotations, &world_positions);
+    if (options_.motion_guard.enabled) LimitFootSpeed(s.emitted_feet, &frame, &world_rotations, &world_positions);
     if (hand_target) {
       for (int side = 0; side < 2; ++side) {
         if (s.grip.active() && !under_floor[side]) {  // the forearm reaches the device past the wrist
@@ -779,6 +782,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       frame.wrists = {input.position[0], input.position[1]};
     }
     MarkOutOfReach(s.input[e], under_floor, world_positions, &frame);
+    s.emitted_feet.emplace(frame.time, std::array{world_positions[l.left_ankle], world_positions[l.right_ankle]});
     frame.pelvis_rotation = world_rotations[l.pelvis];
     frame.pelvis_position = world_positions[l.pelvis];
     frame.index = next_output_index_++;
@@ -829,6 +833,28 @@ void ReconstructionSession::KeepFeetAboveFloor(ReconstructedFrame* frame,
     if (ankle < 0) continue;
     const Eigen::Vector3f at = (*world_positions)[ankle];
     if (at.y() < ground) SolveLegIk(body, ankle, Eigen::Vector3f(at.x(), ground, at.z()), &frame->pose);
+  }
+}
+
+void ReconstructionSession::LimitFootSpeed(const std::optional<std::pair<double, std::array<Eigen::Vector3f, 2>>>& feet,
+                                           ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
+                                           std::vector<Eigen::Vector3f>* world_positions) const {
+  const float bound = motion_guard_.foot_speed_bound();
+  // Across a gap the feet's motion is not known, as the guard's is not on a stream's first frame.
+  if (!feet || !std::isfinite(bound) || frame->time - feet->first > 1.5 * database_->frame_time()) return;
+  const BodyModel& body = database_->body();
+  const BodyLandmarks& l = database_->rig().topology.landmarks;
+  const float reach = bound * static_cast<float>(frame->time - feet->first);
+  body.WorldTransforms(frame->pose, world_rotations, world_positions);
+  const std::array<int, 2> ankles = {l.left_ankle, l.right_ankle};
+  for (int side = 0; side < 2; ++side) {
+    const Eigen::Vector3f& from = feet->second[side];
+    const Eigen::Vector3f step = (*world_positions)[ankles[side]] - from;
+    if (step.norm() <= reach) continue;
+    // On the segment from where it was to where the body put it: above the floor as both are.
+    SolveLegIkKneeAboveFloor(body, ankles[side], from + step * (reach / step.norm()),
+                             static_cast<float>(kLowestJointHeight), &frame->pose);
+    frame->motion_limited = true;
   }
 }
 

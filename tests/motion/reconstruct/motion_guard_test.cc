@@ -31,6 +31,7 @@ MotionLimits Limits() {
   limits.pelvis_speed_beyond_hands_max = 1.0f;
   limits.wrist_speed_max = 4.0f;
   limits.wrist_acceleration_max = 60.0f;
+  limits.ankle_speed_max = 5.0f;
   return limits;
 }
 
@@ -154,9 +155,11 @@ TEST(MotionGuardTest, ABodyDoesNotRunOffWhileItsHandsStayPut) {
       // What it tells the stages after it (ReachLean::Shift): the step it made and the bound it kept.
       EXPECT_TRUE(guard.velocity().isApprox((out - previous) / kDt, 1e-4f)) << f;
       EXPECT_NEAR(guard.speed_bound(), limits.pelvis_speed_beyond_hands_max, 1e-5f) << f;
+      EXPECT_NEAR(guard.foot_speed_bound(), limits.ankle_speed_max, 1e-5f) << "no bins: the fastest foot";
     } else {
       EXPECT_TRUE(guard.velocity().isZero());
       EXPECT_TRUE(std::isinf(guard.speed_bound())) << "a stream's first frame has no speed to bound";
+      EXPECT_TRUE(std::isinf(guard.foot_speed_bound()));
     }
     previous = out;
   }
@@ -191,6 +194,35 @@ TEST(MotionLimitsTest, BoundsThePelvisByWhatTheDatabaseDidWithHandsThatSlow) {
   EXPECT_NEAR(limits.PelvisSpeedBoundForHands({5.0f, 5.0f}), 5.5f, 1e-3f) << "past the database's hands: the sum";
   EXPECT_NEAR(limits.PelvisSpeedBoundForHands({1.55f, 0.0f}), 0.5f, 1e-3f)
       << "hands fast over the last 0.5 s that went nowhere over 2 s: the body stood";
+}
+
+// The feet alike: a standing body that shuffles a foot at 0.3 m/s and a walk whose swinging foot
+// goes 4 m/s: with still hands a foot may move 0.3 m/s, with walking hands 4, and past the
+// database's hands as fast as its fastest foot.
+TEST(MotionLimitsTest, BoundsTheFeetByWhatTheDatabaseDidWithHandsThatSlow) {
+  constexpr double kStep = 0.1;
+  auto clip = [](float ankle_speed, float hands_speed) {
+    std::vector<FrameFeatures> frames(20);
+    for (int f = 0; f < 20; ++f) {
+      FrameFeatures& x = frames[f];
+      x = {};
+      x.ref_origin_x = hands_speed * static_cast<float>(f * kStep);
+      x.pelvis_position[1] = 0.9f;
+      x.wrist_position[0][1] = x.wrist_position[1][1] = 1.0f;
+      x.wrist_position[0][2] = 0.2f;
+      x.wrist_position[1][2] = -0.2f;
+      x.ankle_velocity[f % 2][0] = ankle_speed;  // one foot at a time
+    }
+    return frames;
+  };
+  const std::vector<FrameFeatures> standing = clip(0.3f, 0.0f), walking = clip(4.0f, 1.52f);
+  const MotionLimits limits =
+      MeasureMotionLimits(std::vector<std::span<const FrameFeatures>>{standing, walking}, kStep);
+  EXPECT_NEAR(limits.ankle_speed_max, 4.0f, 1e-5f);
+  EXPECT_NEAR(limits.AnkleSpeedBoundForHands({0.0f, 0.0f}), 0.3f, 1e-5f);
+  EXPECT_NEAR(limits.AnkleSpeedBoundForHands({1.55f, 1.55f}), 4.0f, 1e-5f);
+  EXPECT_NEAR(limits.AnkleSpeedBoundForHands({1.55f, 0.0f}), 0.3f, 1e-5f) << "hands that went nowhere over 2 s";
+  EXPECT_NEAR(limits.AnkleSpeedBoundForHands({5.0f, 5.0f}), 4.0f, 1e-5f) << "past the database's hands: its fastest";
 }
 
 // A standing body whose pelvis marker swaps for one frame (0.3 m away and back: 3 m/s twice): in a
@@ -399,7 +431,7 @@ TEST(PlausibilityTest, MeasuresSpeedHandsFeetAndFloor) {
     frames[f].pelvis = Eigen::Vector3f(f == 2 ? 0.5f : 0.0f, 0.9f, 0.0f);  // 15 m/s into frame 2
     frames[f].hands = {Eigen::Vector3f(0.3f, 1, 0), Eigen::Vector3f(-0.3f, 1, 0)};
     frames[f].input = {Eigen::Vector3f(0.3f, 1.02f, 0), Eigen::Vector3f(-0.3f, 1, 0)};
-    frames[f].ankles = {Eigen::Vector3f(0.1f, 0.08f, 0), Eigen::Vector3f(-0.1f, 0.28f, 0)};
+    frames[f].ankles = {Eigen::Vector3f(0.1f, 0.08f, 0), Eigen::Vector3f(f == 2 ? 0.2f : -0.1f, 0.28f, 0)};
     frames[f].lowest_point = f == 1 ? -0.03f : 0.01f;
   }
   frames[2].flagged = true;
@@ -408,14 +440,16 @@ TEST(PlausibilityTest, MeasuresSpeedHandsFeetAndFloor) {
   EXPECT_NEAR(stats.pelvis_speed.max(), 15.0f, 1e-3f);
   EXPECT_EQ(stats.frames_over_speed_limit, 1);
   EXPECT_NEAR(stats.pelvis_acceleration_max, 15.0f / kDt, 1.0f);
+  EXPECT_NEAR(stats.ankle_speed.max(), 9.0f, 1e-3f) << "the right ankle's 30 cm into frame 2";
+  EXPECT_EQ(stats.ankle_speed.count(), 4) << "two ankles, two steps";
   EXPECT_NEAR(stats.hand_distance.max(), 0.02f, 1e-4f);
   EXPECT_LE(stats.hand_distance.Quantile(0.5), 0.001f);
   EXPECT_NEAR(stats.lower_foot_height.max(), 0.0f, 1e-6f);
   EXPECT_NEAR(stats.penetration_max, 0.03f, 1e-6f);
   EXPECT_EQ(stats.penetrating_frames, 1);
   EXPECT_EQ(stats.flagged_frames, 1);
-  EXPECT_FLOAT_EQ(AllowedPelvisSpeed(0.6f), 1.6f);
-  EXPECT_FLOAT_EQ(AllowedPelvisSpeed(1.5f), 3.0f);
+  EXPECT_FLOAT_EQ(AllowedSpeed(0.6f), 1.6f);
+  EXPECT_FLOAT_EQ(AllowedSpeed(1.5f), 3.0f);
 }
 
 // Input under the floor is out of any arm's reach, however near the shoulder (hand_floor.h).
@@ -485,14 +519,38 @@ class NeverTeleportTest : public ::testing::Test {
     return MeasurePlausibility(measured, 0.0f, 0.0f).pelvis_speed.max();
   }
 
-  // Every mode: the pelvis bound holds; returns the lag-5 frames for flag checks.
+  // The fastest either ankle moves between consecutive frames of a segment.
+  float MaxAnkleSpeed(const std::vector<ReconstructedFrame>& frames) const {
+    const BodyLandmarks& l = setup_.rig.topology.landmarks;
+    std::vector<Eigen::Quaternionf> rotations;
+    std::vector<Eigen::Vector3f> positions;
+    std::array<Eigen::Vector3f, 2> previous;
+    float fastest = 0;
+    for (size_t i = 0; i < frames.size(); ++i) {
+      setup_.database->body().WorldTransforms(frames[i].pose, &rotations, &positions);
+      const std::array<Eigen::Vector3f, 2> ankles = {positions[l.left_ankle], positions[l.right_ankle]};
+      if (i > 0 && frames[i].segment == frames[i - 1].segment) {
+        for (int side = 0; side < 2; ++side) {
+          fastest = std::max(fastest, (ankles[side] - previous[side]).norm() /
+                                          static_cast<float>(frames[i].time - frames[i - 1].time));
+        }
+      }
+      previous = ankles;
+    }
+    return fastest;
+  }
+
+  // Every mode: the pelvis bound holds, and no foot outruns the database's fastest (with the
+  // guard's margin).
   void ExpectNoTeleport(const std::vector<WristSample>& samples, const std::string& what) {
-    const float allowed = AllowedPelvisSpeed(own_max_speed_);
+    const float allowed = AllowedSpeed(own_max_speed_);
+    const float feet_allowed = setup_.database->motion_limits().ankle_speed_max * MotionGuardOptions{}.speed_margin;
     for (const Mode& mode : Modes()) {
       const std::vector<ReconstructedFrame> frames = Reconstruct(samples, mode);
       ASSERT_FALSE(frames.empty()) << what << ", " << mode.name;
       EXPECT_LE(MaxPelvisSpeed(frames), allowed)
           << what << ", " << mode.name << ": the capture's own pelvis moves at most " << own_max_speed_ << " m/s";
+      EXPECT_LE(MaxAnkleSpeed(frames), feet_allowed + 1e-3f) << what << ", " << mode.name;
     }
   }
 

@@ -224,7 +224,7 @@ TEST(NeverTeleportSharedDataTest, DeviceLikeInputOfOtherPerformersInEveryMode) {
       for (Eigen::Vector3f* p : {&s.left, &s.right}) *p += Eigen::Vector3f(noise(random), noise(random), noise(random));
       clean.push_back(s);
     }
-    const float allowed = AllowedPelvisSpeed(own_max);
+    const float allowed = AllowedSpeed(own_max);
     ++clips_tested;
     for (const Degradation& degradation : Degradations()) {
       const std::vector<WristSample> samples = degradation.apply(clean);
