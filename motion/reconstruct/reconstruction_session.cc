@@ -840,11 +840,14 @@ void ReconstructionSession::LimitFootSpeed(const std::optional<std::pair<double,
                                            ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
                                            std::vector<Eigen::Vector3f>* world_positions) const {
   const float bound = motion_guard_.foot_speed_bound();
-  // Across a gap the feet's motion is not known, as the guard's is not on a stream's first frame.
-  if (!feet || !std::isfinite(bound) || frame->time - feet->first > 1.5 * database_->frame_time()) return;
+  if (!feet || !std::isfinite(bound)) return;
+  // Across a gap (or a new clock) the feet's motion is not known, as the guard's is not on a
+  // stream's first frame.
+  const double dt = frame->time - feet->first;
+  if (!(dt > 0) || dt > 1.5 * database_->frame_time()) return;
   const BodyModel& body = database_->body();
   const BodyLandmarks& l = database_->rig().topology.landmarks;
-  const float reach = bound * static_cast<float>(frame->time - feet->first);
+  const float reach = bound * static_cast<float>(dt);
   body.WorldTransforms(frame->pose, world_rotations, world_positions);
   const std::array<int, 2> ankles = {l.left_ankle, l.right_ankle};
   for (int side = 0; side < 2; ++side) {
