@@ -119,24 +119,27 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
   return limits;
 }
 
-float MotionLimits::PelvisSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const {
-  float bound = hands_speed[0] + pelvis_speed_beyond_hands_max;
+namespace {
+
+// The smallest of `bound` and each window's bin for the hands' speed over that window (a window
+// past its last bin bounds nothing).
+float WithinBins(float bound, const std::array<std::vector<float>, kHandsWindowsSeconds.size()>& bins,
+                 const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) {
   for (size_t w = 0; w < hands_speed.size(); ++w) {
-    const auto& by_hands = pelvis_speed_by_hands_speed[w];
-    const size_t bin = static_cast<size_t>(std::max(0.0f, hands_speed[w]) / kHandsSpeedBin);
-    if (bin < by_hands.size()) bound = std::min(bound, by_hands[bin]);
+    const size_t bin = static_cast<size_t>(std::max(0.0f, hands_speed[w]) / MotionLimits::kHandsSpeedBin);
+    if (bin < bins[w].size()) bound = std::min(bound, bins[w][bin]);
   }
   return bound;
 }
 
+}  // namespace
+
+float MotionLimits::PelvisSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const {
+  return WithinBins(hands_speed[0] + pelvis_speed_beyond_hands_max, pelvis_speed_by_hands_speed, hands_speed);
+}
+
 float MotionLimits::AnkleSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const {
-  float bound = ankle_speed_max;
-  for (size_t w = 0; w < hands_speed.size(); ++w) {
-    const auto& by_hands = ankle_speed_by_hands_speed[w];
-    const size_t bin = static_cast<size_t>(std::max(0.0f, hands_speed[w]) / kHandsSpeedBin);
-    if (bin < by_hands.size()) bound = std::min(bound, by_hands[bin]);
-  }
-  return bound;
+  return WithinBins(ankle_speed_max, ankle_speed_by_hands_speed, hands_speed);
 }
 
 PlausibilityRig MakePlausibilityRig(const Skeleton& skeleton, const BodyLandmarks& landmarks) {

@@ -124,8 +124,7 @@ struct ReconstructionSession::Segment {
   double noisy_input_time = -1e30;
   Eigen::Vector3f reach_shift = Eigen::Vector3f::Zero();  // reach_lean.h: where the body stepped to
   Eigen::Vector3f reach_turn = Eigen::Vector3f::Zero();   // reach_lean.h: the torso's turn
-  // The last emitted frame's time and world ankles (LimitFootSpeed).
-  std::optional<std::pair<double, std::array<Eigen::Vector3f, 2>>> emitted_feet;
+  std::optional<EmittedFeet> emitted_feet;                // the last emitted frame's (LimitFootSpeed)
 };
 
 ReconstructionSession::ReconstructionSession(std::shared_ptr<const ReconstructionDatabase> database,
@@ -782,7 +781,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       frame.wrists = {input.position[0], input.position[1]};
     }
     MarkOutOfReach(s.input[e], under_floor, world_positions, &frame);
-    s.emitted_feet.emplace(frame.time, std::array{world_positions[l.left_ankle], world_positions[l.right_ankle]});
+    s.emitted_feet = EmittedFeet{frame.time, {world_positions[l.left_ankle], world_positions[l.right_ankle]}};
     frame.pelvis_rotation = world_rotations[l.pelvis];
     frame.pelvis_position = world_positions[l.pelvis];
     frame.index = next_output_index_++;
@@ -836,14 +835,14 @@ void ReconstructionSession::KeepFeetAboveFloor(ReconstructedFrame* frame,
   }
 }
 
-void ReconstructionSession::LimitFootSpeed(const std::optional<std::pair<double, std::array<Eigen::Vector3f, 2>>>& feet,
-                                           ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
+void ReconstructionSession::LimitFootSpeed(const std::optional<EmittedFeet>& feet, ReconstructedFrame* frame,
+                                           std::vector<Eigen::Quaternionf>* world_rotations,
                                            std::vector<Eigen::Vector3f>* world_positions) const {
   const float bound = motion_guard_.foot_speed_bound();
   if (!feet || !std::isfinite(bound)) return;
   // Across a gap (or a new clock) the feet's motion is not known, as the guard's is not on a
   // stream's first frame.
-  const double dt = frame->time - feet->first;
+  const double dt = frame->time - feet->time;
   if (!(dt > 0) || dt > 1.5 * database_->frame_time()) return;
   const BodyModel& body = database_->body();
   const BodyLandmarks& l = database_->rig().topology.landmarks;
@@ -851,7 +850,7 @@ void ReconstructionSession::LimitFootSpeed(const std::optional<std::pair<double,
   body.WorldTransforms(frame->pose, world_rotations, world_positions);
   const std::array<int, 2> ankles = {l.left_ankle, l.right_ankle};
   for (int side = 0; side < 2; ++side) {
-    const Eigen::Vector3f& from = feet->second[side];
+    const Eigen::Vector3f& from = feet->ankles[side];
     const Eigen::Vector3f step = (*world_positions)[ankles[side]] - from;
     if (step.norm() <= reach) continue;
     // On the segment from where it was to where the body put it: above the floor as both are.

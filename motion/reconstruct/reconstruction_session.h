@@ -18,7 +18,6 @@
 #include <chrono>
 #include <memory>
 #include <optional>
-#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -209,11 +208,16 @@ class ReconstructionSession {
   // An ankle under the database's planted ankle height goes up to it by the leg IK.
   void KeepFeetAboveFloor(ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
                           std::vector<Eigen::Vector3f>* world_positions) const;
+  // Where a frame put the feet: its time and world ankles (left, right).
+  struct EmittedFeet {
+    double time;
+    std::array<Eigen::Vector3f, 2> ankles;
+  };
   // A foot moves no faster than the motion guard's foot bound (MotionGuard::foot_speed_bound) from
-  // where the previous frame emitted it, `feet` (world ankles at `feet_time`; none at a segment's
-  // start): the leg IK holds it back on its way. Sets `motion_limited` when it did.
-  void LimitFootSpeed(const std::optional<std::pair<double, std::array<Eigen::Vector3f, 2>>>& feet,
-                      ReconstructedFrame* frame, std::vector<Eigen::Quaternionf>* world_rotations,
+  // where the previous frame emitted it (`feet`; none at a segment's start): the leg IK holds it
+  // back on its way. Sets `motion_limited` when it did.
+  void LimitFootSpeed(const std::optional<EmittedFeet>& feet, ReconstructedFrame* frame,
+                      std::vector<Eigen::Quaternionf>* world_rotations,
                       std::vector<Eigen::Vector3f>* world_positions) const;
   // Marks a tracked hand whose input lies beyond its arm's reach from the emitted body's shoulder,
   // or under the floor (`under_floor`, read from the smoothed input).
