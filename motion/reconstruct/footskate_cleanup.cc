@@ -213,7 +213,13 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
     const Eigen::Vector3f solved = positions_[ankle_joints[side]];
     if (contact[side]) {
       if (!foot.planted) {
-        foot.pin = solved;
+        // A contact that begins while the last one's release is under way begins where the foot
+        // is: part of the way back to its last pin, not where this frame's solve put the ankle.
+        foot.pin =
+            foot.release_left > 0
+                ? Eigen::Vector3f(solved + static_cast<float>(foot.release_left) /
+                                               static_cast<float>(options_.release_frames + 1) * foot.release_offset)
+                : solved;
         foot.contact_start_estimate = estimate;
         foot.contact_estimate_sum.setZero();
         foot.contact_frames = 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -125,6 +126,47 @@ TEST(FootskateCleanupTest, APlantedFootStaysWhereItLandedAndIsReleasedSmoothly) 
     previous_offset = offset;
   }
   EXPECT_LT(previous_offset, 1e-5f);
+}
+
+// A contact breaks for a frame (the estimate lifts and lands again) while the solve under the
+// planted foot has drifted 2 cm a frame: the new contact begins where the released foot is, part
+// of the way back to the solve, not at the solve a step's length away (a slide along the ground
+// in one frame, the foot skate of the contact breaks that fixed lags see).
+TEST(FootskateCleanupTest, AContactThatResumesDuringAReleaseBeginsWhereTheFootIs) {
+  const auto setup = testing::MakeSyntheticReconstructionSetup({}, 40);
+  const ReconstructionDatabase& db = *setup.database;
+  const FootskateOptions options;
+  FootskateCleaner cleaner(db.body(), db.planted_ankle_height(), db.frame_time(), options);
+  const int ankle = setup.rig.topology.landmarks.left_ankle;
+  const Eigen::Vector3f ground(0.1f, db.planted_ankle_height(), 0.0f);
+  const Eigen::Vector3f lifted(0.1f, 0.4f, 0.0f);
+  const Eigen::Vector3f high(-0.1f, 0.5f, 0.0f);
+  std::vector<Eigen::Quaternionf> rotations;
+  std::vector<Eigen::Vector3f> positions;
+  auto step = [&](int f, const Eigen::Vector3f& estimate, Eigen::Vector3f* solved) {
+    BodyPose pose = PoseOfRow(db, 20);
+    pose.root_position.z() += 0.02f * static_cast<float>(f);
+    db.body().WorldTransforms(pose, &rotations, &positions);
+    *solved = positions[ankle];
+    const bool contact = cleaner.Process({estimate, high}, nullptr, &pose)[0];
+    db.body().WorldTransforms(pose, &rotations, &positions);
+    return std::pair{contact, positions[ankle]};
+  };
+  Eigen::Vector3f solved;
+  Eigen::Vector3f pin;
+  for (int f = 0; f < 10; ++f) pin = step(f, ground, &solved).second;
+  const float drift = (solved - pin).norm();
+  ASSERT_GT(drift, 0.15f);
+  const auto [lifted_contact, released] = step(10, lifted, &solved);  // the release's first step
+  ASSERT_FALSE(lifted_contact);
+  const auto [landed_contact, landed] = step(11, ground, &solved);
+  ASSERT_TRUE(landed_contact);
+  // One more release step from where it was (a fifth of the offset, with the body's 2 cm), not the
+  // rest of the way to the solve.
+  EXPECT_LT((landed - released).norm(), 0.5f * drift);
+  EXPECT_GT((landed - solved).norm(), 0.5f * drift);
+  // And it stays there while the contact lasts.
+  for (int f = 12; f < 16; ++f) EXPECT_LT((step(f, ground, &solved).second - landed).norm(), 1e-4f) << f;
 }
 
 // A stream's planted foot: its estimate wobbles 2 cm back and forth along the ground every frame
