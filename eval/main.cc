@@ -128,8 +128,9 @@ int main(int argc, char** argv) {
       "(full_jittery_body), with the whole clip's joint filter a Gaussian (full_gaussian_joint_filter), with A6's "
       "prior at its configured weight in a session unlike the database too (full_no_unfamiliar_prior, "
       "lag_5_no_unfamiliar_prior) and, at lag 0 and 5, with the ankle filter repeating the path's newest frame "
-      "(lag_0_clamped_ankle_edges, lag_5_clamped_ankle_edges) or with A6 given the decided ankles unplanted "
-      "(lag_0_unplanted_ankles, lag_5_unplanted_ankles)");
+      "(lag_0_clamped_ankle_edges, lag_5_clamped_ankle_edges), with A6 given the decided ankles unplanted "
+      "(lag_0_unplanted_ankles, lag_5_unplanted_ankles) or with a contact that resumes during its release "
+      "pinned where the solve put the ankle (lag_0_resumed_at_solve, lag_5_resumed_at_solve)");
   bool cross_dataset = false, landmarks = false, devices = false, size_oracle = false;
   app.add_flag("--cross-dataset", cross_dataset,
                "the cross-dataset protocol of shared/data/README: database = all of bandai-namco-2; tests = "

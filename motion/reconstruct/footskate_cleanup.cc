@@ -216,7 +216,7 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
         // A contact that begins while the last one's release is under way begins where the foot
         // is: part of the way back to its last pin, not where this frame's solve put the ankle.
         foot.pin =
-            foot.release_left > 0
+            foot.release_left > 0 && options_.resume_where_released
                 ? Eigen::Vector3f(solved + static_cast<float>(foot.release_left) /
                                                static_cast<float>(options_.release_frames + 1) * foot.release_offset)
                 : solved;
