@@ -179,6 +179,11 @@ std::optional<EasedPin> EasePin(std::span<const float> kernel, std::span<const s
   return EasedPin{.target = sum / planted, .weight = std::min(1.0f, planted / total)};
 }
 
+Eigen::Vector3f FootskateCleaner::ReleaseTarget(const Foot& foot, const Eigen::Vector3f& solved) const {
+  const float fraction = static_cast<float>(foot.release_left) / static_cast<float>(options_.release_frames + 1);
+  return solved + fraction * foot.release_offset;
+}
+
 bool FootskateCleaner::StillPlanted(const Foot& foot, const Eigen::Vector3f& estimate) const {
   const size_t span = std::min(static_cast<size_t>(hold_frames_), foot.recent.size());
   return EstimateSaysPlanted(foot.recent.Back(span - 1), estimate, planted_height_, rate_ / static_cast<float>(span),
@@ -215,11 +220,7 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
       if (!foot.planted) {
         // A contact that begins while the last one's release is under way begins where the foot
         // is: part of the way back to its last pin, not where this frame's solve put the ankle.
-        foot.pin =
-            foot.release_left > 0 && options_.resume_where_released
-                ? Eigen::Vector3f(solved + static_cast<float>(foot.release_left) /
-                                               static_cast<float>(options_.release_frames + 1) * foot.release_offset)
-                : solved;
+        foot.pin = foot.release_left > 0 && options_.resume_where_released ? ReleaseTarget(foot, solved) : solved;
         foot.contact_start_estimate = estimate;
         foot.contact_estimate_sum.setZero();
         foot.contact_frames = 0;
@@ -247,8 +248,7 @@ std::array<bool, 2> FootskateCleaner::Process(const std::array<Eigen::Vector3f, 
       foot.release_left = options_.release_frames;
     }
     if (foot.release_left > 0) {
-      const float fraction = static_cast<float>(foot.release_left) / static_cast<float>(options_.release_frames + 1);
-      const Eigen::Vector3f target = solved + fraction * foot.release_offset;
+      const Eigen::Vector3f target = ReleaseTarget(foot, solved);
       SolveLegIk(body_, ankle_joints[side], target, pose);
       if (targets) (*targets)[side] = target;
       --foot.release_left;

@@ -166,6 +166,9 @@ class FootskateCleaner {
   // Whether a planted foot's estimate still stands (streams): its mean ground speed over the hold
   // span (a planted foot has seen at least two estimates).
   bool StillPlanted(const Foot& foot, const Eigen::Vector3f& estimate) const;
+  // Where a foot's release has it this frame: the solved ankle plus the release's remaining
+  // fraction of the offset from its last pin.
+  Eigen::Vector3f ReleaseTarget(const Foot& foot, const Eigen::Vector3f& solved) const;
   const BodyModel& body_;
   float planted_height_;
   float rate_;
