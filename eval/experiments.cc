@@ -74,6 +74,12 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   patent_prior.mode = StreamMode::kFixedLag;
   patent_prior.lag = 5;
   add("lag_5_no_unfamiliar_prior", "main", 0, patent_prior, noise_cm);
+  ReconstructionOptions wide_ankle_filter = base;
+  wide_ankle_filter.ankle_path.smoothing_sigma_frames = 2.0f;  // the A4 path's filter before stop 79
+  add("full_ankle_sigma_2", "main", 0, wide_ankle_filter, noise_cm);
+  wide_ankle_filter.mode = StreamMode::kFixedLag;
+  wide_ankle_filter.lag = 5;
+  add("lag_5_ankle_sigma_2", "main", 0, wide_ankle_filter, noise_cm);
   for (int lag : {0, 5}) {
     ReconstructionOptions o = base;
     o.mode = StreamMode::kFixedLag;
