@@ -77,9 +77,6 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   ReconstructionOptions wide_ankle_filter = base;
   wide_ankle_filter.ankle_path.smoothing_sigma_frames = 2.0f;  // the A4 path's filter before stop 79
   add("full_ankle_sigma_2", "main", 0, wide_ankle_filter, noise_cm);
-  wide_ankle_filter.mode = StreamMode::kFixedLag;
-  wide_ankle_filter.lag = 5;
-  add("lag_5_ankle_sigma_2", "main", 0, wide_ankle_filter, noise_cm);
   for (int lag : {0, 5}) {
     ReconstructionOptions o = base;
     o.mode = StreamMode::kFixedLag;

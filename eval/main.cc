@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
       "(lag_0_clamped_ankle_edges, lag_5_clamped_ankle_edges), with A6 given the decided ankles unplanted "
       "(lag_0_unplanted_ankles, lag_5_unplanted_ankles) or with a contact that resumes during its release "
       "pinned where the solve put the ankle (lag_0_resumed_at_solve, lag_5_resumed_at_solve); and with the A4 "
-      "ankle path's filter of σ = 2 frames, as before stop 79 (full_ankle_sigma_2, lag_5_ankle_sigma_2)");
+      "ankle path's filter of σ = 2 frames, as before stop 79 (full_ankle_sigma_2)");
   bool cross_dataset = false, landmarks = false, devices = false, size_oracle = false;
   app.add_flag("--cross-dataset", cross_dataset,
                "the cross-dataset protocol of shared/data/README: database = all of bandai-namco-2; tests = "

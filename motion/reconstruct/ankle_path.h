@@ -40,16 +40,18 @@ struct AnklePathOptions {
   float planted_ankle_height = 0.08f;  // metres (the session sets the database's)
   float contact_height = 0.04f;        // metres above the planted height
   float slide_weight = 100.0f;         // w_s, 1/m²
-  // Gaussian filter on the chosen path, frames; 0 = none. Chosen on the development split (stop 79,
-  // docs/method.md A4): σ 2 / 1.5 / 1 / 0.5 gave whole clip 1.9965 / 1.9643 / 1.9485 / 1.9419 cm
-  // (foot skate 0.069 / 0.059 / 0.055 / 0.059 cm/frame), fixed lag 5 2.1014 / 2.0870 / 2.0817 /
-  // 2.0753 (skate 0.152 / 0.147 / 0.146 / 0.151): the wider filter spread each footfall over the
-  // frames about it, so the foot landed late and crept into place.
+  // Gaussian filter on the chosen path, frames; 0 = none. Whole clips and windows (a path decided
+  // whole): chosen on the development split (stop 79, docs/method.md A4), σ 2 / 1.5 / 1 / 0.5 gave
+  // 1.9965 / 1.9643 / 1.9485 / 1.9419 cm, foot skate 0.069 / 0.059 / 0.055 / 0.059 cm/frame: the
+  // wider filter spread each footfall over the frames about it, so the foot landed late and crept
+  // into place.
   float smoothing_sigma_frames = 1.0f;
-  // The same at lag 0 (a causal stream: the filter sees no frame ahead and the path changes its
-  // mind most), where a narrower one moves planted feet: σ 2 / 1.5 / 1 gave 2.6581 / 2.6304 /
-  // 2.6204 cm but skate 0.295 / 0.301 / 0.331 cm/frame and joint jitter 493 / 496 / 512 m/s³.
-  float causal_smoothing_sigma_frames = 2.0f;
+  // The same in a stream (a fixed lag), whose path is stitched from each frame's best path and
+  // changes its mind: there a narrower filter lets those changes through as fast feet. Lag 5, σ 2 /
+  // 1.5 / 1 / 0.5: 2.1014 / 2.0870 / 2.0817 / 2.0753 cm, but clips whose feet outrun the capture's
+  // 10 / 14 / 12 / 18; lag 0: 2.6581 / 2.6304 / 2.6204 / 2.6111 cm, skate 0.295 / 0.301 / 0.331 /
+  // 0.370 cm/frame, feet over 87 / 95 / 110 / 131 clips.
+  float stream_smoothing_sigma_frames = 2.0f;
   // Where that filter reaches past the path's newest frame (every frame a stream emits) or a
   // segment's ends, a foot moving faster than this (m/s, over the end's last step) is fitted by a
   // weighted line through the frames there are instead of repeating the end frame, which lags a

@@ -104,4 +104,10 @@ struct ReconstructionOptions {
 
 inline constexpr float kMaxGripOffset = 0.3f;
 
+// The A4 ankle path's filter σ (frames) a session of these options uses: a stream's its own.
+inline float AnkleSmoothingSigma(const ReconstructionOptions& options) {
+  return options.mode == StreamMode::kFixedLag ? options.ankle_path.stream_smoothing_sigma_frames
+                                               : options.ankle_path.smoothing_sigma_frames;
+}
+
 }  // namespace mocap

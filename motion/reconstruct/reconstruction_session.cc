@@ -142,9 +142,7 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
   if (const float forearm = ForearmLength(database_->body()); forearm > 0.0f) {
     grip_over_forearm_ = options_.grip_offset / forearm;
   }
-  const bool causal = options_.mode == StreamMode::kFixedLag && options_.lag == 0;
-  ankle_kernel_ = GaussianKernel(causal ? options_.ankle_path.causal_smoothing_sigma_frames
-                                        : options_.ankle_path.smoothing_sigma_frames);
+  ankle_kernel_ = GaussianKernel(AnkleSmoothingSigma(options_));
   // The sharp filter's lag (8σ) costs nothing only where the output waits for the whole input.
   const bool low_pass = options_.joint_low_pass && options_.mode == StreamMode::kSubInterval && options_.window == 0;
   auto joint_kernel = [low_pass](float sigma) { return low_pass ? LowPassKernel(sigma) : GaussianKernel(sigma); };
@@ -205,8 +203,8 @@ absl::StatusOr<std::unique_ptr<ReconstructionSession>> ReconstructionSession::Cr
   }
   if (!(options.max_gap_seconds > 0) || !(options.joint_smoothing_sigma >= 0) || options.joint_smoothing_sigma > 30 ||
       !(options.ankle_path.smoothing_sigma_frames >= 0) || options.ankle_path.smoothing_sigma_frames > 30 ||
-      !(options.ankle_path.causal_smoothing_sigma_frames >= 0) ||
-      options.ankle_path.causal_smoothing_sigma_frames > 30 || !(options.weak_input_joint_smoothing_sigma <= 30) ||
+      !(options.ankle_path.stream_smoothing_sigma_frames >= 0) ||
+      options.ankle_path.stream_smoothing_sigma_frames > 30 || !(options.weak_input_joint_smoothing_sigma <= 30) ||
       !(options.weak_input_hold_seconds >= 0) || !(options.weak_input_ramp_seconds >= 0) ||
       !std::isfinite(options.weak_input_hold_seconds) || !(options.noisy_input_metres >= 0) ||
       !(options.jittery_body_ratio >= 0) || !std::isfinite(options.jittery_body_ratio)) {

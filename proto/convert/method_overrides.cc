@@ -25,14 +25,15 @@ const std::array kTunables = {
     MOCAP_TUNABLE("pose_components", "--pose-components", "A5 pose model components D'", 1, 64, pose_components),
     MOCAP_TUNABLE("wrist_smoothing", "", "A2 exponential smoothing s (when wrist_fit_frames is 0)", 0, 1,
                   smoothing.smoothing),
-    // One σ for every mode when overridden (by default lag 0 has its own, AnklePathOptions).
-    MethodTunable{
-        "ankle_smoothing_frames", "--ankle-smoothing",
-        "A4 Gaussian σ on the ankle path, frames (default 1; 2 at lag 0)", 0, 30,
-        [](const ReconstructionOptions& o) { return static_cast<double>(o.ankle_path.smoothing_sigma_frames); },
-        [](ReconstructionOptions& o, double v) {
-          o.ankle_path.smoothing_sigma_frames = o.ankle_path.causal_smoothing_sigma_frames = static_cast<float>(v);
-        }},
+    // The σ the session's mode uses (by default a stream has its own, AnklePathOptions); set, one σ
+    // for every mode, so that an effective config sent again means the same session.
+    MethodTunable{"ankle_smoothing_frames", "--ankle-smoothing",
+                  "A4 Gaussian σ on the ankle path, frames (default 1; 2 in a stream)", 0, 30,
+                  [](const ReconstructionOptions& o) { return static_cast<double>(AnkleSmoothingSigma(o)); },
+                  [](ReconstructionOptions& o, double v) {
+                    o.ankle_path.smoothing_sigma_frames = o.ankle_path.stream_smoothing_sigma_frames =
+                        static_cast<float>(v);
+                  }},
     MOCAP_TUNABLE("joint_smoothing_frames", "--joint-smoothing",
                   "A7 joint filter σ, frames (Gaussian; whole clip: a sharp low-pass of its cutoff)", 0, 30,
                   joint_smoothing_sigma),

@@ -205,7 +205,7 @@ TEST(OptionsFromConfigTest, TheEffectiveConfigReadsBackIntoTheSameOptions) {
   EXPECT_EQ(again->smoothing.smoothing, options->smoothing.smoothing);
   EXPECT_EQ(again->smoothing.local_linear_sigma, options->smoothing.local_linear_sigma);
   EXPECT_EQ(again->smoothing.lookahead, options->smoothing.lookahead);
-  EXPECT_EQ(again->ankle_path.smoothing_sigma_frames, options->ankle_path.smoothing_sigma_frames);
+  EXPECT_EQ(AnkleSmoothingSigma(*again), AnkleSmoothingSigma(*options));  // the σ its mode uses
   EXPECT_EQ(again->ankle_path.data_weight, options->ankle_path.data_weight);
   EXPECT_EQ(again->joint_smoothing_sigma, options->joint_smoothing_sigma);
   EXPECT_EQ(again->hand_target_sigma, options->hand_target_sigma);
@@ -223,6 +223,34 @@ TEST(OptionsFromConfigTest, TheEffectiveConfigReadsBackIntoTheSameOptions) {
 }
 
 // ---- ScaleForPerformer
+
+TEST(OptionsFromConfigTest, TheAnkleFilterReadsBackAsTheOneItsModeUses) {
+  // A stream has an ankle filter of its own (docs/method.md A4): the effective config says the one
+  // the session uses, and sent again it means the same session.
+  for (const bool stream : {true, false}) {
+    v1::SessionConfig config;
+    if (stream) config.mutable_fixed_lag()->set_lag_frames(5);
+    auto options = OptionsFromConfig(config);
+    ASSERT_TRUE(options.ok()) << options.status();
+    const float used =
+        stream ? AnklePathOptions().stream_smoothing_sigma_frames : AnklePathOptions().smoothing_sigma_frames;
+    EXPECT_EQ(AnkleSmoothingSigma(*options), used) << "stream " << stream;
+    const v1::SessionConfig effective = EffectiveConfig(config, *options);
+    EXPECT_EQ(effective.overrides().ankle_smoothing_frames(), used) << "stream " << stream;
+    auto again = OptionsFromConfig(effective);
+    ASSERT_TRUE(again.ok()) << again.status();
+    EXPECT_EQ(AnkleSmoothingSigma(*again), used) << "stream " << stream;
+  }
+  EXPECT_NE(AnklePathOptions().stream_smoothing_sigma_frames, AnklePathOptions().smoothing_sigma_frames);
+  // Set by the caller, one σ for every mode.
+  v1::SessionConfig config;
+  config.mutable_fixed_lag()->set_lag_frames(0);
+  config.mutable_overrides()->set_ankle_smoothing_frames(1.5f);
+  auto options = OptionsFromConfig(config);
+  ASSERT_TRUE(options.ok()) << options.status();
+  EXPECT_EQ(options->ankle_path.smoothing_sigma_frames, 1.5f);
+  EXPECT_EQ(options->ankle_path.stream_smoothing_sigma_frames, 1.5f);
+}
 
 TEST(ScaleForPerformerTest, ScalesWithinThePlausibleRangeAndRefusesTheRest) {
   const ReconstructionDatabase& database = *SyntheticSetup().database;
