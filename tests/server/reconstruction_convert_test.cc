@@ -222,8 +222,6 @@ TEST(OptionsFromConfigTest, TheEffectiveConfigReadsBackIntoTheSameOptions) {
   EXPECT_FALSE(windowed.has_fixed_lag());
 }
 
-// ---- ScaleForPerformer
-
 TEST(OptionsFromConfigTest, TheAnkleFilterReadsBackAsTheOneItsModeUses) {
   // A stream has an ankle filter of its own (docs/method.md A4): the effective config says the one
   // the session uses, and sent again it means the same session.
@@ -251,6 +249,8 @@ TEST(OptionsFromConfigTest, TheAnkleFilterReadsBackAsTheOneItsModeUses) {
   EXPECT_EQ(options->ankle_path.smoothing_sigma_frames, 1.5f);
   EXPECT_EQ(options->ankle_path.stream_smoothing_sigma_frames, 1.5f);
 }
+
+// ---- ScaleForPerformer
 
 TEST(ScaleForPerformerTest, ScalesWithinThePlausibleRangeAndRefusesTheRest) {
   const ReconstructionDatabase& database = *SyntheticSetup().database;
