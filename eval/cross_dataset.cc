@@ -225,10 +225,19 @@ float InputScale(PerformerSize size, const ReconstructionDatabase& database, con
 
 }  // namespace
 
-absl::StatusOr<LandmarkTestSet> LoadLandmarkTests(const std::vector<std::filesystem::path>& files, int max_frames) {
+absl::StatusOr<LandmarkTestSet> LoadLandmarkTests(const std::vector<std::filesystem::path>& files, int max_frames,
+                                                  float body_scale) {
   std::vector<NamedFile> named;
   for (const auto& file : files) named.push_back({file, "named", ContentFromName(file)});
-  return LoadAll(named, max_frames);
+  MOCAP_ASSIGN_OR_RETURN(LandmarkTestSet set, LoadAll(named, max_frames));
+  if (body_scale != 1.0f) {
+    for (LandmarkTestClip& clip : set.clips) {
+      for (auto& frame : clip.truth.positions) {
+        for (Eigen::Vector3f& position : frame) position *= body_scale;
+      }
+    }
+  }
+  return set;
 }
 
 absl::StatusOr<LandmarkTestSet> LoadCrossDatasetTests(const datasets::DataLocation& data, int max_frames) {

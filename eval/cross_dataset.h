@@ -39,8 +39,11 @@ struct LandmarkTestSet {
   std::vector<std::string> left_out;  // "file: why", for clips that do not move or cannot be scored
 };
 
-// Named files, source "named", content from the file name's labels (else "other").
-absl::StatusOr<LandmarkTestSet> LoadLandmarkTests(const std::vector<std::filesystem::path>& files, int max_frames);
+// Named files, source "named", content from the file name's labels (else "other"). `body_scale`:
+// every performer this much larger (each landmark's position scaled about the origin, so the bones
+// and the root's path over the floor grow alike): people of other sizes from one set of takes.
+absl::StatusOr<LandmarkTestSet> LoadLandmarkTests(const std::vector<std::filesystem::path>& files, int max_frames,
+                                                  float body_scale = 1.0f);
 // The protocol's tests (unpacking the sets as needed); NotFound when a set is unavailable.
 absl::StatusOr<LandmarkTestSet> LoadCrossDatasetTests(const datasets::DataLocation& data, int max_frames);
 

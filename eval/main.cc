@@ -147,9 +147,11 @@ int main(int argc, char** argv) {
                "a height declared as the service takes it (performer_height, with a 3% error)");
   app.add_flag("--generalisation", generalisation,
                "also test bandai-namco-1 walk/walk-back/walk-left/walk-right/run/dash clips");
-  app.add_option("--test-body-scale", test_body_scale,
-                 "test takes on the database's rig: every performer this much larger (bones and root path, the "
-                 "rotations kept): people of other sizes on the standard or development split")
+  app.add_option(
+         "--test-body-scale", test_body_scale,
+         "test takes on the database's rig: every performer this much larger (bones and root path, the "
+         "rotations kept; scored on landmarks: every landmark's position): people of other sizes on the standard or "
+         "development split")
       ->check(CLI::Range(0.5f, 2.0f));
   app.add_option("--noise-cm", noise_cm, "wrist noise σ in cm (docs/method.md A8: 0.5)");
   app.add_option("--seed", seed, "noise seed");
@@ -311,7 +313,7 @@ int main(int argc, char** argv) {
   }
   if (by_landmarks) {  // every test clip is scored on its body landmarks
     auto landmark_tests = cross_dataset ? mocap::eval::LoadCrossDatasetTests(data, max_frames)
-                                        : mocap::eval::LoadLandmarkTests(test_files, max_frames);
+                                        : mocap::eval::LoadLandmarkTests(test_files, max_frames, test_body_scale);
     if (!landmark_tests.ok()) {
       std::cerr << "mocap-eval: test clips: " << landmark_tests.status().message() << "\n";
       return landmark_tests.status().code() == absl::StatusCode::kNotFound ? kExitNoData : kExitError;

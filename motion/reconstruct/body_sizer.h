@@ -39,11 +39,15 @@ struct SizeMap {
 struct BodySizerOptions {
   // Follow the reach while the input streams in. Off: the size stays where it is set.
   bool online = false;
-  ReachScaleOptions reach;
-  double check_seconds = 0.5;  // how often the reach is read again
+  // The first read after a quarter of a second, then every tenth, each change eased in over a
+  // quarter: a body too small for its input meanwhile reaches and leans for it, so the sooner the
+  // better (docs/method.md "Performer's size by reach"; a second each before stop 80). The
+  // quantile over what has come so far is read again as more comes, so an early stretch is undone.
+  ReachScaleOptions reach{.min_seconds = 0.25};
+  double check_seconds = 0.1;  // how often the reach is read again
   // A change of size smaller than this (relative) is not worth a change of the body's proportions.
   float min_change = 0.02f;
-  double ramp_seconds = 1.0;  // each change eases in over this long
+  double ramp_seconds = 0.25;  // each change eases in over this long
 };
 
 class BodySizer {

@@ -1,6 +1,6 @@
 // The performer's size as a stream learns it (motion/reconstruct/body_sizer.h): off, it is the
 // uniform scale the session always applied; online, input within the database's reach changes
-// nothing, input beyond it grows the body by the reach's ratio, eased in over a second, with the
+// nothing, input beyond it grows the body by the reach's ratio, eased in over a quarter of a second, with the
 // hands' midpoint kept in place however far from the origin the performer stands; each frame goes
 // back through the map its input went through.
 #include "motion/reconstruct/body_sizer.h"
@@ -66,8 +66,9 @@ TEST(BodySizerTest, OnlineTheBodyGrowsByTheReachsRatioEasedInWithTheHandsKeptInP
     const WristSample d = sizer.ToDatabase(input[i]);
     const float scale = sizer.map().scale;
     EXPECT_GE(scale, previous_scale);
-    // A 60 Hz step of a 1 s ease of a 25% change: about 0.4% per sample, never a pop.
-    EXPECT_LE(scale - previous_scale, 0.25f / 60.0f + 1e-4f) << "sample " << i;
+    // A 60 Hz step of the ease of a 25% change: 1.7% per sample over a quarter second, never a pop.
+    EXPECT_LE(scale - previous_scale, 0.25f / static_cast<float>(60.0 * options.ramp_seconds) + 1e-4f)
+        << "sample " << i;
     if (scale > 1.0f && grew_from < 0) grew_from = input[i].time;
     if (scale > previous_scale) grew_until = input[i].time;
     const Eigen::Vector3f centre = 0.5f * (d.left + d.right);
