@@ -72,10 +72,22 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
     database.body().WorldTransforms(frames[i].pose, &rotations, &positions);
     const SizeMap map = MapOf(maps, i);
     for (int k = 0; k < kNumScoredLandmarks; ++k) output[i][k] = map.ToPerformer(positions[joints[k]]);
-    plausibility_frames.push_back(MakePlausibilityFrame(plausibility_rig, positions, frames[i].wrists, frames[i].time,
-                                                        frames[i].segment, frames[i].implausible_input(),
-                                                        frames[i].motion_limited));
-    plausibility_frames.back().put_down_hands = frames[i].put_down_hands();
+    // Measured where the capture it is compared with moves, the performer's space: a body sized up
+    // by 1.2 moves 1.2 times as fast there as in the database body's, and while the size eases in,
+    // its growth is motion the user sees. What is true in either space (the input within reach) is
+    // read in the database body's, where its arms are.
+    PlausibilityFrame plausibility =
+        MakePlausibilityFrame(plausibility_rig, positions, frames[i].wrists, frames[i].time, frames[i].segment,
+                              frames[i].implausible_input(), frames[i].motion_limited);
+    plausibility.pelvis = map.ToPerformer(plausibility.pelvis);
+    for (int side = 0; side < 2; ++side) {
+      plausibility.hands[side] = map.ToPerformer(plausibility.hands[side]);
+      plausibility.input[side] = map.ToPerformer(plausibility.input[side]);
+      plausibility.ankles[side] = map.ToPerformer(plausibility.ankles[side]);
+    }
+    plausibility.lowest_point *= map.scale;
+    plausibility.put_down_hands = frames[i].put_down_hands();
+    plausibility_frames.push_back(plausibility);
   }
   size_t next = 1;  // the first output frame at or after the truth frame's time
   for (int f = 0; f < truth.num_frames() && frames.size() >= 2; ++f) {
@@ -110,8 +122,10 @@ LandmarkMetrics MeasureLandmarks(const ReconstructionDatabase& database, const L
     m.landmark_error_m += sum / kNumScoredLandmarks;
     for (int g = 0; g < kNumLandmarkGroups; ++g) m.group_error_m[g] += g < 2 ? group[g] : group[g] / 2;
   }
-  m.SetClip(MeasurePlausibility(plausibility_frames, database.planted_ankle_height(),
-                                database.motion_limits().pelvis_speed_max),
+  // The database's planted ankle and fastest pelvis at the size the body ended at.
+  const float size = frames.empty() ? 1.0f : MapOf(maps, frames.size() - 1).scale;
+  m.SetClip(MeasurePlausibility(plausibility_frames, size * database.planted_ankle_height(),
+                                size * database.motion_limits().pelvis_speed_max),
             TruthSpeedMax(truth, kPelvisLandmark, database.frame_time()),
             std::max(TruthSpeedMax(truth, kLeftAnkleLandmark, database.frame_time()),
                      TruthSpeedMax(truth, kRightAnkleLandmark, database.frame_time())));

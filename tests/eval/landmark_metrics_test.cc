@@ -83,6 +83,31 @@ TEST(LandmarkMetricsTest, GroupsAverageTheirPairs) {
   EXPECT_EQ(m.clips, 1);
 }
 
+// A body sized up on its way out (body_sizer.h) is measured where its capture moves: the
+// performer's space. The same output drawn 1.5 times as large moves 1.5 times as fast, and its
+// capture, 1.5 times as large too, allows it no more than it allows the unsized body.
+TEST(LandmarkMetricsTest, ASizedBodyIsMeasuredInThePerformersSpace) {
+  const auto setup = MakeSyntheticReconstructionSetup();
+  const Output out = PosedAsTestClip(setup);
+  LandmarkTruth truth{.frame_time = setup.database->frame_time(), .positions = out.landmarks};
+  LandmarkTruth larger = truth;
+  for (auto& frame : larger.positions) {
+    for (Eigen::Vector3f& p : frame) p *= 1.5f;
+  }
+  const SizeMap sized{.scale = 1.5f};
+  const LandmarkMetrics same = MeasureLandmarks(*setup.database, truth, out.frames);
+  const LandmarkMetrics grown = MeasureLandmarks(*setup.database, larger, out.frames, std::span(&sized, 1));
+  EXPECT_LT(grown.Mean(grown.landmark_error_m), 1e-5);
+  ASSERT_GT(same.plausibility.pelvis_speed.max(), 0.0f);
+  EXPECT_NEAR(grown.plausibility.pelvis_speed.max(), 1.5f * same.plausibility.pelvis_speed.max(), 0.02f);
+  EXPECT_NEAR(grown.plausibility.ankle_speed.max(), 1.5f * same.plausibility.ankle_speed.max(), 0.02f);
+  EXPECT_NEAR(grown.worst_speed_over_allowed * AllowedSpeed(static_cast<float>(grown.truth_pelvis_speed_max)),
+              grown.plausibility.pelvis_speed.max(), 1e-4);
+  EXPECT_NEAR(grown.truth_pelvis_speed_max, 1.5 * same.truth_pelvis_speed_max, 1e-4);
+  // The lower foot over its planted height grows with the body, as the capture's would.
+  EXPECT_NEAR(grown.plausibility.lower_foot_height.max(), 1.5f * same.plausibility.lower_foot_height.max(), 0.003f);
+}
+
 // Times between two segments (a dropout the engine did not bridge) have no answer: their
 // positions are scored as interpolated, but they give no confidence pairs.
 TEST(LandmarkMetricsTest, AnUnansweredGapGivesNoConfidencePairs) {
