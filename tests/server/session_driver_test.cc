@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "motion/reconstruct/body_sizer.h"
 #include "tests/support/synthetic_database.h"
 
 namespace mocap {
@@ -637,10 +638,12 @@ TEST_F(SessionDriverTest, AStreamGrowsItsBodyAsTheWristsReachShowsIt) {
         if (size == 1.0) {
           EXPECT_EQ(frame.body_scale(), 0.0f) << frame.index();
         }
-        // Never a pop: at most a second's ease of the whole change per frame (30 fps).
-        EXPECT_LE(std::abs(scale - previous), 0.3f / 30.0f + 1e-3f) << frame.index();
-        if (frame.time() < samples.samples(0).time() + 1.0) {
-          EXPECT_EQ(scale, 1.0f) << frame.index();  // the first second says nothing yet
+        // Never a pop: at most the ease's share of the whole change per frame (30 fps).
+        const BodySizerOptions sizing;
+        EXPECT_LE(std::abs(scale - previous), 0.3f / static_cast<float>(30.0 * sizing.ramp_seconds) + 1e-3f)
+            << frame.index();
+        if (frame.time() < samples.samples(0).time() + sizing.reach.min_seconds) {
+          EXPECT_EQ(scale, 1.0f) << frame.index();  // too little input to say anything yet
         }
         previous = scale;
       }
