@@ -34,6 +34,7 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
       moving_hands_speed_(options.moving_hands_speed),
       standing_window_seconds_(options.standing_window_seconds),
       start_ease_seconds_(options.start_ease_seconds),
+      start_rest_seconds_(options.start_rest_seconds),
       bound_window_frames_{HandsWindowFrames(frame_time, 0), HandsWindowFrames(frame_time, 1)},
       hands_(static_cast<size_t>(std::max(bound_window_frames_.back(),
                                           static_cast<int>(std::lround(options.standing_window_seconds / frame_time))) +
@@ -94,8 +95,20 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   if (leading_ && since_start < kHandsWindowsSeconds[0] && leading_->seconds > since_start) {
     hands_speed[0] = static_cast<float>(leading_->displacement.norm() / leading_->seconds);
   }
-  const Eigen::Vector3f standing_velocity =
-      mean_velocity(std::min(window - 1, static_cast<int>(std::lround(standing_window_seconds_ / frame_time_))));
+  // Whether the hands stand is read, over a stream's first start_rest_seconds, as if they had
+  // stood where first seen until it began: the frames so far alone took a fraction of a second of
+  // arm motion for a walk. Over the input ahead instead while that spans longer; not at all where
+  // the input ahead spans that long (a whole clip): it says whether the hands travel.
+  const bool assume_rest = since_start < start_rest_seconds_ && !(leading_ && leading_->seconds >= start_rest_seconds_);
+  const int standing_frames =
+      std::min(window - 1, static_cast<int>(std::lround(standing_window_seconds_ / frame_time_)));
+  Eigen::Vector3f standing_velocity = mean_velocity(standing_frames);
+  if (assume_rest) {
+    standing_velocity =
+        leading_ && leading_->seconds > since_start
+            ? Eigen::Vector3f(leading_->displacement / static_cast<float>(start_rest_seconds_))
+            : Eigen::Vector3f(standing_velocity * static_cast<float>(since_start / start_rest_seconds_));
+  }
   const float ground_speed = std::hypot(standing_velocity.x(), standing_velocity.z());  // over the ground
   Eigen::Vector3f target = solved;
   if (has_previous_ && continuous && standing_smoothing_seconds_ > 0) {
@@ -112,7 +125,7 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
       const float ahead =
           leading_ && leading_->seconds > 0
               ? standing_at(static_cast<float>(std::hypot(leading_->displacement.x(), leading_->displacement.z()) /
-                                               leading_->seconds))
+                                               std::max(leading_->seconds, start_rest_seconds_)))
               : 1.0f;
       standing = std::max(standing, ahead * static_cast<float>(1.0 - since_start / start_ease_seconds_));
     }

@@ -56,6 +56,14 @@ struct MotionGuardOptions {
   // eases in through the standing filter, fading linearly: fully where the hands ahead are not
   // known (lag 0), else as far as they stand over the span known (SetLeadingHands). 0 = off.
   float start_ease_seconds = 0.2f;
+  // Until a stream has run this long, whether its hands stand is read as if they had stood where
+  // they were first seen before it began (a live user starts still): their ground travel so far,
+  // or ahead where the input ahead spans longer, over this span at least. Over the few frames so
+  // far, the arms of a raise-up or a wave (0.3-1.6 m/s forward) read as a walk while the first
+  // solves of a body of the wrong size lurched 10-45 cm towards hands it could not reach yet
+  // (issue #22, docs/evaluation.md stop 81). Not where the input ahead spans this long (a whole
+  // clip): it says whether the hands travel. 0 = the frames so far.
+  double start_rest_seconds = 0.5;
 };
 
 class MotionGuard {
@@ -97,6 +105,7 @@ class MotionGuard {
   MotionLimits hands_limits_;  // only the bounds by the hands' speed and the ankles' are read, margins applied
   float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_, standing_window_seconds_,
       start_ease_seconds_;
+  double start_rest_seconds_;
   std::array<int, kHandsWindowsSeconds.size()> bound_window_frames_;  // the windows of the speed bound
   bool has_previous_ = false, has_velocity_ = false;
   double previous_time_ = 0;

@@ -42,6 +42,7 @@ MotionGuardOptions Exact() {
   options.speed_margin = options.acceleration_margin = options.beyond_hands_margin = 1.0f;
   options.input_speed_margin = options.input_acceleration_margin = 1.0f;
   options.start_ease_seconds = 0;
+  options.start_rest_seconds = 0;
   return options;
 }
 
@@ -310,9 +311,9 @@ TEST(MotionGuardTest, AStreamEasesInOverItsFirstFramesUnlessTheHandsAheadTravel)
   const Eigen::Vector3f solved(0, 0.9f, 0), hop(0.06f, 0.9f, 0);  // the second solve 6 cm on
   // The hands rise and come forward at 1.5 m/s: not a standing body's by their speed alone.
   auto hands = [](int f) { return Eigen::Vector3f(0, 1.0f + 0.04f * f, 0.3f + 0.03f * f); };
-  auto first_step = [&](const MotionGuardOptions& o, std::optional<Eigen::Vector3f> ahead) {
+  auto first_step = [&](const MotionGuardOptions& o, std::optional<Eigen::Vector3f> ahead, double span = 0.2) {
     MotionGuard guard(Limits(), kDt, o);
-    if (ahead) guard.SetLeadingHands(0.2, *ahead);
+    if (ahead) guard.SetLeadingHands(span, *ahead);
     bool limited = false;
     const Eigen::Vector3f a = guard.Next(0.0, solved, hands(0), &limited);
     const Eigen::Vector3f b = guard.Next(kDt, hop, hands(1), &limited);
@@ -328,6 +329,44 @@ TEST(MotionGuardTest, AStreamEasesInOverItsFirstFramesUnlessTheHandsAheadTravel)
   EXPECT_NEAR(first_step(options, Eigen::Vector3f(0, 0.3f, 0.01f)), 0.06f * follow, 1e-5f);
   // Hands ahead that travel (a walk's 1.3 m/s over the ground): no ease, the solve at once.
   EXPECT_NEAR(first_step(options, Eigen::Vector3f(0, 0, 0.26f)), 0.06f, 1e-5f);
+  // Read as if they had stood before the stream (start_rest_seconds), 0.26 m over 0.5 s: 0.52 m/s,
+  // nearly a standing body's: eased part of the way.
+  options.start_rest_seconds = MotionGuardOptions().start_rest_seconds;
+  EXPECT_GT(first_step(options, Eigen::Vector3f(0, 0, 0.26f)), 0.06f * follow + 1e-3f);
+  EXPECT_LT(first_step(options, Eigen::Vector3f(0, 0, 0.26f)), 0.06f - 1e-3f);
+  // Half a second of them at that speed is a walk: no ease (a whole clip's input ahead says
+  // whether the hands travel; nothing is assumed).
+  EXPECT_NEAR(first_step(options, Eigen::Vector3f(0, 0, 0.65f), 0.5), 0.06f, 1e-5f);
+  // Ahead that stand, read over the rest span: standing outright.
+  const float held = dt / (options.standing_smoothing_seconds + dt);
+  EXPECT_NEAR(first_step(options, Eigen::Vector3f(0, 0.3f, 0.01f)), 0.06f * held, 1e-5f);
+}
+
+// Over a stream's first start_rest_seconds the hands are taken to have stood where first seen
+// before it began, so its start reads as the middle of a stream does: three frames of arms
+// swinging forward at 1 m/s are no walk either way, and a solve that lurches 5 cm a frame
+// meanwhile (a body of the wrong size reaching for them) is eased, where the few frames so far
+// alone let it go at once.
+TEST(MotionGuardTest, AStreamsFirstArmSwingIsNoWalk) {
+  MotionGuardOptions options = Exact();
+  options.start_rest_seconds = MotionGuardOptions().start_rest_seconds;
+  auto last_step = [&](const MotionGuardOptions& o, double start) {
+    MotionGuard guard(Limits(), kDt, o);
+    bool limited = false;
+    Eigen::Vector3f previous = Eigen::Vector3f::Zero(), output = Eigen::Vector3f::Zero();
+    const int still = static_cast<int>(std::lround(start / kDt));
+    for (int f = 0; f <= still + 3; ++f) {
+      const int moving = std::max(0, f - still);  // frames into the swing and the lurch
+      const Eigen::Vector3f hands(0, 1.0f, 0.3f + 0.033f * static_cast<float>(moving));
+      const Eigen::Vector3f solved(0, 0.9f, 0.05f * static_cast<float>(moving));
+      previous = output;
+      output = guard.Next(f * kDt, solved, hands, &limited);
+    }
+    return (output - previous).z();
+  };
+  EXPECT_LT(last_step(options, 0.0), 0.03f);           // the stream's start: eased
+  EXPECT_LT(last_step(options, 1.0), 0.03f);           // as a second in
+  EXPECT_NEAR(last_step(Exact(), 0.0), 0.05f, 1e-5f);  // the frames so far alone: followed at once
 }
 
 TEST(MotionGuardTest, AGapAllowsWhatItsLengthAllows) {
