@@ -35,6 +35,8 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
       standing_window_seconds_(options.standing_window_seconds),
       start_ease_seconds_(options.start_ease_seconds),
       start_rest_seconds_(options.start_rest_seconds),
+      standing_noise_acceleration_(options.standing_noise_acceleration),
+      standing_noise_max_factor_(options.standing_noise_max_factor),
       bound_window_frames_{HandsWindowFrames(frame_time, 0), HandsWindowFrames(frame_time, 1)},
       hands_(static_cast<size_t>(std::max(bound_window_frames_.back(),
                                           static_cast<int>(std::lround(options.standing_window_seconds / frame_time))) +
@@ -130,7 +132,13 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
       standing = std::max(standing, ahead * static_cast<float>(1.0 - since_start / start_ease_seconds_));
     }
     const float dt = static_cast<float>(time - previous_time_);
-    const float follow = 1.0f - standing * (1.0f - dt / (standing_smoothing_seconds_ + dt));
+    // Longer for a noisier tracker, whose standing solve hops further.
+    const float smoothing =
+        standing_smoothing_seconds_ *
+        (standing_noise_acceleration_ > 0
+             ? std::clamp(input_noise_ / standing_noise_acceleration_, 1.0f, std::max(1.0f, standing_noise_max_factor_))
+             : 1.0f);
+    const float follow = 1.0f - standing * (1.0f - dt / (smoothing + dt));
     target = previous_target_ + follow * (solved - previous_target_);
   }
   if (!has_previous_) {

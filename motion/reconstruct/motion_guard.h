@@ -50,6 +50,14 @@ struct MotionGuardOptions {
   float standing_hands_speed = 0.25f, moving_hands_speed = 0.6f;
   // The window of that mean ground speed.
   float standing_window_seconds = 1.0f;
+  // A noisier tracker makes a standing body's solve hop further (phone AR's 2-3 cm of jitter:
+  // the pelvis of standing gestures went faster than their capture allows in a quarter of the
+  // development split's clips at lag 0): above `standing_noise_acceleration` of input noise (the
+  // spread per axis of its second differences, m/s², as InputJumpDetector measures it; 25 is
+  // 1.1 cm of white noise at 30 frames/s, twice the development input's) the filter's time
+  // constant grows in proportion, up to `standing_noise_max_factor` times. 1 = never.
+  float standing_noise_acceleration = 25.0f;
+  float standing_noise_max_factor = 2.0f;
   // A stream's first frames know the least: its first solves hop between neighbours' stances
   // (raise-ups and waves of the standard split went 1.2-2.6 m/s in their first 0.2 s, causally)
   // while the hands' windows hold a few frames. Over its first `start_ease_seconds` the body
@@ -84,6 +92,9 @@ class MotionGuard {
   // two frames of a tracker's jitter are no walk. Read by the next Next if it starts a stream (the
   // first, or a new clock); ignored if the stream goes on.
   void SetLeadingHands(double seconds, const Eigen::Vector3f& displacement);
+  // The input's noise as InputJumpDetector measures it (the noisier hand's, m/s²; 0 = not yet
+  // measured), read by the standing filter from the next Next on.
+  void SetInputNoise(float acceleration_noise) { input_noise_ = acceleration_noise; }
 
   float speed_limit() const { return speed_limit_; }
   // After Next: the pelvis's velocity into the frame it returned (m/s; zero on a stream's first
@@ -106,6 +117,7 @@ class MotionGuard {
   float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_, standing_window_seconds_,
       start_ease_seconds_;
   double start_rest_seconds_;
+  float standing_noise_acceleration_, standing_noise_max_factor_, input_noise_ = 0.0f;
   std::array<int, kHandsWindowsSeconds.size()> bound_window_frames_;  // the windows of the speed bound
   bool has_previous_ = false, has_velocity_ = false;
   double previous_time_ = 0;

@@ -713,6 +713,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
         motion_guard_.SetLeadingHands(last * database_->frame_time(),
                                       WristsMidpoint(s.wrists[last]) - WristsMidpoint(s.wrists[0]));
       }
+      motion_guard_.SetInputNoise(std::max(jump_detector_.AccelerationNoise(0), jump_detector_.AccelerationNoise(1)));
       // The guard moves the body rigidly, no lower than the joints it rests on allow, as the reach
       // shift (docs/method.md A7).
       const Eigen::Vector3f offset =

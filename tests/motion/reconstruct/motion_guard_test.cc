@@ -119,6 +119,37 @@ TEST(MotionGuardTest, AStandingBodyDoesNotHopBetweenStancesAndAWalkingOneFollows
   EXPECT_LT(farthest_walking, 1e-3f) << "m";
 }
 
+// A noisier tracker's standing solve hops further: the standing filter's time constant grows with
+// the input's measured noise above standing_noise_acceleration, up to standing_noise_max_factor
+// times, and not at all for input as clean as the development's.
+TEST(MotionGuardTest, ANoisierTrackersStandingBodyIsHeldLonger) {
+  MotionLimits limits = Limits();
+  limits.pelvis_acceleration_max = 1000.0f;  // the filter alone, not the bound, holds the hops
+  auto fastest_standing = [&](float noise) {
+    MotionGuard guard(limits, kDt, Exact());
+    guard.SetInputNoise(noise);
+    float fastest = 0;
+    Eigen::Vector3f previous = Eigen::Vector3f::Zero();
+    for (int f = 0; f < 60; ++f) {
+      const Eigen::Vector3f target(f % 2 == 0 ? 0.03f : -0.03f, 0.9f, 0.0f), hands(0.0f, 1.1f, 0.0f);
+      bool limited = false;
+      const Eigen::Vector3f out = guard.Next(f * kDt, target, hands, &limited);
+      if (f > 30) fastest = std::max(fastest, static_cast<float>((out - previous).norm() / kDt));
+      previous = out;
+    }
+    return fastest;
+  };
+  const MotionGuardOptions defaults;
+  const float clean = fastest_standing(0.0f);
+  EXPECT_FLOAT_EQ(fastest_standing(0.5f * defaults.standing_noise_acceleration), clean);
+  EXPECT_FLOAT_EQ(fastest_standing(defaults.standing_noise_acceleration), clean);
+  const float noisy = fastest_standing(1.5f * defaults.standing_noise_acceleration);
+  const float noisiest = fastest_standing(defaults.standing_noise_max_factor * defaults.standing_noise_acceleration);
+  EXPECT_LT(noisy, 0.9f * clean);
+  EXPECT_LT(noisiest, 0.9f * noisy);
+  EXPECT_FLOAT_EQ(fastest_standing(10.0f * defaults.standing_noise_acceleration), noisiest);  // no further
+}
+
 TEST(MotionGuardTest, AJumpOfTheTargetBecomesBoundedMotionThatArrives) {
   const MotionLimits limits = Limits();
   MotionGuard guard(limits, kDt, Exact());
