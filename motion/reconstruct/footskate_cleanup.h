@@ -62,6 +62,11 @@ struct FootskateOptions {
   // Streams only: the decided A4 ankles planted at their contacts' running means before A6
   // (StreamAnklePlanter), as whole clips plant theirs (PlantAnkleContacts).
   bool stream_plant_ankles = true;
+  // Streams only: a planted foot that has not lifted is held while either hand stands, not only
+  // the hands' midpoint: a hand waving beside one that rests drags the wrists' frame, and every A4
+  // candidate with it, to and fro, and the stream (unlike a whole clip's path) followed it into a
+  // step the body never took.
+  bool stream_stands_on_either_hand = true;
 };
 
 // The planted feet of a stretch of A4 ankle estimates (docs/method.md A7, "planted at the mean"):

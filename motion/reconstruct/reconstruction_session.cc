@@ -499,7 +499,11 @@ absl::Status ReconstructionSession::DecideAnkles(int up_to_frame, int available,
   PlantAnkleContacts(batch, before, segment_ends, database_->planted_ankle_height(), database_->frame_time(),
                      options_.footskate, {hands, options_.motion_guard.standing_hands_speed});
   if (options_.mode == StreamMode::kFixedLag && options_.footskate.stream_plant_ankles) {
-    for (size_t i = 0; i < batch.size(); ++i) s.planter.Next(&batch[i], hands[i]);
+    for (size_t i = 0; i < batch.size(); ++i) {
+      const SmoothedWrists& wrists = s.wrists[first + static_cast<int>(i)];
+      s.planter.Next(&batch[i], {Eigen::Vector2f(wrists.position[0].x(), wrists.position[0].z()),
+                                 Eigen::Vector2f(wrists.position[1].x(), wrists.position[1].z())});
+    }
   }
   s.ankles.append(batch.begin(), batch.end());
   s.decided = up_to_frame;

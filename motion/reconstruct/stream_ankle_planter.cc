@@ -19,19 +19,30 @@ StreamAnklePlanter::StreamAnklePlanter(float planted_ankle_height, double frame_
       estimates_(static_cast<size_t>(hold_frames_)),
       hands_(static_cast<size_t>(standing_frames_ + 1)) {}
 
-bool StreamAnklePlanter::Stands() const {
-  if (!(standing_speed_ > 0) || hands_.size() < 2) return false;
+template <typename At>
+bool StreamAnklePlanter::StandsOver(At at) const {
   // Over both windows of the guard (kHandsWindowsSeconds): the longer says the body stands, the
   // shorter that it has not just set off (a 2 s mean of a walk's first half second is still slow).
   for (const int frames : {short_frames_, standing_frames_}) {
     const size_t oldest = std::min(static_cast<size_t>(frames), hands_.size() - 1);
     const float seconds = static_cast<float>(oldest) / rate_;
-    if (!((hands_.Back(0) - hands_.Back(oldest)).norm() < standing_speed_ * seconds)) return false;
+    if (!((at(0) - at(oldest)).norm() < standing_speed_ * seconds)) return false;
   }
   return true;
 }
 
-void StreamAnklePlanter::Next(AnklePair* ankles, const Eigen::Vector2f& hands) {
+bool StreamAnklePlanter::Stands() const {
+  if (!(standing_speed_ > 0) || hands_.size() < 2) return false;
+  if (StandsOver([&](size_t back) -> Eigen::Vector2f { return 0.5f * (hands_.Back(back)[0] + hands_.Back(back)[1]); }))
+    return true;
+  if (!options_.stream_stands_on_either_hand) return false;
+  for (int side = 0; side < 2; ++side) {
+    if (StandsOver([&](size_t back) -> const Eigen::Vector2f& { return hands_.Back(back)[side]; })) return true;
+  }
+  return false;
+}
+
+void StreamAnklePlanter::Next(AnklePair* ankles, const std::array<Eigen::Vector2f, 2>& hands) {
   hands_.Push(hands);
   const AnklePair estimate = *ankles;
   const float lifted_above = planted_height_ + options_.contact_height;

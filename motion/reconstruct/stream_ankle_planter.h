@@ -30,8 +30,8 @@ class StreamAnklePlanter {
                      float standing_hands_speed);
 
   // The next decided frame's ankles (A4, smoothed; world metres), rewritten where planted;
-  // `hands`: the input wrists' midpoint over the ground at that frame.
-  void Next(AnklePair* ankles, const Eigen::Vector2f& hands);
+  // `hands`: the input wrists (left, right) over the ground at that frame.
+  void Next(AnklePair* ankles, const std::array<Eigen::Vector2f, 2>& hands);
 
  private:
   struct Foot {
@@ -42,14 +42,18 @@ class StreamAnklePlanter {
     int release_left = 0;
   };
   bool Stands() const;
+  // Whether the ground point `at(b)` (b frames back) moved slower than `standing_speed_` over
+  // both of the guard's windows.
+  template <typename At>
+  bool StandsOver(At at) const;
 
   float planted_height_, rate_;
   FootskateOptions options_;
   float standing_speed_;
   int hold_frames_, short_frames_, standing_frames_;
   std::array<Foot, 2> feet_;
-  RecentValues<AnklePair> estimates_;    // the last estimates as decided (before planting)
-  RecentValues<Eigen::Vector2f> hands_;  // the hands' midpoint over the last standing window
+  RecentValues<AnklePair> estimates_;                   // the last estimates as decided (before planting)
+  RecentValues<std::array<Eigen::Vector2f, 2>> hands_;  // the hands over the last standing window
 };
 
 }  // namespace mocap

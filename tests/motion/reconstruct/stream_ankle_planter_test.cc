@@ -1,6 +1,8 @@
 #include "motion/reconstruct/stream_ankle_planter.h"
 
 #include <cmath>
+#include <numbers>
+#include <type_traits>
 
 #include <gtest/gtest.h>
 
@@ -12,14 +14,19 @@ constexpr float kPlanted = 0.08f;  // the planted ankle height
 
 float Ground(const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return std::hypot(a.x() - b.x(), a.z() - b.z()); }
 
-// The left foot's estimate `left(f)`, the right foot lifted and still, the hands' midpoint at
-// `hands(f)`: the planted output per frame.
+// The left foot's estimate `left(f)`, the right foot lifted and still, the hands at `hands(f)`
+// (both at one point, or left and right): the planted output per frame.
 template <typename Left, typename Hands>
 std::vector<Eigen::Vector3f> Plant(StreamAnklePlanter* planter, int frames, Left left, Hands hands) {
   std::vector<Eigen::Vector3f> out;
   for (int f = 0; f < frames; ++f) {
     AnklePair ankles = {left(f), Eigen::Vector3f(-0.1f, 0.5f, 0.0f)};
-    planter->Next(&ankles, hands(f));
+    const auto at = hands(f);
+    if constexpr (std::is_same_v<std::remove_cvref_t<decltype(at)>, Eigen::Vector2f>) {
+      planter->Next(&ankles, {at, at});
+    } else {
+      planter->Next(&ankles, at);
+    }
     EXPECT_EQ(ankles[1], Eigen::Vector3f(-0.1f, 0.5f, 0.0f)) << "a lifted foot is left as estimated";
     out.push_back(ankles[0]);
   }
@@ -91,6 +98,39 @@ TEST(StreamAnklePlanterTest, StandingHandsHoldAFootThatSlidesWithoutLifting) {
   StreamAnklePlanter never(kPlanted, kFrameTime, {}, 0.0f);  // standing hands hold nothing
   const std::vector<Eigen::Vector3f> plain = Plant(&never, slide + 10, sliding, StillHands);
   EXPECT_LT((plain.back() - sliding(slide + 9)).norm(), 1e-6f);
+}
+
+// One hand waves while the other rests (a goodbye): the wave drags the wrists' midpoint, and every
+// A4 candidate with it, to and fro, and the foot's estimate slides along without lifting. The
+// resting hand says the body stands: the contact goes on. Read from the midpoint alone (the option
+// off) the same slide is a step.
+TEST(StreamAnklePlanterTest, AHandThatRestsHoldsAFootWhileTheOtherWaves) {
+  const int slide = 70;
+  auto sliding = [&](int f) {
+    return Eigen::Vector3f(f < slide ? 0.0f : 0.02f * static_cast<float>(f - slide), kPlanted, 0.0f);
+  };
+  auto waving = [](int f) {
+    const float x = 0.3f * std::sin(2.0f * std::numbers::pi_v<float> * 1.2f * static_cast<float>(f * kFrameTime));
+    return std::array<Eigen::Vector2f, 2>{Eigen::Vector2f(x, 0.3f), Eigen::Vector2f(-0.2f, 0.3f)};
+  };
+  StreamAnklePlanter either(kPlanted, kFrameTime, {}, 0.25f);
+  const std::vector<Eigen::Vector3f> held = Plant(&either, slide + 10, sliding, waving);
+  EXPECT_LT(held.back().x(), 0.5f * sliding(slide + 9).x()) << "held at the contact's mean";
+
+  FootskateOptions midpoint_only;
+  midpoint_only.stream_stands_on_either_hand = false;
+  StreamAnklePlanter midpoint(kPlanted, kFrameTime, midpoint_only, 0.25f);
+  const std::vector<Eigen::Vector3f> released = Plant(&midpoint, slide + 10, sliding, waving);
+  EXPECT_LT((released.back() - sliding(slide + 9)).norm(), 1e-6f) << "released to the estimate";
+
+  // Both hands travelling (a walk): released, whichever hand is read.
+  auto walking = [&](int f) {
+    const float x = f < slide ? 0.0f : 0.04f * static_cast<float>(f - slide);
+    return std::array<Eigen::Vector2f, 2>{Eigen::Vector2f(x, 0.5f), Eigen::Vector2f(x, 0.1f)};
+  };
+  StreamAnklePlanter walker(kPlanted, kFrameTime, {}, 0.25f);
+  const std::vector<Eigen::Vector3f> walked = Plant(&walker, slide + 14, sliding, walking);
+  EXPECT_LT((walked.back() - sliding(slide + 13)).norm(), 1e-6f);
 }
 
 }  // namespace
