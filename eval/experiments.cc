@@ -93,6 +93,11 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
     o.lag = lag;
     o.footskate.resume_where_released = false;  // a contact resumed mid-release pinned at the solve (before stop 78)
     add(StrCat("lag_", lag, "_resumed_at_solve"), "main", 0, o, noise_cm);
+    o = base;
+    o.mode = StreamMode::kFixedLag;
+    o.lag = lag;
+    o.footskate.stream_stands_on_either_hand = false;  // feet held by the hands' midpoint alone (before stop 82)
+    add(StrCat("lag_", lag, "_midpoint_stands"), "main", 0, o, noise_cm);
   }
   for (int window : {10, 50, 100}) {
     ReconstructionOptions o = base;
