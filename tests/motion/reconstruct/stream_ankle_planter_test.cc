@@ -100,7 +100,7 @@ TEST(StreamAnklePlanterTest, StandingHandsHoldAFootThatSlidesWithoutLifting) {
   EXPECT_LT((plain.back() - sliding(slide + 9)).norm(), 1e-6f);
 }
 
-// One hand waves while the other rests (a goodbye): the wave drags the wrists' midpoint, and every
+// One hand waves while the other is held still (a goodbye): the wave drags the wrists' midpoint, and every
 // A4 candidate with it, to and fro, and the foot's estimate slides along without lifting. The
 // resting hand says the body stands: the contact goes on. Read from the midpoint alone (the option
 // off) the same slide is a step.
