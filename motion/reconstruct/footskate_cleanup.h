@@ -63,9 +63,10 @@ struct FootskateOptions {
   // (StreamAnklePlanter), as whole clips plant theirs (PlantAnkleContacts).
   bool stream_plant_ankles = true;
   // Streams only: a planted foot that has not lifted is held while either hand stands, not only
-  // the hands' midpoint: a hand waving beside one that rests drags the wrists' frame, and every A4
-  // candidate with it, to and fro, and the stream (unlike a whole clip's path) followed it into a
-  // step the body never took.
+  // the hands' midpoint: a hand that waves or rises faster than the other moves the midpoint, and
+  // the wrists' frame every A4 candidate is placed in, while the stiller hand still stands, and the
+  // stream (unlike a whole clip's path) followed the sliding estimate into a step the body never
+  // took (docs/evaluation.md stop 82).
   bool stream_stands_on_either_hand = true;
 };
 
