@@ -10,6 +10,7 @@
 #include <optional>
 #include <thread>
 
+#include "client/cli/body_size_note.h"
 #include "client/cli/input_frame_flags.h"
 #include "client/cli/output_paths.h"
 #include "client/cli/reconstruction_bvh.h"
@@ -331,16 +332,8 @@ int Run(client::Client& client, ReconstructOptions o, const GlobalOptions& globa
             << "\n  per frame: cloud " << summary.cloud_ms_per_frame() << " ms, ankle path "
             << summary.path_ms_per_frame() << " ms, pose " << summary.pose_ms_per_frame() << " ms, cleanup "
             << summary.cleanup_ms_per_frame() << " ms\n";
-  if (summary.performer_height_estimated()) {
-    std::cout << std::fixed << std::setprecision(2)
-              << "  body sized by the wrists' reach: " << summary.performer_height()
-              << " m tall (the database performer " << result->started().database_height()
-              << " m; --performer-height to declare, --no-estimate-height to keep the database's)\n";
-  } else if (summary.reach_height() > 1.02f * summary.performer_height()) {
-    std::cout << std::fixed << std::setprecision(2) << "  the wrists reached as far as a " << summary.reach_height()
-              << " m body's (this one is " << summary.performer_height() << " m): declare --performer-height "
-              << summary.reach_height() << " or more\n";
-  }
+  std::cout << BodySizeNote(summary, result->started().database_height(),
+                            o.performer_height > 0.0f || !o.target_rig_text.empty());
   if (plausibility) {
     const PlausibilityStats& p = plausibility->stats;
     std::cout << std::fixed << std::setprecision(2) << "  plausibility: pelvis at most " << p.pelvis_speed.max()
