@@ -24,6 +24,7 @@ TEST(BodySizeNoteTest, SaysTheSizeTheReachGave) {
 TEST(BodySizeNoteTest, AnUndeclaredBodyTheReachSaidNothingOfAsksForTheHeight) {
   // The reach never sizes a body down: a smaller performer is reconstructed at the database's size.
   const std::string note = BodySizeNote(Summary(1.7f, 1.7f, false), 1.7f, false);
+  ASSERT_FALSE(note.empty());
   EXPECT_NE(note.find("database performer's 1.70 m"), std::string::npos) << note;
   EXPECT_NE(note.find("--performer-height"), std::string::npos) << note;
   EXPECT_EQ(note.back(), '\n');
