@@ -35,6 +35,12 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
   add("wrists_only", "main", 0, wrists, noise_cm, true);
   if (!ablations) return runs;
   add("full_captured_only", "main", 0, base, noise_cm, true);  // without the reversed copies
+  ReconstructionOptions alike = base;
+  alike.pose_neighbour_kernel = 0.0f;  // A5's K2 examples weighed alike (before stop 84)
+  add("full_neighbours_alike", "main", 0, alike, noise_cm);
+  alike.mode = StreamMode::kFixedLag;
+  alike.lag = 5;
+  add("lag_5_neighbours_alike", "main", 0, alike, noise_cm);
   ReconstructionOptions no_lean = base;
   no_lean.reach_lean.max_angle = 0.0f;  // the arm IK alone, without the torso's lean
   add("full_no_reach_lean", "main", 0, no_lean, noise_cm);

@@ -118,7 +118,8 @@ int main(int argc, char** argv) {
   app.add_flag(
       "--ablations", ablations,
       "also run window L ∈ {10,50,100}, noise σ ∈ {0,1,2} cm, lag D ∈ {0,5,15,30}, the full method on the "
-      "captured frames alone (full_captured_only: without the travelling frames played backwards), "
+      "captured frames alone (full_captured_only: without the travelling frames played backwards), with A5's "
+      "K2 examples weighed alike (full_neighbours_alike, lag_5_neighbours_alike), "
       "without the torso's lean towards input beyond an arm's reach (full_no_reach_lean), the lean without the "
       "collar bones turning first (full_no_collars), without the body's shift "
       "towards it (full_no_reach_shift), with the shift over the ground only (full_horizontal_shift), "
@@ -162,6 +163,10 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "clips reconstructed at once (each single-threaded)");
   app.add_option("--k1", base.ankle_candidates, "A3 ankle candidates K1");
   app.add_option("--k2", base.pose_neighbours, "A5 pose neighbours K2");
+  app.add_option("--pose-kernel", base.pose_neighbour_kernel,
+                 "A5: weigh the K2 examples by a Gaussian kernel of this × the median neighbour's squared distance "
+                 "(0: alike)")
+      ->capture_default_str();
   app.add_option("--window", base.window, "A4 window L for the full run (0 = whole clip)");
   std::string contacts = "both";
   app.add_option(
@@ -393,6 +398,7 @@ int main(int argc, char** argv) {
   context["noise_cm"] = noise_cm;
   context["k1"] = base.ankle_candidates;
   context["k2"] = base.pose_neighbours;
+  context["pose_neighbour_kernel"] = base.pose_neighbour_kernel;
   context["quick"] = quick;
   auto experiments = make_experiments();
   if (!KnowsEveryRun(only_runs, experiments)) return kExitError;

@@ -1,6 +1,7 @@
 #include "motion/reconstruct/local_pose_model.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -56,18 +57,43 @@ float LocalPoseModel::PriorEnergy(const Eigen::VectorXf& weights, float min_vari
   return (weights.array().square() / variances.array().max(min_variance)).sum();
 }
 
-absl::StatusOr<LocalPoseModel> FitLocalPoseModel(const Eigen::MatrixXf& examples, int components) {
+Eigen::VectorXf NeighbourKernelWeights(std::span<const float> squared_distances, float kernel) {
+  if (kernel <= 0 || squared_distances.empty()) return {};
+  std::vector<float> sorted(squared_distances.begin(), squared_distances.end());
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  const float median = sorted[sorted.size() / 2];
+  const float nearest = *std::min_element(squared_distances.begin(), squared_distances.end());
+  // Every example alike when the median is the nearest (a database of copies; an exact match).
+  const float variance = kernel * std::max(median, 1e-12f);
+  Eigen::VectorXf weights(static_cast<Eigen::Index>(squared_distances.size()));
+  for (size_t i = 0; i < squared_distances.size(); ++i)
+    weights[static_cast<Eigen::Index>(i)] = std::exp(-0.5f * (squared_distances[i] - nearest) / variance);
+  return weights;
+}
+
+absl::StatusOr<LocalPoseModel> FitLocalPoseModel(const Eigen::MatrixXf& examples, int components,
+                                                 const Eigen::VectorXf& weights) {
   if (examples.rows() < 2) return absl::InvalidArgumentError("a pose model needs at least two examples");
   if (!examples.allFinite()) return absl::InvalidArgumentError("pose examples are not finite");
   if (components < 1) return absl::InvalidArgumentError("a pose model needs at least one component");
+  if (weights.size() != 0 && (weights.size() != examples.rows() || !weights.allFinite() ||
+                              (weights.array() < 0).any() || weights.sum() <= 0)) {
+    return absl::InvalidArgumentError("pose example weights must be one per example, finite, ≥ 0 and not all 0");
+  }
   LocalPoseModel model;
   const Eigen::MatrixXd x = examples.cast<double>();
-  const Eigen::RowVectorXd mean = x.colwise().mean();
+  const Eigen::VectorXd w = weights.size() != 0
+                                ? Eigen::VectorXd(weights.cast<double>() / weights.cast<double>().sum())
+                                : Eigen::VectorXd::Constant(x.rows(), 1.0 / static_cast<double>(x.rows()));
+  const Eigen::RowVectorXd mean = w.transpose() * x;
   const Eigen::MatrixXd centred = x.rowwise() - mean;
   const int kept =
       std::min<int>({components, static_cast<int>(examples.rows()) - 1, static_cast<int>(examples.cols())});
-  // K2 (200) examples of ~60 features: the smaller of the two Gram matrices is cheap either way.
-  const Eigen::MatrixXd covariance = centred.transpose() * centred / static_cast<double>(examples.rows() - 1);
+  // Reliability weights (normalised to sum 1): Σ wᵢ (xᵢ − μ)(xᵢ − μ)ᵀ / (1 − Σ wᵢ²), the sample
+  // covariance / (n − 1) when the weights are equal. K2 (50) examples of ~60 features.
+  const double bias = 1.0 - w.squaredNorm();
+  if (bias <= 1e-12) return absl::InvalidArgumentError("pose example weights leave a single example");
+  const Eigen::MatrixXd covariance = centred.transpose() * w.asDiagonal() * centred / bias;
   Eigen::VectorXd variances;
   Eigen::MatrixXd basis;
   if (absl::Status solved = LargestEigenpairs(covariance, kept, &variances, &basis); !solved.ok()) return solved;

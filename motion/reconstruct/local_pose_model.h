@@ -5,6 +5,8 @@
 // (in the model's own coordinates: Σ w_i² / λ_i).
 #pragma once
 
+#include <span>
+
 #include <Eigen/Core>
 
 #include "absl/status/statusor.h"
@@ -24,7 +26,16 @@ struct LocalPoseModel {
 };
 
 // PCA of `examples` (one pose feature vector per row). At most min(components, rows − 1)
-// components are kept. InvalidArgument with fewer than two examples or non-finite values.
-absl::StatusOr<LocalPoseModel> FitLocalPoseModel(const Eigen::MatrixXf& examples, int components = 6);
+// components are kept. `weights` (one per row, ≥ 0, not all 0), when given, weigh the examples in
+// the mean and the covariance (reliability weights: unbiased, the plain PCA when they are equal).
+// InvalidArgument with fewer than two examples, non-finite values or bad weights.
+absl::StatusOr<LocalPoseModel> FitLocalPoseModel(const Eigen::MatrixXf& examples, int components = 6,
+                                                 const Eigen::VectorXf& weights = {});
+
+// Weights for the K2 examples of A5 from their squared eq. 8 distances (nearest first): a Gaussian
+// kernel whose variance is `kernel` × the median neighbour's squared distance, measured from the
+// nearest's, so the weighting does not depend on how far the input is from the whole database.
+// Empty (equal weights) for kernel ≤ 0.
+Eigen::VectorXf NeighbourKernelWeights(std::span<const float> squared_distances, float kernel);
 
 }  // namespace mocap

@@ -1,5 +1,7 @@
 #include "motion/reconstruct/pose_method.h"
 
+#include <vector>
+
 #include "motion/core/status_macros.h"
 #include "motion/reconstruct/local_pose_model.h"
 
@@ -42,6 +44,7 @@ class LocalModelMethod final : public PoseMethod {
       : ankles_(ankles),
         neighbours_(options.pose_neighbours),
         components_(options.pose_components),
+        kernel_(options.pose_neighbour_kernel),
         solver_(options.solver) {
     if (!ankles_) solver_.control_ankles = false;
   }
@@ -60,7 +63,13 @@ class LocalModelMethod final : public PoseMethod {
     Eigen::MatrixXf examples(static_cast<Eigen::Index>(neighbours.size()), db.pose_feature_size());
     for (size_t i = 0; i < neighbours.size(); ++i)
       examples.row(static_cast<Eigen::Index>(i)) = db.pose_feature(neighbours[i].row);
-    MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, components_));
+    Eigen::VectorXf weights;
+    if (kernel_ > 0) {
+      std::vector<float> distances(neighbours.size());
+      for (size_t i = 0; i < neighbours.size(); ++i) distances[i] = neighbours[i].distance;
+      weights = NeighbourKernelWeights(distances, kernel_);
+    }
+    MOCAP_ASSIGN_OR_RETURN(const LocalPoseModel model, FitLocalPoseModel(examples, components_, weights));
     const SolvedPose initial =
         history.previous ? *history.previous : DatabasePoseInQueryFrame(db, neighbours.front().row, ref);
     PoseSolverOptions solver = solver_;
@@ -71,6 +80,7 @@ class LocalModelMethod final : public PoseMethod {
  private:
   bool ankles_;
   int neighbours_, components_;
+  float kernel_;
   PoseSolverOptions solver_;  // without the ankles' E_ctrl where the method has none
 };
 

@@ -42,7 +42,12 @@ struct ReconstructionOptions {
   // A5: K2. The patent's 200 makes a blurred local model (its mean is the average of 200 poses);
   // 50 measured best with 25 (--dev-split MPJPE 2.38 → 2.29 cm; 25: 2.27 but more jitter).
   int pose_neighbours = 50;
-  int pose_components = 6;      // A5: D'
+  int pose_components = 6;  // A5: D'
+  // A5: the K2 examples weighed by a Gaussian kernel on their eq. 8 distance, of variance this ×
+  // the median neighbour's squared distance (local_pose_model.h NeighbourKernelWeights); 0 = alike
+  // (the patent's). Stop 84, --dev-split whole clip: 0 / 0.5 / 0.25 / 0.1 / 0.05 / 0.02 → MPJPE
+  // 1.9482 / 1.9356 / 1.9222 / 1.9005 / 1.9112 / 1.9558 cm (docs/method.md A5).
+  float pose_neighbour_kernel = 0.1f;
   int average_neighbours = 10;  // the kNearestAverage baseline's K
   PoseSolverOptions solver;     // A6: energy weights, LM
   // A6: the prior weight rises in a session unlike the database (unfamiliar_prior.h).

@@ -23,6 +23,10 @@ const std::array kTunables = {
     MOCAP_TUNABLE("ankle_candidates", "--k1", "A3 ankle candidates K1", 1, kMaxAnkleCandidates, ankle_candidates),
     MOCAP_TUNABLE("pose_neighbours", "--k2", "A5 pose neighbours K2", 2, kMaxPoseNeighbours, pose_neighbours),
     MOCAP_TUNABLE("pose_components", "--pose-components", "A5 pose model components D'", 1, 64, pose_components),
+    MOCAP_TUNABLE("pose_neighbour_kernel", "--pose-kernel",
+                  "A5: weigh the K2 examples by a Gaussian kernel of this × the median neighbour's squared distance "
+                  "(0: alike, the patent's)",
+                  0, 100, pose_neighbour_kernel),
     MOCAP_TUNABLE("wrist_smoothing", "", "A2 exponential smoothing s (when wrist_fit_frames is 0)", 0, 1,
                   smoothing.smoothing),
     // The σ the session's mode uses (by default a stream has its own, AnklePathOptions); set, one σ

@@ -119,6 +119,8 @@ TEST(OptionsFromConfigTest, EveryOutOfRangeFieldIsRefusedByName) {
       {"overrides.hand_target_frames", [](auto& c) { c.mutable_overrides()->set_hand_target_frames(10.5f); }},
       {"overrides.ankle_data_weight", [](auto& c) { c.mutable_overrides()->set_ankle_data_weight(-1); }},
       {"overrides.unfamiliar_prior_max", [](auto& c) { c.mutable_overrides()->set_unfamiliar_prior_max(0.5f); }},
+      {"overrides.pose_neighbour_kernel", [](auto& c) { c.mutable_overrides()->set_pose_neighbour_kernel(-0.1f); }},
+      {"overrides.pose_neighbour_kernel", [](auto& c) { c.mutable_overrides()->set_pose_neighbour_kernel(NAN); }},
       {"overrides.unfamiliar_prior_max", [](auto& c) { c.mutable_overrides()->set_unfamiliar_prior_max(NAN); }},
       {"overrides.foot_contacts",
        [](auto& c) { c.mutable_overrides()->set_foot_contacts(static_cast<v1::FootContacts>(9)); }},
@@ -180,7 +182,8 @@ TEST(OptionsFromConfigTest, TheEffectiveConfigReadsBackIntoTheSameOptions) {
   EXPECT_TRUE(o.has_pose_neighbours() && o.has_pose_components() && o.has_wrist_smoothing() &&
               o.has_ankle_smoothing_frames() && o.has_joint_smoothing_frames() && o.has_footskate_cleanup() &&
               o.has_max_gap_seconds() && o.has_wrist_fit_frames() && o.has_hand_target_frames() &&
-              o.has_ankle_data_weight() && o.has_unfamiliar_prior_max());
+              o.has_ankle_data_weight() && o.has_unfamiliar_prior_max() && o.has_pose_neighbour_kernel());
+  EXPECT_EQ(o.pose_neighbour_kernel(), ReconstructionOptions().pose_neighbour_kernel);
   EXPECT_EQ(o.unfamiliar_prior_max(), ReconstructionOptions().unfamiliar_prior.max_factor);
   EXPECT_EQ(effective.database(), "walks");
   EXPECT_EQ(effective.fixed_lag().lag_frames(), 7);

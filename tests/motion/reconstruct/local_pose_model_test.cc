@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
@@ -118,12 +119,70 @@ TEST(LocalPoseModelTest, KeepsTheFullSolversLargestEigenpairs) {
   ExpectTheFullSolversLargestEigenpairs(isotropic, 6);
 }
 
+TEST(LocalPoseModelTest, EqualWeightsAreThePlainFit) {
+  std::mt19937 random(4);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  const Eigen::MatrixXf examples = Eigen::MatrixXf::NullaryExpr(50, 12, [&] { return normal(random); });
+  auto plain = FitLocalPoseModel(examples, 4);
+  auto weighted = FitLocalPoseModel(examples, 4, Eigen::VectorXf::Constant(50, 3.0f));
+  ASSERT_TRUE(plain.ok() && weighted.ok());
+  EXPECT_TRUE(weighted->mean.isApprox(plain->mean, 1e-5f));
+  EXPECT_TRUE(weighted->variances.isApprox(plain->variances, 1e-4f));
+}
+
+TEST(LocalPoseModelTest, WeightsLeaveOutWhatTheyZero) {
+  // Twenty examples about one pose along feature 0, twenty far away along feature 1: weighted to
+  // the first twenty, the model is theirs alone.
+  std::mt19937 random(5);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  Eigen::MatrixXf examples = Eigen::MatrixXf::Zero(40, 6);
+  for (int i = 0; i < 40; ++i) {
+    if (i < 20) {
+      examples(i, 0) = normal(random);
+    } else {
+      examples.row(i).setConstant(5.0f);
+      examples(i, 1) += 3.0f * normal(random);
+    }
+  }
+  Eigen::VectorXf weights = Eigen::VectorXf::Zero(40);
+  weights.head(20).setOnes();
+  auto model = FitLocalPoseModel(examples, 2, weights);
+  auto first = FitLocalPoseModel(examples.topRows(20), 2);
+  ASSERT_TRUE(model.ok() && first.ok());
+  EXPECT_TRUE(model->mean.isApprox(first->mean, 1e-5f));
+  EXPECT_NEAR(model->variances[0], first->variances[0], 1e-4f);
+  EXPECT_NEAR(std::abs(model->basis(0, 0)), 1.0f, 1e-4f);  // along feature 0, not the far examples' 1
+}
+
+TEST(LocalPoseModelTest, KernelWeightsFallWithDistanceFromTheNearest) {
+  const std::vector<float> distances = {0.5f, 0.6f, 1.0f, 2.0f, 4.0f};  // squared, nearest first
+  EXPECT_EQ(NeighbourKernelWeights(distances, 0.0f).size(), 0);         // 0: alike
+  const Eigen::VectorXf w = NeighbourKernelWeights(distances, 0.5f);
+  ASSERT_EQ(w.size(), 5);
+  EXPECT_FLOAT_EQ(w[0], 1.0f);
+  for (int i = 1; i < 5; ++i) EXPECT_LT(w[i], w[i - 1]);
+  // Variance 0.5 × the median (1.0): the median neighbour, 0.5 beyond the nearest, weighs e^−0.5.
+  EXPECT_NEAR(w[2], std::exp(-0.5f), 1e-5f);
+  // The same neighbours twice as far (a query twice as far from the database) weigh the same.
+  std::vector<float> doubled = distances;
+  for (float& d : doubled) d *= 2.0f;
+  EXPECT_TRUE(NeighbourKernelWeights(doubled, 0.5f).isApprox(w, 1e-5f));
+  EXPECT_TRUE(NeighbourKernelWeights(std::vector<float>(4, 0.0f), 1.0f).isApprox(Eigen::VectorXf::Ones(4)));
+}
+
 TEST(LocalPoseModelTest, RejectsBadInput) {
   EXPECT_EQ(FitLocalPoseModel(Eigen::MatrixXf::Zero(1, 4)).status().code(), absl::StatusCode::kInvalidArgument);
   Eigen::MatrixXf nan = Eigen::MatrixXf::Zero(5, 4);
   nan(2, 1) = std::nanf("");
   EXPECT_EQ(FitLocalPoseModel(nan).status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(FitLocalPoseModel(Eigen::MatrixXf::Zero(5, 4), 0).status().code(), absl::StatusCode::kInvalidArgument);
+  const Eigen::MatrixXf five = Eigen::MatrixXf::Random(5, 4);
+  for (const Eigen::VectorXf& bad :
+       {Eigen::VectorXf(Eigen::VectorXf::Ones(4)), Eigen::VectorXf(Eigen::VectorXf::Zero(5)),
+        Eigen::VectorXf(Eigen::VectorXf::Unit(5, 2)),  // one example alone
+        Eigen::VectorXf(-Eigen::VectorXf::Ones(5))}) {
+    EXPECT_EQ(FitLocalPoseModel(five, 2, bad).status().code(), absl::StatusCode::kInvalidArgument) << bad.transpose();
+  }
 }
 
 }  // namespace
