@@ -41,12 +41,14 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> LoadDatabase(
   return ReconstructionDatabase::Build(loaded.first, loaded.second);
 }
 
-absl::StatusOr<EvaluationDatabases> LoadDatabases(const std::vector<std::filesystem::path>& files) {
+absl::StatusOr<EvaluationDatabases> LoadDatabases(const std::vector<std::filesystem::path>& files,
+                                                  const DatabaseBuildOptions& options) {
   MOCAP_ASSIGN_OR_RETURN(auto loaded, LoadDatabaseClips(files));
   EvaluationDatabases databases;
-  MOCAP_ASSIGN_OR_RETURN(databases.method, ReconstructionDatabase::Build(loaded.first, loaded.second));
-  MOCAP_ASSIGN_OR_RETURN(databases.captured,
-                         ReconstructionDatabase::Build(loaded.first, loaded.second, {.time_reversed_copies = false}));
+  MOCAP_ASSIGN_OR_RETURN(databases.method, ReconstructionDatabase::Build(loaded.first, loaded.second, options));
+  DatabaseBuildOptions captured = options;
+  captured.time_reversed_copies = false;
+  MOCAP_ASSIGN_OR_RETURN(databases.captured, ReconstructionDatabase::Build(loaded.first, loaded.second, captured));
   for (const DatabaseClip& clip : loaded.second) {
     databases.captured_features.insert(databases.captured_features.end(), clip.features.begin(), clip.features.end());
   }

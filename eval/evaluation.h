@@ -14,6 +14,7 @@
 #include "eval/confidence_calibration.h"
 #include "eval/eval_metrics.h"
 #include "eval/experiments.h"
+#include "motion/reconstruct/reconstruction_database.h"
 
 namespace mocap::eval {
 
@@ -60,7 +61,8 @@ struct EvaluationDatabases {
     return experiment.captured_only ? captured : method;
   }
 };
-absl::StatusOr<EvaluationDatabases> LoadDatabases(const std::vector<std::filesystem::path>& files);
+absl::StatusOr<EvaluationDatabases> LoadDatabases(const std::vector<std::filesystem::path>& files,
+                                                  const DatabaseBuildOptions& options = {});
 // Test clips on `rig`, cut to `max_frames` (0 = whole). Clips on another rig are an error.
 // `body_scale` ≠ 1 makes each performer that much larger (every bone and the root's path; the
 // rotations kept): people of other sizes on the database's own motion (mocap-eval --test-body-scale).

@@ -163,6 +163,12 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "clips reconstructed at once (each single-threaded)");
   app.add_option("--k1", base.ankle_candidates, "A3 ankle candidates K1");
   app.add_option("--k2", base.pose_neighbours, "A5 pose neighbours K2");
+  mocap::DatabaseBuildOptions database_options;
+  std::vector<float> ankle_scales;
+  app.add_option("--eq8-ankle-scales", ankle_scales,
+                 "A5 eq. 8: the ankle positions' and velocities' scales against the wrists' (default 3 0.5; 1 1: the "
+                 "patent's)")
+      ->expected(2);
   app.add_option("--pose-kernel", base.pose_neighbour_kernel,
                  "A5: weigh the K2 examples by a Gaussian kernel of this × the median neighbour's squared distance "
                  "(0: alike)")
@@ -224,6 +230,10 @@ int main(int argc, char** argv) {
                  "the shared data folder (its unpack.sh; default: $MOCAP_SHARED_DATA_DIR, else ../shared/data)");
   CLI11_PARSE(app, argc, argv);
   if (no_motion_guard) base.motion_guard.enabled = false;
+  if (ankle_scales.size() == 2) {
+    database_options.ankle_position_scale = ankle_scales[0];
+    database_options.ankle_velocity_scale = ankle_scales[1];
+  }
   base.footskate.contact_source = contacts == "database"    ? mocap::ContactSource::kDatabaseFrame
                                   : contacts == "estimated" ? mocap::ContactSource::kEstimatedAnkles
                                                             : mocap::ContactSource::kBoth;
@@ -283,7 +293,7 @@ int main(int argc, char** argv) {
     return kExitError;
   }
   std::cerr << "loading the database (" << database_files.size() << " files)...\n";
-  auto databases = mocap::eval::LoadDatabases(database_files);
+  auto databases = mocap::eval::LoadDatabases(database_files, database_options);
   if (!databases.ok()) {
     std::cerr << "mocap-eval: database: " << databases.status().message() << "\n";
     return kExitError;
@@ -399,6 +409,7 @@ int main(int argc, char** argv) {
   context["k1"] = base.ankle_candidates;
   context["k2"] = base.pose_neighbours;
   context["pose_neighbour_kernel"] = base.pose_neighbour_kernel;
+  context["eq8_ankle_scales"] = {database_options.ankle_position_scale, database_options.ankle_velocity_scale};
   context["quick"] = quick;
   auto experiments = make_experiments();
   if (!KnowsEveryRun(only_runs, experiments)) return kExitError;

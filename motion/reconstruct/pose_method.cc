@@ -54,7 +54,7 @@ class LocalModelMethod final : public PoseMethod {
                                                     const FrameFeatures& query) const override {
     if (!ankles_) return NearestByWrists(db, query, neighbours_);
     float feature[kWristAnkleFeatureDims];
-    WristAnkleFeature(query, db.position_weight(), feature);
+    WristAnkleFeature(query, db.wrist_ankle_weights(), feature);
     return db.NearestByWristsAndAnkles(feature, neighbours_);
   }
   absl::StatusOr<SolvedPose> Pose(const ReconstructionDatabase& db, std::span<const Neighbour> neighbours,

@@ -7,14 +7,15 @@
 
 namespace mocap {
 
-void WristAnkleFeature(const FrameFeatures& f, float position_weight, float out[kWristAnkleFeatureDims]) {
-  const float p = std::sqrt(position_weight), v = std::sqrt(1.0f - position_weight);
+void WristAnkleFeature(const FrameFeatures& f, const WristAnkleWeights& weights, float out[kWristAnkleFeatureDims]) {
+  const float p = std::sqrt(weights.position_weight), v = std::sqrt(1.0f - weights.position_weight);
+  const float ap = p * weights.ankle_position_scale, av = v * weights.ankle_velocity_scale;
   for (int side = 0; side < 2; ++side) {
     for (int axis = 0; axis < 3; ++axis) {
       out[3 * side + axis] = p * f.wrist_position[side][axis];
-      out[6 + 3 * side + axis] = p * f.ankle_position[side][axis];
+      out[6 + 3 * side + axis] = ap * f.ankle_position[side][axis];
       out[12 + 3 * side + axis] = v * f.wrist_velocity[side][axis];
-      out[18 + 3 * side + axis] = v * f.ankle_velocity[side][axis];
+      out[18 + 3 * side + axis] = av * f.ankle_velocity[side][axis];
     }
   }
 }
@@ -64,7 +65,9 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   std::shared_ptr<ReconstructionDatabase> db(new ReconstructionDatabase());
   db->rig_ = rig;
   const float position_weight = options.position_weight;
-  db->position_weight_ = position_weight;
+  db->eq8_weights_ = {.position_weight = position_weight,
+                      .ankle_position_scale = options.ankle_position_scale,
+                      .ankle_velocity_scale = options.ankle_velocity_scale};
   db->frame_time_ = options.frame_time;
   const int joints = rig.skeleton.num_joints();
   // q: every joint except those from the root down to the pelvis (their rotations are z_R).
@@ -152,7 +155,7 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   }
   std::vector<float> points(rows * kWristAnkleFeatureDims);
   for (size_t r = 0; r < rows; ++r)
-    WristAnkleFeature(row_features[r], position_weight, points.data() + r * kWristAnkleFeatureDims);
+    WristAnkleFeature(row_features[r], db->eq8_weights_, points.data() + r * kWristAnkleFeatureDims);
   if (absl::Status status = db->full_index_.Build(std::move(points), kWristAnkleFeatureDims); !status.ok())
     return status;
   db->frames_ = ToDatabaseFrames(row_features);

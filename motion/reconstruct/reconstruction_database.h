@@ -33,8 +33,21 @@ struct DatabaseClip {
 
 inline constexpr int kWristAnkleFeatureDims = 24;
 
+// How eq. 8 (A5) weighs its terms: α of eq. 2 for the positions against the velocities, and the
+// ankles' coordinates scaled against the wrists' (not in the patent, which weighs all four alike;
+// docs/method.md A5, stop 84): the A5 examples are found, and weighed, more by where the estimated
+// ankles stand and less by how fast the chosen frame's ankles moved.
+struct WristAnkleWeights {
+  float position_weight = 0.8f;       // α
+  float ankle_position_scale = 3.0f;  // × the ankle positions (their squared distance × 9)
+  float ankle_velocity_scale = 0.5f;  // × the ankle velocities (their squared distance × 1/4)
+};
+
 struct DatabaseBuildOptions {
-  float position_weight = 0.8f;    // α of eq. 2 and eq. 8 (docs/method.md A3, A5)
+  float position_weight = 0.8f;  // α of eq. 2 and eq. 8 (docs/method.md A3, A5)
+  // eq. 8's ankle scales (WristAnkleWeights; its α is position_weight above).
+  float ankle_position_scale = WristAnkleWeights{}.ankle_position_scale;
+  float ankle_velocity_scale = WristAnkleWeights{}.ankle_velocity_scale;
   double frame_time = 1.0 / 30.0;  // the database's frame period, s
   // Also search the travelling frames played backwards (docs/method.md A3, issue #22): a capture
   // of walking forwards, reversed, is a body walking backwards, which few databases hold and users
@@ -49,8 +62,10 @@ struct DatabaseBuildOptions {
   float reversed_min_ground_speed = 0.8f;
 };
 
-// The 24-D eq. 8 feature: √α·(wrist and ankle positions), √(1−α)·(their velocities).
-void WristAnkleFeature(const FrameFeatures& features, float position_weight, float out[kWristAnkleFeatureDims]);
+// The 24-D eq. 8 feature: √α·(wrist positions, ankle_position_scale × ankle positions),
+// √(1−α)·(wrist velocities, ankle_velocity_scale × ankle velocities).
+void WristAnkleFeature(const FrameFeatures& features, const WristAnkleWeights& weights,
+                       float out[kWristAnkleFeatureDims]);
 
 class ReconstructionDatabase {
  public:
@@ -80,7 +95,8 @@ class ReconstructionDatabase {
   int frame_in_clip(int row) const { return frame_of_row_[clip_frame_row(row)]; }
   bool is_reversed(int row) const { return row >= captured_frames_; }
   const WristFeatureIndex& wrist_index() const { return wrist_index_; }
-  float position_weight() const { return position_weight_; }
+  float position_weight() const { return eq8_weights_.position_weight; }
+  const WristAnkleWeights& wrist_ankle_weights() const { return eq8_weights_; }
   // The rig with the first performer's offsets in metres, as the A6 solver drives it.
   const BodyModel& body() const { return *body_; }
   // Typical height of a planted ankle (10th percentile of the lower ankle's height): A7's ground.
@@ -119,7 +135,7 @@ class ReconstructionDatabase {
   std::vector<int> clip_of_row_, frame_of_row_;
   WristFeatureIndex wrist_index_;
   KdTree full_index_;  // eq. 8
-  float position_weight_ = 0.8f;
+  WristAnkleWeights eq8_weights_;
   std::optional<BodyModel> body_;
   float planted_ankle_height_ = 0.0f;
   double frame_time_ = 1.0 / 30.0;

@@ -45,7 +45,7 @@ LocalPoseModel LocalModelAtTestFrame(const SyntheticReconstructionSetup& setup, 
                                      int components) {
   const ReconstructionDatabase& db = *setup.database;
   float query[kWristAnkleFeatureDims];
-  WristAnkleFeature(setup.test_clip.features[frame], db.position_weight(), query);
+  WristAnkleFeature(setup.test_clip.features[frame], db.wrist_ankle_weights(), query);
   const std::vector<Neighbour> nearest = db.NearestByWristsAndAnkles(query, neighbours).value();
   Eigen::MatrixXf examples(static_cast<Eigen::Index>(nearest.size()), db.pose_feature_size());
   for (size_t i = 0; i < nearest.size(); ++i)

@@ -71,7 +71,7 @@ TEST(ReconstructionDatabaseTest, NearestFramesAndALocalModelThatFitsThem) {
   auto db = ReconstructionDatabase::Build(b.rig, b.clips);
   ASSERT_TRUE(db.ok());
   float query[kWristAnkleFeatureDims];
-  WristAnkleFeature(b.clips[0].features[40], 0.8f, query);  // row 40
+  WristAnkleFeature(b.clips[0].features[40], WristAnkleWeights{}, query);  // row 40
   auto neighbours = (*db)->NearestByWristsAndAnkles(query, 40);
   ASSERT_TRUE(neighbours.ok());
   ASSERT_EQ(neighbours->size(), 40u);
@@ -114,7 +114,7 @@ TEST(ReconstructionDatabaseTest, ReversedRowsPlayEveryClipBackwards) {
   for (int axis = 0; axis < 3; ++axis) EXPECT_EQ(backward.pelvis_position[axis], forward.pelvis_position[axis]);
   // A body walking backwards (the walk's velocities negated) finds the reversed rows, exactly.
   float query[kWristAnkleFeatureDims];
-  WristAnkleFeature(played[89 - 10], 0.8f, query);
+  WristAnkleFeature(played[89 - 10], WristAnkleWeights{}, query);
   auto by_ankles = (*db)->NearestByWristsAndAnkles(query, 1);
   ASSERT_TRUE(by_ankles.ok());
   EXPECT_EQ(by_ankles->front().row, row);
