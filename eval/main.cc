@@ -166,7 +166,7 @@ int main(int argc, char** argv) {
   mocap::DatabaseBuildOptions database_options;
   std::vector<float> ankle_scales;
   app.add_option("--eq8-ankle-scales", ankle_scales,
-                 "A5 eq. 8: the ankle positions' and velocities' scales against the wrists' (default 3 0.5; 1 1: the "
+                 "A5 eq. 8: the ankle positions' and velocities' scales against the wrists' (default 2 0.5; 1 1: the "
                  "patent's)")
       ->expected(2);
   app.add_option("--pose-kernel", base.pose_neighbour_kernel,

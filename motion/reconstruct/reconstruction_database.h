@@ -39,7 +39,7 @@ inline constexpr int kWristAnkleFeatureDims = 24;
 // ankles stand and less by how fast the chosen frame's ankles moved.
 struct WristAnkleWeights {
   float position_weight = 0.8f;       // α
-  float ankle_position_scale = 3.0f;  // × the ankle positions (their squared distance × 9)
+  float ankle_position_scale = 2.0f;  // × the ankle positions (their squared distance × 4)
   float ankle_velocity_scale = 0.5f;  // × the ankle velocities (their squared distance × 1/4)
 };
 
