@@ -63,7 +63,7 @@ Eigen::VectorXf NeighbourKernelWeights(std::span<const float> squared_distances,
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
   const float median = sorted[sorted.size() / 2];
   const float nearest = *std::min_element(squared_distances.begin(), squared_distances.end());
-  // Every example alike when the median is the nearest (a database of copies; an exact match).
+  // Floored so an exact match (median 0) stays finite: examples at the nearest's distance weigh 1.
   const float variance = kernel * std::max(median, 1e-12f);
   Eigen::VectorXf weights(static_cast<Eigen::Index>(squared_distances.size()));
   for (size_t i = 0; i < squared_distances.size(); ++i)
