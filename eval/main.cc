@@ -231,8 +231,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (no_motion_guard) base.motion_guard.enabled = false;
   if (ankle_scales.size() == 2) {
-    database_options.ankle_position_scale = ankle_scales[0];
-    database_options.ankle_velocity_scale = ankle_scales[1];
+    database_options.pose_query.ankle_position_scale = ankle_scales[0];
+    database_options.pose_query.ankle_velocity_scale = ankle_scales[1];
   }
   base.footskate.contact_source = contacts == "database"    ? mocap::ContactSource::kDatabaseFrame
                                   : contacts == "estimated" ? mocap::ContactSource::kEstimatedAnkles
@@ -409,7 +409,8 @@ int main(int argc, char** argv) {
   context["k1"] = base.ankle_candidates;
   context["k2"] = base.pose_neighbours;
   context["pose_neighbour_kernel"] = base.pose_neighbour_kernel;
-  context["eq8_ankle_scales"] = {database_options.ankle_position_scale, database_options.ankle_velocity_scale};
+  context["eq8_ankle_scales"] = {database_options.pose_query.ankle_position_scale,
+                                 database_options.pose_query.ankle_velocity_scale};
   context["quick"] = quick;
   auto experiments = make_experiments();
   if (!KnowsEveryRun(only_runs, experiments)) return kExitError;

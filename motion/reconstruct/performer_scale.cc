@@ -56,7 +56,7 @@ absl::StatusOr<PerformerScaleEstimate> EstimatePerformerScale(const Reconstructi
   // One A1 wrist feature per sampled frame (the session's A2 fit: local linear, σ = 1 frame).
   const std::vector<float> kernel = GaussianKernel(1.0f);
   const float rate = static_cast<float>(1.0 / database.frame_time());
-  const WristFeatureOptions feature_options{.position_weight = database.position_weight()};
+  const WristFeatureOptions& feature_options = database.wrist_feature_options();
   std::vector<std::array<float, kWristFeatureDims>> features;
   float heading = 0.0f;
   for (int t = 0; t < frames; t += options.frame_step) {

@@ -30,7 +30,7 @@ SolvedPose DatabasePoseInQueryFrame(const ReconstructionDatabase& db, int row, c
 absl::StatusOr<std::vector<Neighbour>> NearestByWrists(const ReconstructionDatabase& db, const FrameFeatures& query,
                                                        int count) {
   float feature[kWristFeatureDims];
-  WristFeature(query, {.position_weight = db.position_weight()}, feature);
+  WristFeature(query, db.wrist_feature_options(), feature);
   return db.wrist_index().Search(feature, count);
 }
 

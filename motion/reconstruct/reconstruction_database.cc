@@ -62,12 +62,16 @@ void QuantizePoseFeatures(const FloatRows& values, IntRows* stored, Eigen::RowVe
 
 absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionDatabase::Build(
     const RigModel& rig, const std::vector<DatabaseClip>& clips, const DatabaseBuildOptions& options) {
+  const WristAnkleWeights& eq8 = options.pose_query;
+  if (!(eq8.position_weight >= 0.0f && eq8.position_weight <= 1.0f) || !(eq8.ankle_position_scale >= 0.0f) ||
+      !(eq8.ankle_velocity_scale >= 0.0f) || !std::isfinite(eq8.ankle_position_scale) ||
+      !std::isfinite(eq8.ankle_velocity_scale)) {
+    return absl::InvalidArgumentError("eq. 8 weights: α must lie in [0, 1] and the ankle scales be finite and ≥ 0");
+  }
   std::shared_ptr<ReconstructionDatabase> db(new ReconstructionDatabase());
   db->rig_ = rig;
-  const float position_weight = options.position_weight;
-  db->eq8_weights_ = {.position_weight = position_weight,
-                      .ankle_position_scale = options.ankle_position_scale,
-                      .ankle_velocity_scale = options.ankle_velocity_scale};
+  db->eq2_options_ = options.wrist_query;
+  db->eq8_weights_ = options.pose_query;
   db->frame_time_ = options.frame_time;
   const int joints = rig.skeleton.num_joints();
   // q: every joint except those from the root down to the pelvis (their rotations are z_R).
@@ -150,7 +154,7 @@ absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionData
   for (const DatabaseClip& clip : clips) clip_features.emplace_back(clip.features);
   db->motion_limits_ = MeasureMotionLimits(clip_features, options.frame_time);
   db->wrist_reach_ = MeasureWristReach(std::span<const FrameFeatures>(row_features.data(), total));
-  if (absl::Status status = db->wrist_index_.Build(row_features, {.position_weight = position_weight}); !status.ok()) {
+  if (absl::Status status = db->wrist_index_.Build(row_features, db->eq2_options_); !status.ok()) {
     return status;
   }
   std::vector<float> points(rows * kWristAnkleFeatureDims);

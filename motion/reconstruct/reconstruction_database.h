@@ -44,10 +44,10 @@ struct WristAnkleWeights {
 };
 
 struct DatabaseBuildOptions {
-  float position_weight = 0.8f;  // α of eq. 2 and eq. 8 (docs/method.md A3, A5)
-  // eq. 8's ankle scales (WristAnkleWeights; its α is position_weight above).
-  float ankle_position_scale = WristAnkleWeights{}.ankle_position_scale;
-  float ankle_velocity_scale = WristAnkleWeights{}.ankle_velocity_scale;
+  // How the two indices weigh their features: eq. 2 (A3, the wrists) and eq. 8 (A5, wrists and
+  // ankles). The patent's α is 0.8 in both; each equation keeps its own.
+  WristFeatureOptions wrist_query;
+  WristAnkleWeights pose_query;
   double frame_time = 1.0 / 30.0;  // the database's frame period, s
   // Also search the travelling frames played backwards (docs/method.md A3, issue #22): a capture
   // of walking forwards, reversed, is a body walking backwards, which few databases hold and users
@@ -95,7 +95,8 @@ class ReconstructionDatabase {
   int frame_in_clip(int row) const { return frame_of_row_[clip_frame_row(row)]; }
   bool is_reversed(int row) const { return row >= captured_frames_; }
   const WristFeatureIndex& wrist_index() const { return wrist_index_; }
-  float position_weight() const { return eq8_weights_.position_weight; }
+  // The weights a query's features take to be compared with the rows': eq. 2's, eq. 8's.
+  const WristFeatureOptions& wrist_feature_options() const { return eq2_options_; }
   const WristAnkleWeights& wrist_ankle_weights() const { return eq8_weights_; }
   // The rig with the first performer's offsets in metres, as the A6 solver drives it.
   const BodyModel& body() const { return *body_; }
@@ -135,6 +136,7 @@ class ReconstructionDatabase {
   std::vector<int> clip_of_row_, frame_of_row_;
   WristFeatureIndex wrist_index_;
   KdTree full_index_;  // eq. 8
+  WristFeatureOptions eq2_options_;
   WristAnkleWeights eq8_weights_;
   std::optional<BodyModel> body_;
   float planted_ankle_height_ = 0.0f;

@@ -385,8 +385,7 @@ absl::Status ReconstructionSession::DeviceToWrists(Segment& s) const {
     std::vector<AnkleCandidate> nearest;
     float heading = s.cloud_heading;
     MOCAP_RETURN_IF_ERROR(FindAnkleCloud(database_->wrist_index(), database_->frames(),
-                                         {.position_weight = database_->position_weight()}, points, 1, &heading,
-                                         &nearest));
+                                         database_->wrist_feature_options(), points, 1, &heading, &nearest));
     s.grip.Remember(*database_, nearest);
   }
   s.grip.ToWrists(s.cloud_heading, &points);
@@ -413,8 +412,8 @@ absl::Status ReconstructionSession::ProcessFrame(std::vector<ReconstructedFrame>
   }
   std::vector<AnkleCandidate> cloud;
   MOCAP_RETURN_IF_ERROR(FindAnkleCloud(database_->wrist_index(), database_->frames(),
-                                       {.position_weight = database_->position_weight()}, s.wrists.back(),
-                                       options_.ankle_candidates, &s.cloud_heading, &cloud));
+                                       database_->wrist_feature_options(), s.wrists.back(), options_.ankle_candidates,
+                                       &s.cloud_heading, &cloud));
   s.wrist_distance.push_back(cloud.front().wrist_distance);
   if (s.grip.active()) s.grip.Remember(*database_, cloud);
   statistics_.cloud_seconds += SecondsSince(start);

@@ -66,6 +66,26 @@ TEST(ReconstructionDatabaseTest, RefusesAPoseThatIsNotANumber) {
   EXPECT_EQ(ReconstructionDatabase::Build(b.rig, b.clips).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
+TEST(ReconstructionDatabaseTest, RefusesWeightsNoQueryCanUse) {
+  const Built b = MakeClips({});
+  for (const WristAnkleWeights bad :
+       {WristAnkleWeights{.position_weight = 1.5f}, WristAnkleWeights{.position_weight = -0.1f},
+        WristAnkleWeights{.ankle_position_scale = -1.0f}, WristAnkleWeights{.ankle_velocity_scale = std::nanf("")},
+        WristAnkleWeights{.ankle_position_scale = std::numeric_limits<float>::infinity()}}) {
+    EXPECT_EQ(ReconstructionDatabase::Build(b.rig, b.clips, {.pose_query = bad}).status().code(),
+              absl::StatusCode::kInvalidArgument);
+  }
+  EXPECT_EQ(ReconstructionDatabase::Build(b.rig, b.clips, {.wrist_query = {.position_weight = 2.0f}}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  // Each equation keeps the weights it was given.
+  const auto db = ReconstructionDatabase::Build(
+      b.rig, b.clips, {.wrist_query = {.position_weight = 0.6f}, .pose_query = {.ankle_position_scale = 1.0f}});
+  ASSERT_TRUE(db.ok()) << db.status();
+  EXPECT_EQ((*db)->wrist_feature_options().position_weight, 0.6f);
+  EXPECT_EQ((*db)->wrist_ankle_weights().position_weight, 0.8f);
+  EXPECT_EQ((*db)->wrist_ankle_weights().ankle_position_scale, 1.0f);
+}
+
 TEST(ReconstructionDatabaseTest, NearestFramesAndALocalModelThatFitsThem) {
   const Built b = MakeClips({});
   auto db = ReconstructionDatabase::Build(b.rig, b.clips);
