@@ -316,6 +316,7 @@ int main(int argc, char** argv) {
     context["database_pelvis_speed_beyond_hands_max_m_per_s"] = limits.pelvis_speed_beyond_hands_max;
     context["database_pelvis_speed_by_hands_speed_m_per_s"] = limits.pelvis_speed_by_hands_speed[0];
     context["database_pelvis_speed_by_long_hands_speed_m_per_s"] = limits.pelvis_speed_by_hands_speed[1];
+    context["database_pelvis_speed_while_hands_stand_m_per_s"] = limits.pelvis_speed_while_hands_stand;
     context["seed"] = seed;
     context["noise_cm"] = noise_cm;
     const mocap::eval::LandmarkBodySize size = mocap::eval::BodySizeOf(*database);

@@ -28,6 +28,8 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
     : frame_time_(frame_time),
       speed_limit_(OrUnbounded(limits.pelvis_speed_max, options.speed_margin)),
       acceleration_limit_(OrUnbounded(limits.pelvis_acceleration_max, options.acceleration_margin)),
+      standing_speed_limit_(options.bound_standing_body ? OrUnbounded(limits.pelvis_speed_while_hands_stand, 1.0f)
+                                                        : std::numeric_limits<float>::infinity()),
       hands_limits_(limits),
       standing_smoothing_seconds_(options.standing_smoothing_seconds),
       standing_hands_speed_(options.standing_hands_speed),
@@ -112,16 +114,18 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
             : Eigen::Vector3f(standing_velocity * static_cast<float>(since_start / start_rest_seconds_));
   }
   const float ground_speed = std::hypot(standing_velocity.x(), standing_velocity.z());  // over the ground
+  // How far the hands stand: 1 below standing_hands_speed, fading to 0 at moving_hands_speed.
+  auto standing_at = [&](float hands_ground_speed) {
+    return std::clamp(
+        (moving_hands_speed_ - hands_ground_speed) / std::max(1e-3f, moving_hands_speed_ - standing_hands_speed_), 0.0f,
+        1.0f);
+  };
+  const float hands_stand = standing_at(ground_speed);
   Eigen::Vector3f target = solved;
   if (has_previous_ && continuous && standing_smoothing_seconds_ > 0) {
     // Standing: the ground position eases towards the solve (exponential filter, time constant
     // standing_smoothing_seconds), fading out as the hands start to travel.
-    auto standing_at = [&](float hands_ground_speed) {
-      return std::clamp(
-          (moving_hands_speed_ - hands_ground_speed) / std::max(1e-3f, moving_hands_speed_ - standing_hands_speed_),
-          0.0f, 1.0f);
-    };
-    float standing = standing_at(ground_speed);
+    float standing = hands_stand;
     // A stream's first frames ease in, as far as the hands ahead stand (all the way when unknown).
     if (since_start < start_ease_seconds_) {
       const float ahead =
@@ -170,6 +174,9 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   // step from the previous velocity towards one within the speed bound stays within it, unless the bound itself shrank
   // (the hands stopped), when the body brakes as hard as a body can.
   speed_bound_ = std::min(speed_limit_, hands_limits_.PelvisSpeedBoundForHands(hands_speed));
+  // While the hands stand, a standing body's bound, fading into the above as they travel.
+  if (speed_bound_ > standing_speed_limit_)
+    speed_bound_ = standing_speed_limit_ + (1.0f - hands_stand) * (speed_bound_ - standing_speed_limit_);
   foot_speed_bound_ = hands_limits_.AnkleSpeedBoundForHands(hands_speed);
   Eigen::Vector3f velocity = Clamped(wanted, speed_bound_);
   if (velocity_known) velocity = previous_velocity_ + Clamped(velocity - previous_velocity_, acceleration_limit_ * dt);

@@ -57,6 +57,8 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
   std::vector<float> pelvis_speed, pelvis_acceleration, wrist_acceleration;
   MotionLimits limits;
   limits.pelvis_speed_beyond_hands_max = -std::numeric_limits<float>::infinity();
+  std::vector<float> standing_pelvis_speed;  // frames whose hands stand
+  const int standing_frames = std::max(1, static_cast<int>(std::lround(kStandingWindowSeconds / frame_time)));
   // Per window and hands' speed bin: the pelvis' speeds, and the faster ankle's.
   std::array<std::vector<std::vector<float>>, kHandsWindowsSeconds.size()> speeds_by_hands, ankle_speeds_by_hands;
   for (std::span<const FrameFeatures> clip : clips) {
@@ -75,6 +77,10 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
       if (f >= 1) {
         const Eigen::Vector3f velocity = (pelvis - previous_pelvis) * rate;
         pelvis_speed.push_back(velocity.norm());
+        const int back = std::min(standing_frames, static_cast<int>(f));
+        const Eigen::Vector3f travel = midpoints[f] - midpoints[f - back];
+        if (std::hypot(travel.x(), travel.z()) * rate / static_cast<float>(back) < kStandingHandsSpeed)
+          standing_pelvis_speed.push_back(velocity.norm());
         for (size_t w = 0; w < kHandsWindowsSeconds.size(); ++w) {
           const int frames = std::min<int>(HandsWindowFrames(frame_time, static_cast<int>(w)), static_cast<int>(f));
           const float speed = (midpoints[f] - midpoints[f - frames]).norm() * rate / static_cast<float>(frames);
@@ -110,6 +116,7 @@ MotionLimits MeasureMotionLimits(std::span<const std::span<const FrameFeatures>>
     limits.pelvis_speed_by_hands_speed[w] = RunningEnvelopes(std::move(speeds_by_hands[w]));
     limits.ankle_speed_by_hands_speed[w] = RunningEnvelopes(std::move(ankle_speeds_by_hands[w]));
   }
+  limits.pelvis_speed_while_hands_stand = EnvelopeSpeed(std::move(standing_pelvis_speed));
   limits.pelvis_speed_p99 = Percentile(pelvis_speed, 0.99);
   limits.pelvis_speed_max = Max(pelvis_speed);
   limits.pelvis_acceleration_p99 = Percentile(pelvis_acceleration, 0.99);

@@ -27,6 +27,10 @@ namespace mocap {
 // second long enough that a standing body's gestures (within an arm's reach) average to little.
 inline constexpr std::array<double, 2> kHandsWindowsSeconds = {0.5, 2.0};
 inline constexpr double kHandsWindowSeconds = kHandsWindowsSeconds[0];
+// The hands stand while their midpoint's mean ground speed over the last kStandingWindowSeconds is
+// below kStandingHandsSpeed (MotionGuardOptions' defaults; MotionLimits::pelvis_speed_while_hands_stand).
+inline constexpr double kStandingWindowSeconds = 1.0;
+inline constexpr float kStandingHandsSpeed = 0.25f;  // m/s
 // Frames of window `w` of kHandsWindowsSeconds (at least 1).
 int HandsWindowFrames(double frame_time, int w = 0);
 
@@ -56,6 +60,12 @@ struct MotionLimits {
   // fastest ankle.
   std::array<std::vector<float>, kHandsWindowsSeconds.size()> ankle_speed_by_hands_speed;
   float AnkleSpeedBoundForHands(const std::array<float, kHandsWindowsSeconds.size()>& hands_speed) const;
+  // How fast the pelvis moved while the hands stood (their midpoint's mean ground speed over the
+  // last kStandingWindowSeconds below kStandingHandsSpeed): the 99.99th percentile, the fastest
+  // with fewer than 10,000 such frames; 0 with none. The tail above it is bodies that set off
+  // before their hands travel; a stream's body that does the same is held to it until the hands
+  // show the walk (MotionGuard), a standing body's solve that hops is held always.
+  float pelvis_speed_while_hands_stand = 0;
   float wrist_speed_max = 0;                                     // either wrist, m/s
   float ankle_speed_max = 0;                                     // either ankle, m/s
   float wrist_acceleration_p99 = 0, wrist_acceleration_max = 0;  // either wrist, m/s²

@@ -197,6 +197,37 @@ TEST(MotionGuardTest, ABodyDoesNotRunOffWhileItsHandsStayPut) {
   }
 }
 
+// A standing body's solve that hops between its neighbours' stances is held to how fast the
+// database's pelvis moved while its hands stood, not to what a body that sets off with its hands
+// still does; once the hands travel, the bounds by their speed alone hold (stop 85).
+TEST(MotionGuardTest, AStandingBodyMovesNoFasterThanTheDatabasesStandingBodies) {
+  MotionLimits limits = Limits();
+  limits.pelvis_speed_while_hands_stand = 0.3f;
+  MotionGuardOptions options = Exact();
+  options.standing_smoothing_seconds = 0;  // the bound alone
+  auto fastest = [&](const MotionGuardOptions& guard_options, float hands_speed, int from_frame) {
+    MotionGuard guard(limits, kDt, guard_options);
+    Eigen::Vector3f previous = Eigen::Vector3f::Zero();
+    float speed = 0.0f;
+    for (int f = 0; f < 90; ++f) {
+      const float t = static_cast<float>(f * kDt);
+      const Eigen::Vector3f target(0.9f * t, 0.9f, 0.0f);  // the solve drifts off at 0.9 m/s
+      bool limited = false;
+      const Eigen::Vector3f out = guard.Next(f * kDt, target, Eigen::Vector3f(hands_speed * t, 1.0f, 0.3f), &limited);
+      if (f >= from_frame) speed = std::max(speed, (out - previous).norm() / static_cast<float>(kDt));
+      previous = out;
+    }
+    return speed;
+  };
+  EXPECT_NEAR(fastest(options, 0.0f, 1), 0.3f, 1e-3f) << "hands still: the standing bound";
+  EXPECT_NEAR(fastest(options, 0.1f, 1), 0.3f, 1e-3f) << "hands that sway stand too";
+  // Hands that travel at 0.8 m/s (past moving_hands_speed once the 1 s window holds it): the
+  // solve's 0.9 m/s is within hands + the most the pelvis outran them.
+  EXPECT_NEAR(fastest(options, 0.8f, 45), 0.9f, 1e-3f);
+  options.bound_standing_body = false;
+  EXPECT_NEAR(fastest(options, 0.0f, 1), 0.9f, 1e-3f) << "off: hands + beyond-hands (1.0) lets the drift through";
+}
+
 // A database of a standing body that shifts its weight (pelvis 0.5 m/s, hands still) and a walk
 // (pelvis and hands at 1.52 m/s): while the hands move at 0.35 m/s the pelvis may move as fast as
 // the database's did with hands that slow (0.5 m/s), not hands + the most it ever outran them.
@@ -226,6 +257,7 @@ TEST(MotionLimitsTest, BoundsThePelvisByWhatTheDatabaseDidWithHandsThatSlow) {
   EXPECT_NEAR(limits.PelvisSpeedBoundForHands({5.0f, 5.0f}), 5.5f, 1e-3f) << "past the database's hands: the sum";
   EXPECT_NEAR(limits.PelvisSpeedBoundForHands({1.55f, 0.0f}), 0.5f, 1e-3f)
       << "hands fast over the last 0.5 s that went nowhere over 2 s: the body stood";
+  EXPECT_NEAR(limits.pelvis_speed_while_hands_stand, 0.5f, 1e-3f) << "the walk's hands travel: not standing";
 }
 
 // The feet alike: a standing body that shuffles a foot at 0.3 m/s and a walk whose swinging foot
