@@ -28,8 +28,9 @@ MotionGuard::MotionGuard(const MotionLimits& limits, double frame_time, const Mo
     : frame_time_(frame_time),
       speed_limit_(OrUnbounded(limits.pelvis_speed_max, options.speed_margin)),
       acceleration_limit_(OrUnbounded(limits.pelvis_acceleration_max, options.acceleration_margin)),
-      standing_speed_limit_(options.bound_standing_body ? OrUnbounded(limits.pelvis_speed_while_hands_stand, 1.0f)
-                                                        : std::numeric_limits<float>::infinity()),
+      standing_speed_limit_(options.bound_standing_body
+                                ? OrUnbounded(limits.pelvis_speed_while_hands_stand, options.beyond_hands_margin)
+                                : std::numeric_limits<float>::infinity()),
       hands_limits_(limits),
       standing_smoothing_seconds_(options.standing_smoothing_seconds),
       standing_hands_speed_(options.standing_hands_speed),

@@ -51,7 +51,8 @@ struct MotionGuardOptions {
   // The window of that mean ground speed.
   float standing_window_seconds = static_cast<float>(kStandingWindowSeconds);
   // While the hands stand so, the pelvis is also no faster than the database's pelvis moved while
-  // its hands stood (MotionLimits::pelvis_speed_while_hands_stand), that bound fading into the
+  // its hands stood (MotionLimits::pelvis_speed_while_hands_stand, × beyond_hands_margin as the
+  // other bounds by the hands), that bound fading into the
   // others as the standing filter fades. A standing body's solve hops 10-20 cm a frame between its
   // neighbours' stances; the filter passed a quarter of that, and the bound by the hands' speed let
   // through what a body starting to walk does (up to 1.2 m/s while a still capture allows 1.05:

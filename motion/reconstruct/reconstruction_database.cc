@@ -63,9 +63,9 @@ void QuantizePoseFeatures(const FloatRows& values, IntRows* stored, Eigen::RowVe
 absl::StatusOr<std::shared_ptr<const ReconstructionDatabase>> ReconstructionDatabase::Build(
     const RigModel& rig, const std::vector<DatabaseClip>& clips, const DatabaseBuildOptions& options) {
   const WristAnkleWeights& eq8 = options.pose_query;
-  if (!(eq8.position_weight >= 0.0f && eq8.position_weight <= 1.0f) || !(eq8.ankle_position_scale >= 0.0f) ||
-      !(eq8.ankle_velocity_scale >= 0.0f) || !std::isfinite(eq8.ankle_position_scale) ||
-      !std::isfinite(eq8.ankle_velocity_scale)) {
+  auto usable_scale = [](float scale) { return std::isfinite(scale) && scale >= 0.0f; };
+  if (!(eq8.position_weight >= 0.0f && eq8.position_weight <= 1.0f) || !usable_scale(eq8.ankle_position_scale) ||
+      !usable_scale(eq8.ankle_velocity_scale)) {
     return absl::InvalidArgumentError("eq. 8 weights: α must lie in [0, 1] and the ankle scales be finite and ≥ 0");
   }
   std::shared_ptr<ReconstructionDatabase> db(new ReconstructionDatabase());
