@@ -104,6 +104,11 @@ std::vector<Experiment> MakeExperiments(const ReconstructionOptions& base, doubl
     o.lag = lag;
     o.footskate.stream_stands_on_either_hand = false;  // feet held by the hands' midpoint alone (before stop 82)
     add(StrCat("lag_", lag, "_midpoint_stands"), "main", 0, o, noise_cm);
+    o = base;
+    o.mode = StreamMode::kFixedLag;
+    o.lag = lag;
+    o.pelvis_edge_fit = false;  // the joint filter repeats the newest frame for the pelvis too (before stop 86)
+    add(StrCat("lag_", lag, "_clamped_pelvis"), "main", 0, o, noise_cm);
   }
   for (int window : {10, 50, 100}) {
     ReconstructionOptions o = base;

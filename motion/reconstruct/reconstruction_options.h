@@ -59,6 +59,14 @@ struct ReconstructionOptions {
   // the motion below the cutoff passes and the jitter above it does not. Sub-intervals and fixed
   // lags keep the Gaussian: a sharp filter needs 8σ of look-ahead, which would be their latency.
   bool joint_low_pass = true;
+  // A7: where the Gaussian joint filter reaches past the frames solved so far (a stream's lag is
+  // shorter than its reach: at lag 0 all of its taps ahead), the pelvis takes the line fitted
+  // through the frames there are with the kernel's weights (local linear regression, as A2 fits
+  // the wrists) instead of the newest frame repeated for the taps beyond, which held a moving body
+  // back (a third of a frame at lag 0: 1.5 cm at walking pace). Stop 86, standard split lag 0
+  // 2.6139 → 2.4427 cm (docs/method.md A7). The rotations keep the repeat: fitted too, the legs
+  // gained and the torso and arms lost, and the joint jitter rose a quarter.
+  bool pelvis_edge_fit = true;
   // Where the input is weak — a hand the tracker has lost (held by the other, one_hand_bridge.h),
   // both hands bridged across a dropout — and for `weak_input_hold_seconds` after (the returning
   // hand's cross-fade), the joint filter leans on the motion around the frame: its σ widens to

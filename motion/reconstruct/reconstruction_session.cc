@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "motion/core/gaussian_kernel.h"
+#include "motion/core/local_linear_weights.h"
 #include "motion/core/low_pass_kernel.h"
 #include "motion/core/rotation_vector.h"
 #include "motion/core/status_macros.h"
@@ -147,6 +148,7 @@ ReconstructionSession::ReconstructionSession(std::shared_ptr<const Reconstructio
   const bool low_pass = options_.joint_low_pass && options_.mode == StreamMode::kSubInterval && options_.window == 0;
   auto joint_kernel = [low_pass](float sigma) { return low_pass ? LowPassKernel(sigma) : GaussianKernel(sigma); };
   joint_kernels_ = {joint_kernel(options_.joint_smoothing_sigma)};
+  pelvis_edge_fit_ = options_.pelvis_edge_fit && !low_pass;  // the sharp low-pass's weights go negative
   if (options_.joint_smoothing_sigma > 0) {
     const float widest = options_.weak_input_joint_smoothing_sigma;
     const int steps = static_cast<int>(std::ceil((widest - options_.joint_smoothing_sigma) / 0.1f - 1e-3f));
@@ -627,6 +629,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
   std::vector<Eigen::Quaternionf> world_rotations;
   std::vector<Eigen::Vector3f> world_positions;
   std::vector<std::optional<Eigen::Vector3f>> pins;  // a foot's, over the joint filter's reach
+  std::vector<float> pelvis_weights;                 // the line's, where the filter's taps run out
   while (s.emitted <= last && (flush || s.emitted + joint_filter_lag_ <= last)) {
     const int e = s.emitted;
     ReconstructedFrame frame = s.post[e - s.post_first];
@@ -655,10 +658,15 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       const int joints = static_cast<int>(centre.rotations.size());
       std::vector<Eigen::Vector3f> log_sum(joints, Eigen::Vector3f::Zero());
       Eigen::Vector3f pelvis = Eigen::Vector3f::Zero();
+      // Where the kernel reaches past the frames there are, the pelvis follows the line through
+      // them (ReconstructionOptions::pelvis_edge_fit); the repeated end frame held it back.
+      const int behind = e - s.post_first, ahead = last - e;
+      const bool fit_pelvis = pelvis_edge_fit_ && (ahead < radius || behind < radius);
+      if (fit_pelvis) LocalLinearWeights(kernel, -behind, ahead, &pelvis_weights);
       for (int i = -radius; i <= radius; ++i) {
         const BodyPose& p = reached(i).pose;
         const float w = kernel[i + radius];
-        pelvis += w * reached(i).pelvis_position;
+        pelvis += (fit_pelvis ? pelvis_weights[i + radius] : w) * reached(i).pelvis_position;
         for (int j = 0; j < joints; ++j)
           log_sum[j] += w * RotationVector(Eigen::Quaternionf(centre.rotations[j].conjugate() * p.rotations[j]));
       }

@@ -245,6 +245,7 @@ class ReconstructionSession {
   // The joint filter's kernels from joint_smoothing_sigma (first) to
   // weak_input_joint_smoothing_sigma (last), 0.1 frame of σ apart; the hands' targets' alongside.
   std::vector<std::vector<float>> joint_kernels_, hand_kernels_;
+  bool pelvis_edge_fit_ = false;  // the Gaussian joint filter fits the pelvis where its taps run out
   // Issue #22: the output pelvis moves as the database's bodies do, across segments too.
   MotionGuard motion_guard_;
   InputJumpDetector jump_detector_;

@@ -121,6 +121,40 @@ TEST_F(ReconstructionSessionTest, FixedLagEmitsFrameTMinusDWhenFrameTArrives) {
   }
 }
 
+// Stop 86: at lag 0 the joint filter has no frame ahead of the one it emits; repeating that frame
+// for the taps beyond held the pelvis of a walking body behind where it was solved. The line
+// through the frames there are follows it (ReconstructionOptions::pelvis_edge_fit).
+TEST_F(ReconstructionSessionTest, ALagZeroStreamsPelvisKeepsUpWithAWalk) {
+  options_.mode = StreamMode::kFixedLag;
+  options_.lag = 0;
+  const BodyLandmarks& l = setup_.rig.topology.landmarks;
+  const double dt = setup_.database->frame_time();
+  // The mean of the pelvis's miss along the captured walk's direction (negative: behind), metres.
+  auto mean_lead = [&](bool edge_fit) {
+    options_.pelvis_edge_fit = edge_fit;
+    auto frames = ReconstructOffline(setup_.database, options_, testing::WristSamplesOf(setup_));
+    EXPECT_TRUE(frames.ok()) << frames.status();
+    double sum = 0.0;
+    int count = 0;
+    for (const ReconstructedFrame& frame : *frames) {
+      const int f = frame.frame_in_segment;
+      if (f == 0) continue;
+      Eigen::Vector3f velocity = (setup_.truth.position(f, l.pelvis) - setup_.truth.position(f - 1, l.pelvis)) / dt;
+      velocity.y() = 0.0f;
+      if (velocity.norm() < 0.5f) continue;
+      sum += (frame.pelvis_position - setup_.truth.position(f, l.pelvis)).dot(velocity.normalized());
+      ++count;
+    }
+    EXPECT_GT(count, 20);
+    return sum / std::max(count, 1);
+  };
+  const double repeated = mean_lead(false), fitted = mean_lead(true);
+  EXPECT_LT(repeated, -0.005) << "the repeated newest frame held the pelvis back";
+  // The filter's share of the lag (a third of a frame at σ = 1); A6's E_smooth over the frames
+  // before keeps the rest.
+  EXPECT_GT(fitted, repeated + 0.005) << "fitted " << fitted << " m, repeated " << repeated;
+}
+
 // Issue #14: a session kept every frame's state for its whole life (~118 kB per 1,000 frames).
 TEST_F(ReconstructionSessionTest, ALongSessionHoldsOnlyWhatItsWindowAndLagReach) {
   const auto clip = testing::WristSamplesOf(setup_);
