@@ -661,7 +661,7 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       // Where the kernel reaches past the frames there are, the pelvis follows the line through
       // them (ReconstructionOptions::pelvis_edge_fit); the repeated end frame held it back.
       const int behind = e - s.post_first, ahead = last - e;
-      const bool fit_pelvis = pelvis_edge_fit_ && (ahead < radius || behind < radius);
+      const bool fit_pelvis = pelvis_edge_fit_ && ahead < radius;
       if (fit_pelvis) LocalLinearWeights(kernel, -behind, ahead, &pelvis_weights);
       for (int i = -radius; i <= radius; ++i) {
         const BodyPose& p = reached(i).pose;
