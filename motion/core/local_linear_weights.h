@@ -27,7 +27,8 @@ inline void LocalLinearWeights(std::span<const float> kernel, int low, int high,
   if (sum <= 0.0f) return;
   mean /= sum;
   float spread = 0.0f;
-  for (int i = low; i <= high; ++i) spread += kernel[i + radius] * (static_cast<float>(i) - mean) * (static_cast<float>(i) - mean);
+  for (int i = low; i <= high; ++i)
+    spread += kernel[i + radius] * (static_cast<float>(i) - mean) * (static_cast<float>(i) - mean);
   // a = x̄ − ī·b with b = Σ wᵢ (i − ī)(xᵢ − x̄) / spread, so cᵢ = wᵢ (1 / Σw − ī (i − ī) / spread).
   const float tilt = spread > 1e-6f ? mean / spread : 0.0f;
   for (int i = low; i <= high; ++i)

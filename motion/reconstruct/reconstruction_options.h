@@ -59,13 +59,15 @@ struct ReconstructionOptions {
   // the motion below the cutoff passes and the jitter above it does not. Sub-intervals and fixed
   // lags keep the Gaussian: a sharp filter needs 8σ of look-ahead, which would be their latency.
   bool joint_low_pass = true;
-  // A7: where the Gaussian joint filter reaches past the frames solved so far (a stream's lag is
-  // shorter than its reach: at lag 0 all of its taps ahead), the pelvis takes the line fitted
-  // through the frames there are with the kernel's weights (local linear regression, as A2 fits
-  // the wrists) instead of the newest frame repeated for the taps beyond, which held a moving body
-  // back (a third of a frame at lag 0: 1.5 cm at walking pace). Stop 86, standard split lag 0
-  // 2.6139 → 2.4427 cm (docs/method.md A7). The rotations keep the repeat: fitted too, the legs
-  // gained and the torso and arms lost, and the joint jitter rose a quarter.
+  // A7: where the Gaussian joint filter has no solved frame ahead of the one it emits (lag 0, a
+  // stream's last frame), the pelvis takes the line fitted through the frames there are with the
+  // kernel's weights (local linear regression, as A2 fits the wrists) instead of that frame
+  // repeated for the taps ahead, which held a moving body a third of a frame back (σ = 1; 1.5 cm
+  // at walking pace, 30 frames/s). Stop 86 (docs/method.md A7): standard split lag 0 2.6139 →
+  // 2.4424 cm. With frames ahead the repeat lags by 1/20 frame or less and the line's tilt only
+  // carries the solve's churn (fitted at lag 5 too: cross-dataset 15.872 → 15.959 cm). The
+  // rotations keep the repeat: fitted too, the legs gained, the torso and arms lost, and the
+  // joint jitter rose a quarter.
   bool pelvis_edge_fit = true;
   // Where the input is weak — a hand the tracker has lost (held by the other, one_hand_bridge.h),
   // both hands bridged across a dropout — and for `weak_input_hold_seconds` after (the returning

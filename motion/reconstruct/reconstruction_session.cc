@@ -658,11 +658,11 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       const int joints = static_cast<int>(centre.rotations.size());
       std::vector<Eigen::Vector3f> log_sum(joints, Eigen::Vector3f::Zero());
       Eigen::Vector3f pelvis = Eigen::Vector3f::Zero();
-      // Where the kernel reaches past the frames there are, the pelvis follows the line through
-      // them (ReconstructionOptions::pelvis_edge_fit); the repeated end frame held it back.
-      const int behind = e - s.post_first, ahead = last - e;
-      const bool fit_pelvis = pelvis_edge_fit_ && ahead < radius;
-      if (fit_pelvis) LocalLinearWeights(kernel, -behind, ahead, &pelvis_weights);
+      // Where the filter has no frame ahead of the one it emits, the pelvis follows the line
+      // through the frames there are (ReconstructionOptions::pelvis_edge_fit); the frame repeated
+      // for the taps ahead held it back.
+      const bool fit_pelvis = pelvis_edge_fit_ && e == last;
+      if (fit_pelvis) LocalLinearWeights(kernel, s.post_first - e, 0, &pelvis_weights);
       for (int i = -radius; i <= radius; ++i) {
         const BodyPose& p = reached(i).pose;
         const float w = kernel[i + radius];
