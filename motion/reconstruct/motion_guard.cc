@@ -123,19 +123,21 @@ Eigen::Vector3f MotionGuard::Next(double time, const Eigen::Vector3f& solved, co
   };
   const float hands_stand = standing_at(ground_speed);
   Eigen::Vector3f target = solved;
+  // How far the body stands: as far as the hands do, and over a stream's first frames as far as
+  // the hands ahead stand (all the way when unknown), easing in.
+  float standing = hands_stand;
+  if (since_start < start_ease_seconds_) {
+    const float ahead =
+        leading_ && leading_->seconds > 0
+            ? standing_at(static_cast<float>(std::hypot(leading_->displacement.x(), leading_->displacement.z()) /
+                                             std::max(leading_->seconds, start_rest_seconds_)))
+            : 1.0f;
+    standing = std::max(standing, ahead * static_cast<float>(1.0 - since_start / start_ease_seconds_));
+  }
+  standing_ = standing_smoothing_seconds_ > 0 ? standing : 0.0f;
   if (has_previous_ && continuous && standing_smoothing_seconds_ > 0) {
     // Standing: the ground position eases towards the solve (exponential filter, time constant
     // standing_smoothing_seconds), fading out as the hands start to travel.
-    float standing = hands_stand;
-    // A stream's first frames ease in, as far as the hands ahead stand (all the way when unknown).
-    if (since_start < start_ease_seconds_) {
-      const float ahead =
-          leading_ && leading_->seconds > 0
-              ? standing_at(static_cast<float>(std::hypot(leading_->displacement.x(), leading_->displacement.z()) /
-                                               std::max(leading_->seconds, start_rest_seconds_)))
-              : 1.0f;
-      standing = std::max(standing, ahead * static_cast<float>(1.0 - since_start / start_ease_seconds_));
-    }
     const float dt = static_cast<float>(time - previous_time_);
     // Longer for a noisier tracker, whose standing solve hops further.
     const float smoothing =

@@ -105,6 +105,9 @@ class MotionGuard {
   void SetInputNoise(float acceleration_noise) { input_noise_ = acceleration_noise; }
 
   float speed_limit() const { return speed_limit_; }
+  // After Next: how far the standing filter held the body as standing (1: the hands stood, 0:
+  // they travel, or no standing filter), the stream's first frames' ease included.
+  float standing() const { return standing_; }
   // After Next: the pelvis's velocity into the frame it returned (m/s; zero on a stream's first
   // frame) and the fastest it could have gone there (m/s; infinite on a stream's first frame,
   // whose speed is not known). What moves the body after the guard keeps within the same bound
@@ -121,6 +124,7 @@ class MotionGuard {
   float speed_limit_, acceleration_limit_;
   float standing_speed_limit_;                                  // the pelvis's while the hands stand (infinite: none)
   float speed_bound_ = std::numeric_limits<float>::infinity();  // the last Next's
+  float standing_ = 0.0f;                                       // the last Next's
   float foot_speed_bound_ = std::numeric_limits<float>::infinity();  // the last Next's
   MotionLimits hands_limits_;  // only the bounds by the hands' speed and the ankles' are read, margins applied
   float standing_smoothing_seconds_, standing_hands_speed_, moving_hands_speed_, standing_window_seconds_,

@@ -659,14 +659,17 @@ void ReconstructionSession::EmitFiltered(bool flush, std::vector<ReconstructedFr
       std::vector<Eigen::Vector3f> log_sum(joints, Eigen::Vector3f::Zero());
       Eigen::Vector3f pelvis = Eigen::Vector3f::Zero();
       // Where the filter has no frame ahead of the one it emits, the pelvis follows the line
-      // through the frames there are (ReconstructionOptions::pelvis_edge_fit); the frame repeated
-      // for the taps ahead held it back.
-      const bool fit_pelvis = pelvis_edge_fit_ && e == last;
+      // through the frames there are (ReconstructionOptions::pelvis_edge_fit): the frame repeated
+      // for the taps ahead held a travelling body back. As far as the body travels: where the
+      // motion guard held it as standing (the frame before), the line would only carry the
+      // solve's hops ahead.
+      const float line = options_.motion_guard.enabled ? 1.0f - motion_guard_.standing() : 1.0f;
+      const bool fit_pelvis = pelvis_edge_fit_ && e == last && line > 0.0f;
       if (fit_pelvis) LocalLinearWeights(kernel, s.post_first - e, 0, &pelvis_weights);
       for (int i = -radius; i <= radius; ++i) {
         const BodyPose& p = reached(i).pose;
         const float w = kernel[i + radius];
-        pelvis += (fit_pelvis ? pelvis_weights[i + radius] : w) * reached(i).pelvis_position;
+        pelvis += (fit_pelvis ? line * pelvis_weights[i + radius] + (1.0f - line) * w : w) * reached(i).pelvis_position;
         for (int j = 0; j < joints; ++j)
           log_sum[j] += w * RotationVector(Eigen::Quaternionf(centre.rotations[j].conjugate() * p.rotations[j]));
       }

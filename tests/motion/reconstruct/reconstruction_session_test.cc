@@ -129,7 +129,10 @@ TEST_F(ReconstructionSessionTest, ALagZeroStreamsPelvisKeepsUpWithAWalk) {
   options_.lag = 0;
   const BodyLandmarks& l = setup_.rig.topology.landmarks;
   const double dt = setup_.database->frame_time();
-  // The mean of the pelvis's miss along the captured walk's direction (negative: behind), metres.
+  // The mean of the pelvis's miss along the captured walk's direction (negative: behind), metres,
+  // once the stream's first half second (read as standing, MotionGuardOptions::start_rest_seconds)
+  // has passed.
+  const int kSettled = static_cast<int>(std::lround(0.5 / setup_.database->frame_time()));
   auto mean_lead = [&](bool edge_fit) {
     options_.pelvis_edge_fit = edge_fit;
     auto frames = ReconstructOffline(setup_.database, options_, testing::WristSamplesOf(setup_));
@@ -138,21 +141,45 @@ TEST_F(ReconstructionSessionTest, ALagZeroStreamsPelvisKeepsUpWithAWalk) {
     int count = 0;
     for (const ReconstructedFrame& frame : *frames) {
       const int f = frame.frame_in_segment;
-      if (f == 0) continue;
+      if (f < kSettled) continue;
       Eigen::Vector3f velocity = (setup_.truth.position(f, l.pelvis) - setup_.truth.position(f - 1, l.pelvis)) / dt;
       velocity.y() = 0.0f;
       if (velocity.norm() < 0.5f) continue;
       sum += (frame.pelvis_position - setup_.truth.position(f, l.pelvis)).dot(velocity.normalized());
       ++count;
     }
-    EXPECT_GT(count, 20);
+    EXPECT_GT(count, 10);
     return sum / std::max(count, 1);
   };
   const double repeated = mean_lead(false), fitted = mean_lead(true);
   EXPECT_LT(repeated, -0.005) << "the repeated newest frame held the pelvis back";
-  // The filter's share of the lag (a third of a frame at σ = 1); A6's E_smooth over the frames
-  // before keeps the rest.
-  EXPECT_GT(fitted, repeated + 0.005) << "fitted " << fitted << " m, repeated " << repeated;
+  // The filter's share of the lag (a third of a frame at σ = 1, less as the guard's catching up
+  // after the standing start); A6's E_smooth over the frames before keeps the rest.
+  EXPECT_GT(fitted, repeated + 0.002) << "fitted " << fitted << " m, repeated " << repeated;
+}
+
+// ... and a standing body's is not: where the guard holds the body as standing, a line through the
+// solve's hops between stances would carry them ahead.
+TEST_F(ReconstructionSessionTest, ALagZeroStreamDoesNotExtrapolateAStandingBodysHops) {
+  options_.mode = StreamMode::kFixedLag;
+  options_.lag = 0;
+  std::vector<WristSample> samples = testing::WristSamplesOf(setup_);
+  std::mt19937 random(7);
+  std::normal_distribution<float> jitter(0.0f, 0.005f);
+  for (WristSample& sample : samples) {  // the first sample's hands held still, a tracker's jitter on them
+    sample.left = samples.front().left + Eigen::Vector3f(jitter(random), jitter(random), jitter(random));
+    sample.right = samples.front().right + Eigen::Vector3f(jitter(random), jitter(random), jitter(random));
+  }
+  options_.pelvis_edge_fit = false;
+  auto repeated = ReconstructOffline(setup_.database, options_, samples);
+  options_.pelvis_edge_fit = true;
+  auto fitted = ReconstructOffline(setup_.database, options_, samples);
+  ASSERT_TRUE(repeated.ok() && fitted.ok());
+  ASSERT_EQ(repeated->size(), fitted->size());
+  double most = 0.0;  // rounding aside (a segment's first frame: one frame's weight 1 against the kernel's sum)
+  for (size_t f = 0; f < fitted->size(); ++f)
+    most = std::max(most, static_cast<double>(((*fitted)[f].pelvis_position - (*repeated)[f].pelvis_position).norm()));
+  EXPECT_LT(most, 1e-4);
 }
 
 // Issue #14: a session kept every frame's state for its whole life (~118 kB per 1,000 frames).
