@@ -131,9 +131,10 @@ int main(int argc, char** argv) {
       "lag_5_no_unfamiliar_prior) and, at lag 0 and 5, with the ankle filter repeating the path's newest frame "
       "(lag_0_clamped_ankle_edges, lag_5_clamped_ankle_edges), with A6 given the decided ankles unplanted "
       "(lag_0_unplanted_ankles, lag_5_unplanted_ankles), with a contact that resumes during its release "
-      "pinned where the solve put the ankle (lag_0_resumed_at_solve, lag_5_resumed_at_solve) or with a planted "
+      "pinned where the solve put the ankle (lag_0_resumed_at_solve, lag_5_resumed_at_solve), with a planted "
       "foot held by the hands' midpoint standing alone, not by either hand (lag_0_midpoint_stands, "
-      "lag_5_midpoint_stands); and with the A4 "
+      "lag_5_midpoint_stands) or with the joint filter repeating the newest frame for the pelvis too, as before "
+      "stop 86 (lag_0_clamped_pelvis, lag_5_clamped_pelvis); and with the A4 "
       "ankle path's filter of σ = 2 frames, as before stop 79 (full_ankle_sigma_2)");
   bool cross_dataset = false, landmarks = false, devices = false, size_oracle = false;
   app.add_flag("--cross-dataset", cross_dataset,
