@@ -64,10 +64,11 @@ struct ReconstructionOptions {
   // kernel's weights (local linear regression, as A2 fits the wrists) instead of that frame
   // repeated for the taps ahead, which held a moving body a third of a frame back (σ = 1; 1.5 cm
   // at walking pace, 30 frames/s). Stop 86 (docs/method.md A7): standard split lag 0 2.6139 →
-  // 2.4424 cm. With frames ahead the repeat lags by 1/20 frame or less and the line's tilt only
+  // 2.4503 cm. With frames ahead the repeat lags by 1/20 frame or less and the line's tilt only
   // carries the solve's churn (fitted at lag 5 too: cross-dataset 15.872 → 15.959 cm). As far as
   // the body travels: where the motion guard holds it as standing, the line carried the solve's
-  // hops ahead (phone-AR input, standing gestures: 10 → 16 clips over the allowed pelvis speed).
+  // hops ahead (phone-AR input, standing gestures: 10 → 16 clips over the allowed pelvis speed;
+  // 11 with the line so weighed).
   // The rotations keep the repeat: fitted too, the legs gained, the torso and arms lost, and the
   // joint jitter rose a quarter.
   bool pelvis_edge_fit = true;
